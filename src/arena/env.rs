@@ -1,0 +1,249 @@
+//! The Gymnasium-style environment: `reset(seed)`, `step(action)`.
+
+use super::physics::{physics_frame, FRAMES_PER_STEP};
+use super::{check_range, ConfigError, Task, World, MAX_T};
+use crate::render::{Camera, Frame};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// One of the 9 flat actions, index `3*a0 + a1`: a0 0 none / 1 forward / 2 backward,
+/// a1 0 none / 1 right / 2 left (the index SEC's baselines use).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Action(u8);
+
+impl Action {
+    pub const NOOP: Action = Action(0);
+    pub const FORWARD: Action = Action(3);
+    pub const BACKWARD: Action = Action(6);
+    pub const RIGHT: Action = Action(1);
+    pub const LEFT: Action = Action(2);
+    pub const COUNT: usize = 9;
+
+    pub fn new(index: u32) -> Result<Action, ConfigError> {
+        if index < 9 {
+            Ok(Action(index as u8))
+        } else {
+            Err(ConfigError::new("action", format!("{index} is out of range 0..=8")))
+        }
+    }
+    pub fn from_branches(a0: u8, a1: u8) -> Result<Action, ConfigError> {
+        if a0 > 2 || a1 > 2 {
+            return Err(ConfigError::new("action", format!("branches ({a0}, {a1}) are out of range 0..=2")));
+        }
+        Ok(Action(3 * a0 + a1))
+    }
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+    /// (a0 movement, a1 rotation).
+    pub fn branches(self) -> (u8, u8) {
+        (self.0 / 3, self.0 % 3)
+    }
+}
+
+/// What the environment is: the task, and an optional override of its episode limit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnvConfig {
+    pub task: Task,
+    /// Episode limit in env steps; `None` keeps each layout's own `t`.
+    pub t: Option<u32>,
+}
+
+impl EnvConfig {
+    pub fn new(task: Task) -> Self {
+        EnvConfig { task, t: None }
+    }
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        if let Some(t) = self.t {
+            if t > MAX_T {
+                return Err(ConfigError::new("t", format!("{t} is out of range 0..={MAX_T}")));
+            }
+        }
+        for l in &self.task.layouts {
+            l.validate()?;
+        }
+        if self.task.layouts.is_empty() {
+            return Err(ConfigError::new("task", "has no layout"));
+        }
+        Ok(())
+    }
+}
+
+/// Reward and end flags of one (possibly held) step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepOutcome {
+    /// Sum of rewards over the env steps taken: goals, zones and the -1/t time penalty.
+    pub reward: f64,
+    /// The episode ended on a goal, a bad goal or a death zone.
+    pub terminated: bool,
+    /// The episode ran out of time (t env steps).
+    pub truncated: bool,
+    /// A good goal was touched (SEC stores a sequence on this event).
+    pub good_goal: bool,
+    /// Env steps actually taken (fewer than asked when the episode ended early).
+    pub env_steps: u32,
+}
+
+/// What `step` returns, in Gymnasium's order.
+#[derive(Debug)]
+pub struct Step<'a> {
+    pub observation: &'a Frame,
+    pub reward: f64,
+    pub terminated: bool,
+    pub truncated: bool,
+    pub info: StepOutcome,
+}
+
+/// An Animal-AI arena with v1 physics and the agent's 84x84 camera.
+#[derive(Clone, Debug)]
+pub struct Env {
+    config: EnvConfig,
+    rng: ChaCha8Rng,
+    /// Layout order for this run: shuffled once per seed, then cycled one per episode.
+    order: Vec<usize>,
+    episode: u64,
+    layout: usize,
+    world: World,
+    steps: u32,
+    over: bool,
+    camera: Camera,
+    frame: Frame,
+    frame_fresh: bool,
+}
+
+impl Env {
+    /// Builds the environment and resets it with `seed`.
+    pub fn new(config: EnvConfig, seed: u64) -> Result<Env, ConfigError> {
+        config.validate()?;
+        let rng = ChaCha8Rng::seed_from_u64(seed);
+        let world = World::spawn(&config.task.layouts[0], &mut rng.clone());
+        let mut env = Env {
+            config,
+            rng,
+            order: Vec::new(),
+            episode: 0,
+            layout: 0,
+            world,
+            steps: 0,
+            over: false,
+            camera: Camera::new(),
+            frame: Frame::new(),
+            frame_fresh: false,
+        };
+        env.reset(Some(seed));
+        Ok(env)
+    }
+
+    /// Starts an episode. With a seed, the run restarts: the generator is reseeded, the layout
+    /// order reshuffled and the episode count zeroed. Without one, the next layout in the cycle.
+    pub fn reset(&mut self, seed: Option<u64>) -> &Frame {
+        match seed {
+            Some(s) => {
+                self.rng = ChaCha8Rng::seed_from_u64(s);
+                let n = self.config.task.layouts.len();
+                self.order = (0..n).collect();
+                // Fisher-Yates with u32 draws: the same order on 32- and 64-bit targets.
+                for i in (1..n).rev() {
+                    let j = self.rng.gen_range(0..=i as u32) as usize;
+                    self.order.swap(i, j);
+                }
+                self.episode = 0;
+            }
+            None => self.episode += 1,
+        }
+        self.layout = self.order[(self.episode % self.order.len() as u64) as usize];
+        self.world = World::spawn(&self.config.task.layouts[self.layout], &mut self.rng);
+        self.steps = 0;
+        self.over = false;
+        self.frame_fresh = false;
+        self.observation()
+    }
+
+    /// One env step (3 physics frames) with the action applied in each frame.
+    pub fn step(&mut self, action: Action) -> Result<Step<'_>, ConfigError> {
+        self.step_held(action, 1)
+    }
+
+    /// Holds the action for `k` env steps (SEC decides every 4) and renders once at the end.
+    pub fn step_held(&mut self, action: Action, k: u32) -> Result<Step<'_>, ConfigError> {
+        let info = self.advance(action, k)?;
+        Ok(Step {
+            observation: self.observation(),
+            reward: info.reward,
+            terminated: info.terminated,
+            truncated: info.truncated,
+            info,
+        })
+    }
+
+    /// The physics of `step_held` without rendering, for speed when nobody looks.
+    pub fn advance(&mut self, action: Action, k: u32) -> Result<StepOutcome, ConfigError> {
+        check_range("k", k as f32, 1.0, 1000.0)?;
+        if self.over {
+            return Err(ConfigError::new("step", "the episode is over: call reset first"));
+        }
+        let (movement, turn) = action.branches();
+        let t = self.t();
+        let penalty = if t > 0 { -1.0 / t as f64 } else { 0.0 };
+        let hot = if t > 0 { (-10.0 / (3.0 * t as f64)).min(-1e-5) } else { -1e-5 };
+        let mut out = StepOutcome::default();
+        self.frame_fresh = false;
+        for _ in 0..k {
+            out.reward += penalty;
+            for _ in 0..FRAMES_PER_STEP {
+                let ev = physics_frame(&mut self.world, movement, turn, hot);
+                out.reward += ev.reward;
+                out.good_goal |= ev.good_goal;
+                if ev.terminal {
+                    out.terminated = true;
+                    break;
+                }
+            }
+            self.steps += 1;
+            out.env_steps += 1;
+            if !out.terminated && t > 0 && self.steps >= t {
+                out.truncated = true;
+            }
+            if out.terminated || out.truncated {
+                self.over = true;
+                break;
+            }
+        }
+        Ok(out)
+    }
+
+    /// The agent's current view, rendered on demand and cached until the world changes.
+    pub fn observation(&mut self) -> &Frame {
+        if !self.frame_fresh {
+            self.camera.render(&self.world, &mut self.frame);
+            self.frame_fresh = true;
+        }
+        &self.frame
+    }
+
+    /// The episode limit in force: the override, else the layout's own.
+    pub fn t(&self) -> u32 {
+        self.config.t.unwrap_or(self.config.task.layouts[self.layout].t)
+    }
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+    pub fn config(&self) -> &EnvConfig {
+        &self.config
+    }
+    /// Env steps taken in this episode.
+    pub fn steps(&self) -> u32 {
+        self.steps
+    }
+    /// Episodes since the last seeded reset (0 for the first).
+    pub fn episode(&self) -> u64 {
+        self.episode
+    }
+    /// Name of the layout this episode uses.
+    pub fn layout_name(&self) -> &str {
+        &self.config.task.layouts[self.layout].name
+    }
+    pub fn is_over(&self) -> bool {
+        self.over
+    }
+}

@@ -1,0 +1,243 @@
+//! The Animal-AI v1 arenas that SEC was evaluated on (`shared/spec/arenas.md`).
+//!
+//! A [`Task`] is a list of start [`Layout`]s (what a YAML arena file describes); [`World`] is one
+//! layout instantiated with its random parts drawn; [`Env`] steps a world with the v1 dynamics and
+//! exposes the Gymnasium-style API.
+
+mod env;
+mod physics;
+mod tasks;
+mod world;
+pub mod yaml;
+
+pub use env::{Action, Env, EnvConfig, Step, StepOutcome};
+pub use physics::{
+    AGENT_RADIUS, DRAG_FACTOR, FRAMES_PER_STEP, FRAME_DT, FRICTION_DV, GRAVITY, IMPULSE_DV,
+    TURN_DEGREES,
+};
+pub use tasks::{Task, TASK_NAMES};
+pub use world::{Agent, BoxObj, Footprint, Goal, Tunnel, World, Zone};
+
+use std::fmt;
+
+/// Side of the square arena, metres; the fences' inner faces are at 0 and 40.
+pub const ARENA_SIZE: f32 = 40.0;
+/// Default episode limit in env steps (the paper's 1000 for every task).
+pub const DEFAULT_T: u32 = 1000;
+/// Largest accepted episode limit: 100,000 env steps is over half an hour of simulated time.
+pub const MAX_T: u32 = 100_000;
+/// Animal-AI scales every clamped size by this (`sizeAdjustement` in the prefabs).
+pub const SIZE_ADJUST: f32 = 0.999;
+
+/// An 8-bit RGB colour.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Rgb(pub u8, pub u8, pub u8);
+
+/// The objects of the Animal-AI catalogue this simulator implements (arenas.md section 5).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ObjectKind {
+    Wall,
+    WallTransparent,
+    CylinderTunnel,
+    CylinderTunnelTransparent,
+    GoodGoal,
+    BadGoal,
+    GoodGoalMulti,
+    DeathZone,
+    HotZone,
+}
+
+impl ObjectKind {
+    pub const ALL: [ObjectKind; 9] = [
+        ObjectKind::Wall,
+        ObjectKind::WallTransparent,
+        ObjectKind::CylinderTunnel,
+        ObjectKind::CylinderTunnelTransparent,
+        ObjectKind::GoodGoal,
+        ObjectKind::BadGoal,
+        ObjectKind::GoodGoalMulti,
+        ObjectKind::DeathZone,
+        ObjectKind::HotZone,
+    ];
+
+    /// The prefab name used in YAML files.
+    pub fn name(self) -> &'static str {
+        match self {
+            ObjectKind::Wall => "Wall",
+            ObjectKind::WallTransparent => "WallTransparent",
+            ObjectKind::CylinderTunnel => "CylinderTunnel",
+            ObjectKind::CylinderTunnelTransparent => "CylinderTunnelTransparent",
+            ObjectKind::GoodGoal => "GoodGoal",
+            ObjectKind::BadGoal => "BadGoal",
+            ObjectKind::GoodGoalMulti => "GoodGoalMulti",
+            ObjectKind::DeathZone => "DeathZone",
+            ObjectKind::HotZone => "HotZone",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<ObjectKind> {
+        ObjectKind::ALL.into_iter().find(|k| k.name() == name)
+    }
+
+    /// Allowed size per axis, before the 0.999 adjustment (arenas.md section 5). Sizes outside
+    /// are refused rather than clamped, so a config never silently means something else.
+    pub fn size_range(self) -> ([f32; 3], [f32; 3]) {
+        match self {
+            ObjectKind::Wall | ObjectKind::WallTransparent => ([0.1; 3], [40.0, 10.0, 40.0]),
+            ObjectKind::CylinderTunnel | ObjectKind::CylinderTunnelTransparent => ([2.5; 3], [10.0; 3]),
+            ObjectKind::GoodGoal | ObjectKind::BadGoal | ObjectKind::GoodGoalMulti => ([0.5; 3], [5.0; 3]),
+            ObjectKind::DeathZone | ObjectKind::HotZone => ([1.0, 0.0, 1.0], [40.0, 10.0, 40.0]),
+        }
+    }
+
+    /// The size used when a config gives none (Animal-AI's prefab defaults).
+    pub fn default_size(self) -> [f32; 3] {
+        match self {
+            ObjectKind::Wall | ObjectKind::WallTransparent => [1.0, 1.0, 1.0],
+            ObjectKind::CylinderTunnel | ObjectKind::CylinderTunnelTransparent => [5.0, 5.0, 5.0],
+            ObjectKind::GoodGoal | ObjectKind::BadGoal | ObjectKind::GoodGoalMulti => [1.0, 1.0, 1.0],
+            ObjectKind::DeathZone | ObjectKind::HotZone => [1.0, 0.0, 1.0],
+        }
+    }
+
+    /// Whether a config may give this object a colour (goals and zones have fixed materials).
+    pub fn colourable(self) -> bool {
+        matches!(self, ObjectKind::Wall | ObjectKind::CylinderTunnel)
+    }
+
+    pub fn is_goal(self) -> bool {
+        matches!(self, ObjectKind::GoodGoal | ObjectKind::BadGoal | ObjectKind::GoodGoalMulti)
+    }
+}
+
+/// One object of a layout. `None` stands for Animal-AI's `-1`: drawn at random on every reset.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ObjectSpec {
+    pub kind: ObjectKind,
+    /// x, y (bottom of the object), z.
+    pub position: [Option<f32>; 3],
+    /// Degrees about +y, clockwise seen from above.
+    pub rotation: Option<f32>,
+    /// Config size per axis (before the 0.999 adjustment); `None` per axis is random in range.
+    pub size: [Option<f32>; 3],
+    /// `None` for a colourable object means a random colour.
+    pub colour: Option<Rgb>,
+}
+
+impl ObjectSpec {
+    pub fn new(kind: ObjectKind, x: f32, y: f32, z: f32) -> Self {
+        ObjectSpec {
+            kind,
+            position: [Some(x), Some(y), Some(z)],
+            rotation: Some(0.0),
+            size: kind.default_size().map(Some),
+            colour: None,
+        }
+    }
+    pub fn size(mut self, sx: f32, sy: f32, sz: f32) -> Self {
+        self.size = [Some(sx), Some(sy), Some(sz)];
+        self
+    }
+    pub fn rotation(mut self, degrees: f32) -> Self {
+        self.rotation = Some(degrees);
+        self
+    }
+    pub fn colour(mut self, r: u8, g: u8, b: u8) -> Self {
+        self.colour = Some(Rgb(r, g, b));
+        self
+    }
+}
+
+/// Where the agent starts; `None` parts are random (a free spot, any heading).
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct AgentSpec {
+    pub position: [Option<f32>; 2],
+    pub rotation: Option<f32>,
+}
+
+/// One arena configuration: what one `!Arena` of a YAML file describes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Layout {
+    pub name: String,
+    /// Episode limit in env steps; 0 means no limit (and no time penalty).
+    pub t: u32,
+    pub objects: Vec<ObjectSpec>,
+    pub agent: AgentSpec,
+}
+
+/// A configuration error: names the field, and the line for files.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConfigError {
+    /// 1-based line in the source file, when the value came from a file.
+    pub line: Option<usize>,
+    /// The parameter or field, e.g. `items[2].sizes[0].x` or `seed`.
+    pub field: String,
+    pub message: String,
+}
+
+impl ConfigError {
+    pub fn new(field: impl Into<String>, message: impl Into<String>) -> Self {
+        ConfigError { line: None, field: field.into(), message: message.into() }
+    }
+    pub fn at(line: usize, field: impl Into<String>, message: impl Into<String>) -> Self {
+        ConfigError { line: Some(line), field: field.into(), message: message.into() }
+    }
+}
+
+impl fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.line {
+            Some(line) => write!(f, "line {line}: {}: {}", self.field, self.message),
+            None => write!(f, "{}: {}", self.field, self.message),
+        }
+    }
+}
+
+impl std::error::Error for ConfigError {}
+
+impl Layout {
+    /// Checks every value against the catalogue's ranges; the YAML loader reports the same
+    /// problems with line numbers, this guards layouts built in code.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        if self.t > MAX_T {
+            return Err(ConfigError::new("t", format!("{} is out of range 0..={MAX_T}", self.t)));
+        }
+        for (i, o) in self.objects.iter().enumerate() {
+            let (lo, hi) = o.kind.size_range();
+            for (axis, s) in o.size.iter().enumerate() {
+                if let Some(s) = *s {
+                    check_range(&format!("objects[{i}].size.{}", AXES[axis]), s, lo[axis], hi[axis])?;
+                }
+            }
+            for (axis, p) in o.position.iter().enumerate() {
+                if let Some(p) = *p {
+                    let hi = if axis == 1 { 100.0 } else { ARENA_SIZE };
+                    check_range(&format!("objects[{i}].position.{}", AXES[axis]), p, 0.0, hi)?;
+                }
+            }
+            if let Some(r) = o.rotation {
+                check_range(&format!("objects[{i}].rotation"), r, -360.0, 360.0)?;
+            }
+        }
+        for (axis, p) in self.agent.position.iter().enumerate() {
+            if let Some(p) = *p {
+                check_range(&format!("agent.position.{}", ["x", "z"][axis]), p, AGENT_RADIUS, ARENA_SIZE - AGENT_RADIUS)?;
+            }
+        }
+        if let Some(r) = self.agent.rotation {
+            check_range("agent.rotation", r, -360.0, 360.0)?;
+        }
+        Ok(())
+    }
+}
+
+pub(crate) const AXES: [&str; 3] = ["x", "y", "z"];
+
+/// Refuses NaN and values outside `[lo, hi]`, naming the field and the range.
+pub(crate) fn check_range(field: &str, v: f32, lo: f32, hi: f32) -> Result<(), ConfigError> {
+    if v.is_finite() && v >= lo && v <= hi {
+        Ok(())
+    } else {
+        Err(ConfigError::new(field, format!("{v} is out of range {lo}..={hi}")))
+    }
+}

@@ -1,0 +1,187 @@
+//! Animal-AI v1 dynamics, one 0.02 s physics frame at a time (arenas.md section 3).
+
+use super::world::{wrap_degrees, World};
+use super::{ObjectKind, ARENA_SIZE};
+use glam::Vec2;
+
+/// Physics timestep, seconds.
+pub const FRAME_DT: f32 = 0.02;
+/// Physics frames per env step (`numberOfActionsBetweenDecisions: 3`).
+pub const FRAMES_PER_STEP: u32 = 3;
+/// Rotation per frame, degrees (rotationSpeed 100 x dt).
+pub const TURN_DEGREES: f32 = 2.0;
+/// Velocity change per grounded frame along the heading (speed 50 x dt, VelocityChange).
+pub const IMPULSE_DV: f32 = 1.0;
+/// PhysX sliding friction per frame: mu g dt = 0.6 x 9.81 x 0.02.
+pub const FRICTION_DV: f32 = 0.6 * 9.81 * FRAME_DT;
+/// Rigid-body drag per frame: 1 - drag x dt = 1 - 2 x 0.02.
+pub const DRAG_FACTOR: f32 = 0.96;
+/// The agent sphere's radius; its centre is this high above the floor.
+pub const AGENT_RADIUS: f32 = 0.5;
+pub const GRAVITY: f32 = 9.81;
+/// Goals bounce with bounciness 0.4 averaged with the floor's 0.
+const GOAL_RESTITUTION: f32 = 0.2;
+/// Unity's bounce threshold: a rebound slower than this is dropped, which gives the single
+/// bounce of arenas.md section 7.2 (14 m/s -> 2.8 m/s, then 0.56 m/s is dropped).
+const BOUNCE_THRESHOLD: f32 = 2.0;
+/// The agent is "in" a zone when its centre is within this of the rectangle.
+const ZONE_MARGIN: f32 = 0.1;
+/// Collision passes per frame; several resolve corners where two walls push at once.
+const COLLISION_PASSES: usize = 4;
+
+/// What happened in one physics frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrameEvents {
+    /// Goal, death-zone and hot-zone rewards this frame (not the time penalty).
+    pub reward: f64,
+    /// A GoodGoal, BadGoal, DeathZone or the last GoodGoalMulti ended the episode.
+    pub terminal: bool,
+    /// A good goal (GoodGoal or GoodGoalMulti) was touched this frame.
+    pub good_goal: bool,
+}
+
+/// Advances the world by one physics frame with the action's two branches:
+/// `movement` 0 none, 1 forward, 2 backward; `turn` 0 none, 1 right (clockwise), 2 left.
+/// `hot_penalty` is the HotZone reward per frame (negative).
+pub fn physics_frame(w: &mut World, movement: u8, turn: u8, hot_penalty: f64) -> FrameEvents {
+    let a = &mut w.agent;
+    match turn {
+        1 => a.heading = wrap_degrees(a.heading + TURN_DEGREES),
+        2 => a.heading = wrap_degrees(a.heading - TURN_DEGREES),
+        _ => {}
+    }
+    if a.grounded {
+        let push = match movement {
+            1 => IMPULSE_DV,
+            2 => -IMPULSE_DV,
+            _ => 0.0,
+        };
+        if push != 0.0 {
+            a.vel += a.forward() * push;
+        }
+        let s = a.vel.length();
+        if s > 0.0 {
+            a.vel *= (s - FRICTION_DV).max(0.0) / s;
+        }
+    }
+    a.vel *= DRAG_FACTOR;
+    a.pos += a.vel * FRAME_DT;
+    a.grounded = true;
+    collide(w);
+    fall_goals(w);
+    touches(w, hot_penalty)
+}
+
+/// Pushes the agent's disc out of every collider and the fences, dropping the velocity
+/// component into the surface (no bounce, no wall friction).
+fn collide(w: &mut World) {
+    let a = &mut w.agent;
+    for _ in 0..COLLISION_PASSES {
+        let mut moved = false;
+        for c in &w.colliders {
+            let l = c.to_local(a.pos);
+            if l.x.abs() >= c.half.x + AGENT_RADIUS || l.y.abs() >= c.half.y + AGENT_RADIUS {
+                continue;
+            }
+            let q = l.clamp(-c.half, c.half);
+            let d = l - q;
+            let dist2 = d.length_squared();
+            let (normal_local, depth) = if dist2 > 0.0 {
+                let dist = dist2.sqrt();
+                if dist >= AGENT_RADIUS {
+                    continue;
+                }
+                (d / dist, AGENT_RADIUS - dist)
+            } else {
+                // Centre inside the box (cannot happen at these speeds): leave by the nearest side.
+                let ex = c.half.x - l.x.abs();
+                let ez = c.half.y - l.y.abs();
+                if ex < ez {
+                    (Vec2::new(l.x.signum(), 0.0), ex + AGENT_RADIUS)
+                } else {
+                    (Vec2::new(0.0, l.y.signum()), ez + AGENT_RADIUS)
+                }
+            };
+            let n = c.to_world_dir(normal_local);
+            a.pos += n * depth;
+            let vn = a.vel.dot(n);
+            if vn < 0.0 {
+                a.vel -= n * vn;
+            }
+            moved = true;
+        }
+        // Fences: invisible infinitely tall walls at 0 and 40.
+        let lo = AGENT_RADIUS;
+        let hi = ARENA_SIZE - AGENT_RADIUS;
+        if a.pos.x < lo || a.pos.x > hi {
+            a.pos.x = a.pos.x.clamp(lo, hi);
+            a.vel.x = 0.0;
+        }
+        if a.pos.y < lo || a.pos.y > hi {
+            a.pos.y = a.pos.y.clamp(lo, hi);
+            a.vel.y = 0.0;
+        }
+        if !moved {
+            break;
+        }
+    }
+}
+
+/// Goals fall under gravity (no drag) and bounce once on the floor.
+fn fall_goals(w: &mut World) {
+    for g in w.goals.iter_mut().filter(|g| !g.resting && !g.collected) {
+        g.vy -= GRAVITY * FRAME_DT;
+        g.centre.y += g.vy * FRAME_DT;
+        if g.centre.y <= g.radius {
+            g.centre.y = g.radius;
+            let rebound = -g.vy * GOAL_RESTITUTION;
+            if rebound >= BOUNCE_THRESHOLD {
+                g.vy = rebound;
+            } else {
+                g.vy = 0.0;
+                g.resting = true;
+            }
+        }
+    }
+}
+
+/// Goal touches (3-D centre distance <= 0.5 + r) and zones.
+fn touches(w: &mut World, hot_penalty: f64) -> FrameEvents {
+    let mut ev = FrameEvents::default();
+    let agent3 = glam::Vec3::new(w.agent.pos.x, AGENT_RADIUS, w.agent.pos.y);
+    for g in w.goals.iter_mut().filter(|g| !g.collected) {
+        if (g.centre - agent3).length() > AGENT_RADIUS + g.radius {
+            continue;
+        }
+        ev.reward += g.reward;
+        match g.kind {
+            ObjectKind::GoodGoalMulti => {
+                g.collected = true;
+                ev.good_goal = true;
+            }
+            ObjectKind::GoodGoal => {
+                ev.good_goal = true;
+                ev.terminal = true;
+            }
+            _ => ev.terminal = true,
+        }
+    }
+    let multi_left = w.goals.iter().any(|g| g.kind == ObjectKind::GoodGoalMulti && !g.collected);
+    let had_multi = w.goals.iter().any(|g| g.kind == ObjectKind::GoodGoalMulti);
+    if had_multi && !multi_left && ev.good_goal {
+        ev.terminal = true;
+    }
+    for z in &w.zones {
+        if !z.foot.contains(w.agent.pos, ZONE_MARGIN) {
+            continue;
+        }
+        match z.kind {
+            ObjectKind::DeathZone => {
+                ev.reward += -1.0;
+                ev.terminal = true;
+            }
+            _ => ev.reward += hot_penalty,
+        }
+    }
+    ev
+}

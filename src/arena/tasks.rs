@@ -1,0 +1,160 @@
+//! The named task presets of SEC Playground (arenas.md section 7).
+
+use super::{AgentSpec, ConfigError, Layout, ObjectKind, ObjectSpec, DEFAULT_T};
+
+/// A task: one or more start layouts, cycled one per episode in an order shuffled once per run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Task {
+    pub name: String,
+    pub description: String,
+    pub layouts: Vec<Layout>,
+}
+
+/// The built-in tasks, in the order the page lists them.
+pub const TASK_NAMES: [&str; 6] =
+    ["double-t-maze", "detour", "detour-transparent", "cylinder", "object-permanence", "object-permanence-pits"];
+
+const GREY: (u8, u8, u8) = (153, 153, 153);
+
+fn wall(x: f32, z: f32, size: (f32, f32, f32), rgb: (u8, u8, u8)) -> ObjectSpec {
+    ObjectSpec::new(ObjectKind::Wall, x, 0.0, z).size(size.0, size.1, size.2).colour(rgb.0, rgb.1, rgb.2)
+}
+
+fn goal(kind: ObjectKind, x: f32, y: f32, z: f32, size: f32) -> ObjectSpec {
+    ObjectSpec::new(kind, x, y, z).size(size, size, size)
+}
+
+fn agent(x: f32, z: f32, rotation: Option<f32>) -> AgentSpec {
+    AgentSpec { position: [Some(x), Some(z)], rotation }
+}
+
+fn layout(name: &str, objects: Vec<ObjectSpec>, agent: AgentSpec) -> Layout {
+    Layout { name: name.to_string(), t: DEFAULT_T, objects, agent }
+}
+
+impl Task {
+    /// A built-in task by name; every preset uses t = 1000 (the paper's limit).
+    pub fn preset(name: &str) -> Result<Task, ConfigError> {
+        let (description, layouts) = match name {
+            "double-t-maze" => (
+                "SEC's double T-maze (arena_generator_lvl4.py): four corner rooms, a goal chamber open to \
+                 the west and east, goal size 3 (+2.997). Four layouts, one per corner start, random heading.",
+                double_t_maze(),
+            ),
+            "detour" => (
+                "Olympics 3-4-1 and 3-4-2, what SEC ran: a 0.5-high grey wall with the size-1 goal (+0.999) \
+                 visible above it; the way round is the west gap.",
+                vec![detour("3-4-1", 10.0), detour("3-4-2", 15.0)],
+            ),
+            "detour-transparent" => (
+                "Olympics 3-5-1, the paper's wording: a 3-high transparent wall with the goal behind it.",
+                vec![detour_transparent()],
+            ),
+            "cylinder" => (
+                "Olympics 3-13-1 with SEC's goal size 2 (+1.998): a grey arch seen side-on hides the goal; \
+                 the agent must go round and enter along its axis.",
+                vec![cylinder()],
+            ),
+            "object-permanence" => (
+                "Olympics 8-7-1/2/3: a size-3 goal drops behind a 4-high wall and disappears; a small \
+                 visible goal (+0.999) is the local optimum.",
+                [25.0, 27.0, 23.0].iter().enumerate().map(|(i, &r)| permanence(&format!("8-7-{}", i + 1), r, false)).collect(),
+            ),
+            "object-permanence-pits" => (
+                "Object permanence with the paper's holes: 8-7 plus three DeathZone pits (-1, episode ends) \
+                 off the route around the wall.",
+                [25.0, 27.0, 23.0].iter().enumerate().map(|(i, &r)| permanence(&format!("8-7-{}-pits", i + 1), r, true)).collect(),
+            ),
+            _ => {
+                return Err(ConfigError::new("task", format!("unknown task '{name}'; one of {}", TASK_NAMES.join(", "))))
+            }
+        };
+        Ok(Task { name: name.to_string(), description: description.to_string(), layouts })
+    }
+}
+
+/// The 14 walls of arenas.md section 7.1, in the generator's order.
+fn double_t_maze() -> Vec<Layout> {
+    const BLUE: (u8, u8, u8) = (0, 0, 250);
+    const RED: (u8, u8, u8) = (250, 0, 0);
+    const MAGENTA: (u8, u8, u8) = (250, 0, 250);
+    let objects = vec![
+        wall(19.0, 36.0, (2.0, 5.0, 8.0), BLUE),
+        wall(21.0, 36.0, (2.0, 5.0, 8.0), RED),
+        wall(19.0, 4.0, (2.0, 5.0, 8.0), RED),
+        wall(21.0, 4.0, (2.0, 5.0, 8.0), BLUE),
+        wall(3.0, 20.0, (2.0, 2.0, 24.0), (0, 250, 250)),
+        wall(37.0, 20.0, (2.0, 2.0, 24.0), (250, 250, 0)),
+        wall(33.0, 7.0, (14.0, 5.0, 2.0), GREY),
+        wall(33.0, 33.0, (14.0, 5.0, 2.0), GREY),
+        wall(20.0, 25.0, (14.0, 5.0, 1.0), GREY),
+        wall(20.0, 26.0, (14.0, 5.0, 1.0), MAGENTA),
+        wall(20.0, 14.0, (14.0, 5.0, 1.0), MAGENTA),
+        wall(20.0, 15.0, (14.0, 5.0, 1.0), GREY),
+        wall(7.0, 7.0, (14.0, 5.0, 2.0), GREY),
+        wall(7.0, 33.0, (14.0, 5.0, 2.0), GREY),
+        goal(ObjectKind::GoodGoal, 20.0, 0.0, 20.0, 3.0).size(3.0, 1.0, 1.0),
+    ];
+    [(3.0, 37.0), (37.0, 37.0), (3.0, 3.0), (37.0, 3.0)]
+        .iter()
+        .enumerate()
+        .map(|(i, &(x, z))| layout(&format!("corner-{}", i + 1), objects.clone(), agent(x, z, None)))
+        .collect()
+}
+
+fn detour(name: &str, agent_x: f32) -> Layout {
+    layout(
+        name,
+        vec![
+            wall(20.0, 37.0, (35.0, 0.5, 1.0), GREY),
+            wall(30.0, 38.75, (1.0, 0.5, 2.5), GREY),
+            goal(ObjectKind::GoodGoal, 5.0, 0.0, 38.0, 1.0),
+        ],
+        agent(agent_x, 1.0, Some(0.0)),
+    )
+}
+
+fn detour_transparent() -> Layout {
+    let glass = |x, z, s: (f32, f32, f32)| ObjectSpec::new(ObjectKind::WallTransparent, x, 0.0, z).size(s.0, s.1, s.2);
+    layout(
+        "3-5-1",
+        vec![
+            glass(20.0, 37.0, (35.0, 3.0, 1.0)),
+            glass(20.0, 38.75, (1.0, 0.5, 2.5)),
+            goal(ObjectKind::GoodGoal, 5.0, 0.0, 38.0, 1.0),
+        ],
+        agent(10.0, 1.0, Some(0.0)),
+    )
+}
+
+fn cylinder() -> Layout {
+    layout(
+        "3-13-1",
+        vec![
+            ObjectSpec::new(ObjectKind::CylinderTunnel, 20.0, 0.0, 20.0)
+                .size(10.0, 10.0, 10.0)
+                .rotation(135.0)
+                .colour(GREY.0, GREY.1, GREY.2),
+            goal(ObjectKind::GoodGoal, 20.0, 0.0, 20.0, 2.0).size(2.0, 1.0, 1.0),
+        ],
+        agent(1.0, 1.0, Some(45.0)),
+    )
+}
+
+/// 8-7: a 4-high wall, a size-3 goal dropped from y = 10 behind it, a small goal beside the route.
+/// The pit variant adds DeathZones clear of the route round the wall's east end (a project
+/// proposal: the paper's "holes"; arenas.md section 7.2).
+fn permanence(name: &str, rotation: f32, pits: bool) -> Layout {
+    let mut objects = vec![
+        wall(10.0, 30.0, (20.0, 4.0, 1.0), GREY),
+        goal(ObjectKind::GoodGoal, 10.0, 10.0, 35.0, 3.0),
+        goal(ObjectKind::GoodGoal, 20.0, 0.0, 25.0, 1.0),
+    ];
+    if pits {
+        let pit = |x, z, sx, sz| ObjectSpec::new(ObjectKind::DeathZone, x, 0.0, z).size(sx, 0.0, sz);
+        objects.push(pit(30.0, 35.0, 8.0, 6.0));
+        objects.push(pit(32.0, 16.0, 6.0, 6.0));
+        objects.push(pit(8.0, 20.0, 6.0, 4.0));
+    }
+    layout(name, objects, agent(5.0, 5.0, Some(rotation)))
+}

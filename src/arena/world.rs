@@ -1,0 +1,317 @@
+//! A layout instantiated: concrete objects, the agent, and the collision footprints.
+
+use super::{AgentSpec, Layout, ObjectKind, ObjectSpec, Rgb, ARENA_SIZE, AGENT_RADIUS, SIZE_ADJUST};
+use glam::{Vec2, Vec3};
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+
+/// Unity's tunnel mesh: inner radius / outer radius / 2 = 0.818 / 1.04 / 2 (arenas.md section 5).
+pub const TUNNEL_INNER: f32 = 0.3933;
+/// Random spawns retry this many times before the object is left out (as Animal-AI does).
+const SPAWN_TRIES: u32 = 100;
+/// Footprints touching within this margin do not count as overlapping (adjacent T-maze walls).
+const OVERLAP_EPS: f32 = 1e-3;
+
+/// An oriented rectangle on the floor: centre, half extents along local x and z, rotation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Footprint {
+    pub centre: Vec2,
+    pub half: Vec2,
+    /// cos and sin of the rotation; local +x is (cos, -sin) and local +z is (sin, cos) in (x, z).
+    pub cos: f32,
+    pub sin: f32,
+}
+
+impl Footprint {
+    pub fn new(centre: Vec2, half: Vec2, degrees: f32) -> Self {
+        let r = degrees.to_radians();
+        let (sin, cos) = (libm::sinf(r), libm::cosf(r));
+        // Snap the exact quarter turns, so axis-aligned layouts stay exactly axis aligned.
+        let snap = |v: f32| if v.abs() < 1e-6 { 0.0 } else if (v.abs() - 1.0).abs() < 1e-6 { v.signum() } else { v };
+        Footprint { centre, half, cos: snap(cos), sin: snap(sin) }
+    }
+    pub fn axis_x(&self) -> Vec2 {
+        Vec2::new(self.cos, -self.sin)
+    }
+    pub fn axis_z(&self) -> Vec2 {
+        Vec2::new(self.sin, self.cos)
+    }
+    /// World point to local (x, z).
+    pub fn to_local(&self, p: Vec2) -> Vec2 {
+        let d = p - self.centre;
+        Vec2::new(d.dot(self.axis_x()), d.dot(self.axis_z()))
+    }
+    pub fn to_world_dir(&self, l: Vec2) -> Vec2 {
+        self.axis_x() * l.x + self.axis_z() * l.y
+    }
+    pub fn contains(&self, p: Vec2, margin: f32) -> bool {
+        let l = self.to_local(p);
+        l.x.abs() <= self.half.x + margin && l.y.abs() <= self.half.y + margin
+    }
+    fn corners(&self) -> [Vec2; 4] {
+        let (ax, az) = (self.axis_x() * self.half.x, self.axis_z() * self.half.y);
+        [self.centre + ax + az, self.centre + ax - az, self.centre - ax - az, self.centre - ax + az]
+    }
+    /// Separating-axis test between two rectangles.
+    pub fn overlaps(&self, other: &Footprint) -> bool {
+        let axes = [self.axis_x(), self.axis_z(), other.axis_x(), other.axis_z()];
+        let (ca, cb) = (self.corners(), other.corners());
+        axes.iter().all(|&ax| {
+            let proj = |c: &[Vec2; 4]| {
+                c.iter().fold((f32::MAX, f32::MIN), |(lo, hi), p| (lo.min(p.dot(ax)), hi.max(p.dot(ax))))
+            };
+            let ((a0, a1), (b0, b1)) = (proj(&ca), proj(&cb));
+            a0 < b1 - OVERLAP_EPS && b0 < a1 - OVERLAP_EPS
+        })
+    }
+    /// Whether a disc overlaps the rectangle.
+    pub fn overlaps_disc(&self, c: Vec2, r: f32) -> bool {
+        let l = self.to_local(c);
+        let q = l.clamp(-self.half, self.half);
+        (l - q).length_squared() < (r - OVERLAP_EPS).max(0.0).powi(2)
+    }
+}
+
+/// A wall: a box standing on the floor.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BoxObj {
+    pub foot: Footprint,
+    pub height: f32,
+    pub colour: Rgb,
+    pub transparent: bool,
+}
+
+/// A CylinderTunnel: the upper half of an elliptic tube lying along local z (an arch).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tunnel {
+    pub foot: Footprint,
+    /// Outer half-width (local x), outer height, inner half-width, inner height, half-length.
+    pub outer_w: f32,
+    pub outer_h: f32,
+    pub inner_w: f32,
+    pub inner_h: f32,
+    pub half_len: f32,
+    pub colour: Rgb,
+    pub transparent: bool,
+}
+
+impl Tunnel {
+    /// The two legs, which are what the agent collides with (arenas.md section 5).
+    pub fn legs(&self) -> [Footprint; 2] {
+        let w = (self.outer_w - self.inner_w) / 2.0;
+        let off = (self.outer_w + self.inner_w) / 2.0;
+        let ax = self.foot.axis_x();
+        let leg = |side: f32| Footprint {
+            centre: self.foot.centre + ax * (side * off),
+            half: Vec2::new(w, self.half_len),
+            ..self.foot
+        };
+        [leg(1.0), leg(-1.0)
+        ]
+    }
+}
+
+/// A goal sphere; it falls under gravity until it rests on the floor.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Goal {
+    pub kind: ObjectKind,
+    /// Centre (x, y, z).
+    pub centre: Vec3,
+    pub radius: f32,
+    pub vy: f32,
+    pub resting: bool,
+    /// Reward on touch: +size*0.999 for good goals, minus that for BadGoal.
+    pub reward: f64,
+    /// GoodGoalMulti are removed once collected.
+    pub collected: bool,
+}
+
+/// A DeathZone or HotZone: a flat rectangle on the floor.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Zone {
+    pub kind: ObjectKind,
+    pub foot: Footprint,
+}
+
+/// The agent's physical state.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Agent {
+    /// Centre on the floor plane (x, z); the sphere's centre is 0.5 above the floor.
+    pub pos: Vec2,
+    /// World-frame velocity (x, z), m/s.
+    pub vel: Vec2,
+    /// Heading in degrees, clockwise from +z seen from above, in [0, 360).
+    pub heading: f32,
+    /// False only in the first physics frame after spawn.
+    pub grounded: bool,
+}
+
+impl Agent {
+    /// Unit heading (sin, cos) in (x, z).
+    pub fn forward(&self) -> Vec2 {
+        let r = self.heading.to_radians();
+        Vec2::new(libm::sinf(r), libm::cosf(r))
+    }
+}
+
+/// Everything in the arena for one episode.
+#[derive(Clone, Debug, PartialEq)]
+pub struct World {
+    pub walls: Vec<BoxObj>,
+    pub tunnels: Vec<Tunnel>,
+    pub goals: Vec<Goal>,
+    pub zones: Vec<Zone>,
+    /// Solid footprints the agent collides with: walls and tunnel legs (fences are the bounds).
+    pub colliders: Vec<Footprint>,
+    pub agent: Agent,
+}
+
+impl World {
+    /// Spawns a layout. Objects spawn in file order after a user-placed agent; an object whose
+    /// footprint overlaps something already spawned is left out (Animal-AI's `IsSpotFree`), and a
+    /// random agent spawns last on a free spot.
+    pub fn spawn(layout: &Layout, rng: &mut ChaCha8Rng) -> World {
+        let mut w = World {
+            walls: Vec::new(),
+            tunnels: Vec::new(),
+            goals: Vec::new(),
+            zones: Vec::new(),
+            colliders: Vec::new(),
+            agent: Agent { pos: Vec2::ZERO, vel: Vec2::ZERO, heading: 0.0, grounded: false },
+        };
+        let fixed_agent = matches!(layout.agent.position, [Some(_), Some(_)]);
+        let mut agent_disc = None;
+        if fixed_agent {
+            let pos = Vec2::new(layout.agent.position[0].unwrap(), layout.agent.position[1].unwrap());
+            agent_disc = Some(pos);
+            w.agent.pos = pos;
+        }
+        for spec in &layout.objects {
+            for _ in 0..SPAWN_TRIES {
+                let random = spec.position.iter().any(Option::is_none) || spec.rotation.is_none();
+                if w.try_place(spec, agent_disc, rng) || !random {
+                    break;
+                }
+            }
+        }
+        w.agent.heading = wrap_degrees(match layout.agent.rotation {
+            Some(r) => r,
+            None => rng.gen_range(0.0f32..360.0),
+        });
+        if !fixed_agent {
+            w.agent.pos = w.random_agent_spot(&layout.agent, rng);
+        }
+        w
+    }
+
+    /// Places one object if its spot is free; returns whether it was placed.
+    fn try_place(&mut self, spec: &ObjectSpec, agent: Option<Vec2>, rng: &mut ChaCha8Rng) -> bool {
+        let (lo, hi) = spec.kind.size_range();
+        let raw: [f32; 3] = std::array::from_fn(|i| {
+            spec.size[i].unwrap_or_else(|| if lo[i] < hi[i] { rng.gen_range(lo[i]..hi[i]) } else { lo[i] })
+        });
+        let size = raw.map(|s| s * SIZE_ADJUST);
+        let rotation = spec.rotation.unwrap_or_else(|| rng.gen_range(0.0f32..360.0));
+        let mut coord = |c: Option<f32>, half: f32| {
+            c.unwrap_or_else(|| rng.gen_range(half.min(20.0)..(ARENA_SIZE - half).max(20.0)))
+        };
+        let kind = spec.kind;
+        let footprint_half = Vec2::new(size[0] / 2.0, size[2] / 2.0);
+        let x = coord(spec.position[0], footprint_half.max_element());
+        let z = coord(spec.position[2], footprint_half.max_element());
+        let y = spec.position[1].unwrap_or(0.0);
+        let centre = Vec2::new(x, z);
+        let colour = spec.colour.unwrap_or_else(|| match kind {
+            ObjectKind::Wall => {
+                Rgb(rng.gen_range(0..=255u32) as u8, rng.gen_range(0..=255u32) as u8, rng.gen_range(0..=255u32) as u8)
+            }
+            _ => Rgb(255, 255, 255),
+        });
+        let free = |solid: &[Footprint], agent: Option<Vec2>| {
+            !solid.iter().any(|s| self.colliders.iter().any(|c| c.overlaps(s)))
+                && !solid.iter().any(|s| agent.is_some_and(|a| s.overlaps_disc(a, AGENT_RADIUS)))
+        };
+        match kind {
+            ObjectKind::Wall | ObjectKind::WallTransparent => {
+                let foot = Footprint::new(centre, footprint_half, rotation);
+                if !free(&[foot], agent) {
+                    return false;
+                }
+                let transparent = kind == ObjectKind::WallTransparent;
+                let colour = if transparent { Rgb(255, 255, 255) } else { colour };
+                self.walls.push(BoxObj { foot, height: size[1], colour, transparent });
+                self.colliders.push(foot);
+            }
+            ObjectKind::CylinderTunnel | ObjectKind::CylinderTunnelTransparent => {
+                let t = Tunnel {
+                    foot: Footprint::new(centre, footprint_half, rotation),
+                    outer_w: size[0] / 2.0,
+                    outer_h: size[1] / 2.0,
+                    inner_w: TUNNEL_INNER * size[0],
+                    inner_h: TUNNEL_INNER * size[1],
+                    half_len: size[2] / 2.0,
+                    colour: if kind == ObjectKind::CylinderTunnel && spec.colour.is_none() { Rgb(51, 51, 51) } else { colour },
+                    transparent: kind == ObjectKind::CylinderTunnelTransparent,
+                };
+                let legs = t.legs();
+                if !free(&legs, agent) {
+                    return false;
+                }
+                self.colliders.extend(legs);
+                self.tunnels.push(t);
+            }
+            ObjectKind::GoodGoal | ObjectKind::BadGoal | ObjectKind::GoodGoalMulti => {
+                // A sphere's diameter is size.x; y and z are ignored (arenas.md section 5).
+                let radius = size[0] / 2.0;
+                let foot = Footprint::new(centre, Vec2::splat(radius), 0.0);
+                let cy = y + radius + 0.01;
+                // Only an object at the agent's height can collide with it at spawn.
+                let agent_here = if cy - radius < 1.0 { agent } else { None };
+                if !free(&[foot], agent_here) {
+                    return false;
+                }
+                let sign = if kind == ObjectKind::BadGoal { -1.0 } else { 1.0 };
+                // In f64, so that a size-3 goal pays 2.997 to the last digit.
+                self.goals.push(Goal {
+                    kind,
+                    centre: Vec3::new(x, cy, z),
+                    radius,
+                    vy: 0.0,
+                    resting: false,
+                    reward: sign * raw[0] as f64 * 0.999,
+                    collected: false,
+                });
+            }
+            ObjectKind::DeathZone | ObjectKind::HotZone => {
+                // Zones are triggers: they never block spawning.
+                self.zones.push(Zone { kind, foot: Footprint::new(centre, footprint_half, rotation) });
+            }
+        }
+        true
+    }
+
+    fn random_agent_spot(&self, spec: &AgentSpec, rng: &mut ChaCha8Rng) -> Vec2 {
+        let lo = AGENT_RADIUS;
+        let hi = ARENA_SIZE - AGENT_RADIUS;
+        let mut p = Vec2::splat(ARENA_SIZE / 2.0);
+        for _ in 0..10 * SPAWN_TRIES {
+            p = Vec2::new(
+                spec.position[0].unwrap_or_else(|| rng.gen_range(lo..hi)),
+                spec.position[1].unwrap_or_else(|| rng.gen_range(lo..hi)),
+            );
+            let blocked = self.colliders.iter().any(|c| c.overlaps_disc(p, AGENT_RADIUS))
+                || self.goals.iter().any(|g| g.centre.y - g.radius < 1.0 && (Vec2::new(g.centre.x, g.centre.z) - p).length() < g.radius + AGENT_RADIUS + 0.5)
+                || self.zones.iter().any(|z| z.foot.contains(p, AGENT_RADIUS));
+            if !blocked {
+                break;
+            }
+        }
+        p
+    }
+}
+
+/// Maps any angle in degrees into [0, 360).
+pub fn wrap_degrees(d: f32) -> f32 {
+    let w = d % 360.0;
+    if w < 0.0 { w + 360.0 } else { w }
+}

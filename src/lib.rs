@@ -1,0 +1,10 @@
+//! SEC Playground core: the Animal-AI v1 arenas and their first-person camera, built for the
+//! browser (wasm32) and natively from the same code, deterministically.
+
+pub mod arena;
+pub mod render;
+
+#[cfg(target_arch = "wasm32")]
+pub mod web;
+
+pub use arena::{Action, Env, EnvConfig, Task};

@@ -1,0 +1,381 @@
+//! The agent's first-person camera: one ray per pixel, 60 degree field of view, eye 0.5 above the
+//! floor, no pitch or roll (arenas.md section 4).
+//!
+//! Because the camera never pitches, every pixel of a column shares the horizontal part of its
+//! ray. The column's 2-D intersections with the vertical walls and fences are computed once, and
+//! each row then only checks its height: still exactly one ray per pixel, at a fraction of the
+//! cost. Spheres and arches, which are not vertical extrusions, are intersected per pixel.
+
+use super::{colours, lit, shade_factor, Frame, GLASS_ALPHA, HEIGHT, PIXELS, WIDTH};
+use crate::arena::{BoxObj, Footprint, ObjectKind, Tunnel, World, ARENA_SIZE, AGENT_RADIUS};
+use glam::{Vec2, Vec3};
+
+/// tan(30 degrees): half the field of view, horizontally and vertically (the image is square).
+const TAN_HALF_FOV: f32 = 0.577_350_26;
+/// The eye is at the agent sphere's centre.
+const EYE: f32 = AGENT_RADIUS;
+/// The fence model spans 0 to 7.1; drawn 7 tall (arenas.md section 1).
+const FENCE_HEIGHT: f32 = 7.0;
+/// Hits closer than this are ignored (Unity's near plane is 0.01).
+const NEAR: f32 = 1e-3;
+
+/// Renders 84x84 views. Holds the per-pixel depth buffer so rendering never allocates.
+#[derive(Clone, Debug)]
+pub struct Camera {
+    /// Horizontal offset of each column's ray along the camera's right axis.
+    col_offset: [f32; WIDTH],
+    /// Vertical slope of each row's ray (positive above the horizon).
+    row_slope: [f32; HEIGHT],
+    depth: Vec<f32>,
+}
+
+impl Default for Camera {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// One column's ray, horizontally: from `eye` along `h` (whose forward component is 1, so the
+/// ray parameter is the view depth).
+#[derive(Clone, Copy)]
+struct Column {
+    c: usize,
+    eye: Vec2,
+    h: Vec2,
+}
+
+/// An entering crossing of a surface: ray parameter and world normal.
+#[derive(Clone, Copy, Debug)]
+struct Hit {
+    s: f32,
+    n: Vec3,
+}
+
+impl Camera {
+    pub fn new() -> Self {
+        let n = WIDTH as f32;
+        Camera {
+            col_offset: std::array::from_fn(|c| ((2 * c + 1) as f32 / n - 1.0) * TAN_HALF_FOV),
+            row_slope: std::array::from_fn(|r| (1.0 - (2 * r + 1) as f32 / n) * TAN_HALF_FOV),
+            depth: vec![f32::INFINITY; PIXELS],
+        }
+    }
+
+    /// Renders what the agent sees into `frame`.
+    pub fn render(&mut self, w: &World, frame: &mut Frame) {
+        let f = w.agent.forward();
+        let right = Vec2::new(f.y, -f.x);
+        self.depth.fill(f32::INFINITY);
+        let sky = colours::SKY;
+        for px in frame.rgba.chunks_exact_mut(4) {
+            px.copy_from_slice(&[sky.0, sky.1, sky.2, 255]);
+        }
+        let px = &mut frame.rgba;
+        for c in 0..WIDTH {
+            let col = Column { c, eye: w.agent.pos, h: f + right * self.col_offset[c] };
+            self.floor_and_fence(w, col, px);
+            for b in w.walls.iter().filter(|b| !b.transparent) {
+                self.wall(b, col, px, None);
+            }
+            for g in w.goals.iter().filter(|g| !g.collected) {
+                self.sphere(g.kind, g.centre, g.radius, col, px);
+            }
+            for t in w.tunnels.iter().filter(|t| !t.transparent) {
+                self.tunnel(t, col, px, false);
+            }
+        }
+        // Transparent surfaces last, farthest first, blended over what is behind them.
+        let mut glass: Vec<(f32, usize, bool)> = Vec::new();
+        glass.extend(w.walls.iter().enumerate().filter(|(_, b)| b.transparent).map(|(i, b)| ((b.foot.centre - w.agent.pos).length(), i, true)));
+        glass.extend(w.tunnels.iter().enumerate().filter(|(_, t)| t.transparent).map(|(i, t)| ((t.foot.centre - w.agent.pos).length(), i, false)));
+        glass.sort_by(|a, b| b.0.total_cmp(&a.0));
+        for (_, i, is_wall) in glass {
+            for c in 0..WIDTH {
+                let col = Column { c, eye: w.agent.pos, h: f + right * self.col_offset[c] };
+                if is_wall {
+                    self.wall(&w.walls[i], col, px, Some(()));
+                } else {
+                    self.tunnel(&w.tunnels[i], col, px, true);
+                }
+            }
+        }
+    }
+
+    /// Rows whose slope lies in [lo, hi], widened by one row each side; callers test exactly.
+    #[inline]
+    fn rows(&self, lo: f32, hi: f32) -> std::ops::Range<usize> {
+        let n = HEIGHT as f32;
+        let row_of = |slope: f32| ((1.0 - slope / TAN_HALF_FOV) * n - 1.0) / 2.0;
+        let r0 = (row_of(hi).floor() - 1.0).max(0.0);
+        let r1 = (row_of(lo).ceil() + 2.0).min(n);
+        if r0 >= r1 {
+            return 0..0;
+        }
+        r0 as usize..r1 as usize
+    }
+
+    fn floor_and_fence(&mut self, w: &World, col: Column, px: &mut [u8]) {
+        let Column { c, eye, h } = col;
+        for r in HEIGHT / 2..HEIGHT {
+            let s = -EYE / self.row_slope[r];
+            let p = eye + h * s;
+            let zone = w.zones.iter().find(|z| z.foot.contains(p, 0.0));
+            let colour = match zone.map(|z| z.kind) {
+                Some(ObjectKind::DeathZone) => colours::DEATH_ZONE,
+                Some(ObjectKind::HotZone) => colours::HOT_ZONE,
+                _ => colours::FLOOR,
+            };
+            let i = r * WIDTH + c;
+            self.depth[i] = s;
+            put(px, i, [colour.0, colour.1, colour.2]);
+        }
+        // The eye is always inside the fence square: the ray leaves it at the nearest exit.
+        let exit = |e: f32, d: f32| {
+            if d > 0.0 {
+                (ARENA_SIZE - e) / d
+            } else if d < 0.0 {
+                -e / d
+            } else {
+                f32::INFINITY
+            }
+        };
+        let s = exit(eye.x, h.x).min(exit(eye.y, h.y));
+        let fence = [colours::FENCE.0, colours::FENCE.1, colours::FENCE.2];
+        for r in self.rows(-EYE / s, (FENCE_HEIGHT - EYE) / s) {
+            let y = EYE + self.row_slope[r] * s;
+            let i = r * WIDTH + c;
+            if (0.0..=FENCE_HEIGHT).contains(&y) && s < self.depth[i] {
+                self.depth[i] = s;
+                put(px, i, fence);
+            }
+        }
+    }
+
+    /// A box on the floor: its entering side face, and its top when it is below the eye.
+    /// `glass` blends instead of overwriting.
+    fn wall(&mut self, b: &BoxObj, col: Column, px: &mut [u8], glass: Option<()>) {
+        let Some((s0, s1, n)) = slab(b.foot.to_local(col.eye), local_dir(&b.foot, col.h), b.foot.half) else {
+            return;
+        };
+        if s0 <= NEAR {
+            return;
+        }
+        let h = b.height;
+        let n = b.foot.to_world_dir(n);
+        let side = shade_factor([n.x, 0.0, n.y]);
+        let top = shade_factor([0.0, 1.0, 0.0]);
+        let (lo, hi) = if h < EYE { (-EYE / s0, (h - EYE) / s1) } else { (-EYE / s0, (h - EYE) / s0) };
+        for r in self.rows(lo, hi) {
+            let slope = self.row_slope[r];
+            let y = EYE + slope * s0;
+            let (s, factor) = if (0.0..=h).contains(&y) {
+                (s0, side)
+            } else if h < EYE && slope < 0.0 {
+                let st = (h - EYE) / slope;
+                if st < s0 || st > s1 {
+                    continue;
+                }
+                (st, top)
+            } else {
+                continue;
+            };
+            let i = r * WIDTH + col.c;
+            if s >= self.depth[i] {
+                continue;
+            }
+            if glass.is_some() {
+                blend(px, i, factor);
+            } else {
+                self.depth[i] = s;
+                put(px, i, lit(b.colour, factor));
+            }
+        }
+    }
+
+    /// A goal sphere: emissive (flat) except GoodGoalMulti, which is lit.
+    fn sphere(&mut self, kind: ObjectKind, centre: Vec3, radius: f32, col: Column, px: &mut [u8]) {
+        let Column { c, eye, h } = col;
+        let w2 = Vec2::new(centre.x, centre.z) - eye;
+        let hh = h.length_squared();
+        let along = w2.dot(h);
+        if along <= 0.0 || w2.length_squared() - along * along / hh > radius * radius {
+            return;
+        }
+        let wy = centre.y - EYE;
+        let cc = w2.length_squared() + wy * wy - radius * radius;
+        let flat = match kind {
+            ObjectKind::GoodGoal => Some(colours::GOOD_GOAL),
+            ObjectKind::BadGoal => Some(colours::BAD_GOAL),
+            _ => None,
+        };
+        for r in 0..HEIGHT {
+            let slope = self.row_slope[r];
+            let a = hh + slope * slope;
+            let b = along + slope * wy;
+            let disc = b * b - a * cc;
+            if disc < 0.0 {
+                continue;
+            }
+            let s = (b - disc.sqrt()) / a;
+            let i = r * WIDTH + c;
+            if s <= NEAR || s >= self.depth[i] {
+                continue;
+            }
+            self.depth[i] = s;
+            let rgb = match flat {
+                Some(k) => [k.0, k.1, k.2],
+                None => {
+                    let p = Vec3::new(eye.x + h.x * s, EYE + slope * s, eye.y + h.y * s);
+                    let n = (p - centre) / radius;
+                    lit(colours::MULTI_GOAL, shade_factor(n.to_array()))
+                }
+            };
+            put(px, i, rgb);
+        }
+    }
+
+    /// An arch (CylinderTunnel). Opaque: the nearest surface. Transparent: every front face,
+    /// farthest first, blended.
+    fn tunnel(&mut self, t: &Tunnel, col: Column, px: &mut [u8], glass: bool) {
+        let o = t.foot.to_local(col.eye);
+        let d = local_dir(&t.foot, col.h);
+        let Some((s0, _, _)) = slab(o, d, Vec2::new(t.outer_w, t.half_len)) else {
+            return;
+        };
+        let rows = if s0 > NEAR { self.rows(-EYE / s0, (t.outer_h - EYE) / s0) } else { 0..HEIGHT };
+        let s_min = s0.max(0.0);
+        for r in rows {
+            let i = r * WIDTH + col.c;
+            if s_min >= self.depth[i] {
+                continue;
+            }
+            let mut hits = [Hit { s: 0.0, n: Vec3::ZERO }; 6];
+            let k = arch_hits(t, [o.x, EYE, o.y], [d.x, self.row_slope[r], d.y], &mut hits);
+            if glass {
+                for hit in hits[..k].iter().rev().filter(|h| h.s < self.depth[i]) {
+                    blend(px, i, shade_factor(hit.n.to_array()));
+                }
+            } else if k > 0 && hits[0].s < self.depth[i] {
+                self.depth[i] = hits[0].s;
+                put(px, i, lit(t.colour, shade_factor(hits[0].n.to_array())));
+            }
+        }
+    }
+}
+
+#[inline]
+fn put(px: &mut [u8], i: usize, rgb: [u8; 3]) {
+    px[i * 4..i * 4 + 3].copy_from_slice(&rgb);
+}
+
+/// The transparent material over what is behind it: 0.584 behind + 0.416 white, lit.
+#[inline]
+fn blend(px: &mut [u8], i: usize, factor: f32) {
+    let glass = (255.0 * factor).min(255.0);
+    for k in 0..3 {
+        let v = &mut px[i * 4 + k];
+        *v = ((1.0 - GLASS_ALPHA) * *v as f32 + GLASS_ALPHA * glass + 0.5).min(255.0) as u8;
+    }
+}
+
+fn local_dir(foot: &Footprint, h: Vec2) -> Vec2 {
+    Vec2::new(h.dot(foot.axis_x()), h.dot(foot.axis_z()))
+}
+
+/// 2-D slab test of a ray (local origin `o`, direction `d`) against the rectangle `|x| <= half`.
+/// Returns entry and exit parameters and the entering face's outward normal in local axes.
+fn slab(o: Vec2, d: Vec2, half: Vec2) -> Option<(f32, f32, Vec2)> {
+    let mut t0 = f32::NEG_INFINITY;
+    let mut t1 = f32::INFINITY;
+    let mut n = Vec2::ZERO;
+    for axis in 0..2 {
+        let (oa, da, ha) = (o[axis], d[axis], half[axis]);
+        if da == 0.0 {
+            if oa.abs() > ha {
+                return None;
+            }
+            continue;
+        }
+        let inv = 1.0 / da;
+        let (mut ta, mut tb) = ((-ha - oa) * inv, (ha - oa) * inv);
+        if ta > tb {
+            std::mem::swap(&mut ta, &mut tb);
+        }
+        if ta > t0 {
+            t0 = ta;
+            n = Vec2::ZERO;
+            n[axis] = -da.signum();
+        }
+        t1 = t1.min(tb);
+    }
+    if t1 < t0 || t1 <= 0.0 {
+        return None;
+    }
+    Some((t0, t1, n))
+}
+
+/// Entering crossings of a ray with the arch solid (outer elliptic shell minus the inner one,
+/// y >= 0, |z| <= half length), sorted nearest first; returns how many. Works in the tunnel's
+/// local frame and reports world normals.
+fn arch_hits(t: &Tunnel, o: [f32; 3], d: [f32; 3], out: &mut [Hit; 6]) -> usize {
+    let mut k = 0;
+    let mut push = |s: f32, nl: [f32; 3], out: &mut [Hit; 6]| {
+        if s > NEAR && k < out.len() {
+            // Local (x, y, z) to world: local x is (cos, -sin), local z is (sin, cos) in (x, z).
+            let (cos, sin) = (t.foot.cos, t.foot.sin);
+            let n = Vec3::new(nl[0] * cos + nl[2] * sin, nl[1], -nl[0] * sin + nl[2] * cos).normalize();
+            out[k] = Hit { s, n };
+            k += 1;
+        }
+    };
+    let valid = |s: f32| {
+        let y = o[1] + d[1] * s;
+        let z = o[2] + d[2] * s;
+        y >= 0.0 && z.abs() <= t.half_len
+    };
+    // Outer surface: entering the ellipse enters the solid.
+    if let Some((s1, _)) = ellipse_roots(o, d, t.outer_w, t.outer_h) {
+        if valid(s1) {
+            let (x, y) = (o[0] + d[0] * s1, o[1] + d[1] * s1);
+            push(s1, [x / (t.outer_w * t.outer_w), y / (t.outer_h * t.outer_h), 0.0], out);
+        }
+    }
+    // Inner surface: leaving the hollow enters the solid; it faces the axis.
+    if let Some((_, s2)) = ellipse_roots(o, d, t.inner_w, t.inner_h) {
+        if valid(s2) {
+            let (x, y) = (o[0] + d[0] * s2, o[1] + d[1] * s2);
+            push(s2, [-x / (t.inner_w * t.inner_w), -y / (t.inner_h * t.inner_h), 0.0], out);
+        }
+    }
+    // End faces: the annulus at z = +-half length, entered when moving towards the middle.
+    for zc in [t.half_len, -t.half_len] {
+        if d[2] == 0.0 || d[2] * zc > 0.0 {
+            continue;
+        }
+        let s = (zc - o[2]) / d[2];
+        let (x, y) = (o[0] + d[0] * s, o[1] + d[1] * s);
+        let e = |a: f32, b: f32| (x / a) * (x / a) + (y / b) * (y / b);
+        if y >= 0.0 && e(t.outer_w, t.outer_h) <= 1.0 && e(t.inner_w, t.inner_h) >= 1.0 {
+            push(s, [0.0, 0.0, zc.signum()], out);
+        }
+    }
+    out[..k].sort_by(|a, b| a.s.total_cmp(&b.s));
+    k
+}
+
+/// Both parameters where a ray meets the elliptic cylinder (x/a)^2 + (y/b)^2 = 1.
+fn ellipse_roots(o: [f32; 3], d: [f32; 3], a: f32, b: f32) -> Option<(f32, f32)> {
+    let (ia, ib) = (1.0 / (a * a), 1.0 / (b * b));
+    let qa = d[0] * d[0] * ia + d[1] * d[1] * ib;
+    if qa == 0.0 {
+        return None;
+    }
+    let qb = o[0] * d[0] * ia + o[1] * d[1] * ib;
+    let qc = o[0] * o[0] * ia + o[1] * o[1] * ib - 1.0;
+    let disc = qb * qb - qa * qc;
+    if disc < 0.0 {
+        return None;
+    }
+    let sq = disc.sqrt();
+    Some(((-qb - sq) / qa, (-qb + sq) / qa))
+}
