@@ -228,6 +228,12 @@ impl Env {
     pub fn world(&self) -> &World {
         &self.world
     }
+    /// Direct access for tests, tools and the "drive it yourself" mode; the cached observation
+    /// is dropped because the world may change.
+    pub fn world_mut(&mut self) -> &mut World {
+        self.frame_fresh = false;
+        &mut self.world
+    }
     pub fn config(&self) -> &EnvConfig {
         &self.config
     }

@@ -65,16 +65,22 @@ pub fn physics_frame(w: &mut World, movement: u8, turn: u8, hot_penalty: f64) ->
         }
     }
     a.vel *= DRAG_FACTOR;
+    let before = a.pos;
     a.pos += a.vel * FRAME_DT;
     a.grounded = true;
-    collide(w);
+    if !collide(w) {
+        // Squeezed between colliders (a gap narrower than the agent): stay where it was.
+        w.agent.pos = before;
+        w.agent.vel = Vec2::ZERO;
+    }
     fall_goals(w);
     touches(w, hot_penalty)
 }
 
 /// Pushes the agent's disc out of every collider and the fences, dropping the velocity
-/// component into the surface (no bounce, no wall friction).
-fn collide(w: &mut World) {
+/// component into the surface (no bounce, no wall friction). Returns false when the pushes
+/// could not resolve every overlap.
+fn collide(w: &mut World) -> bool {
     let a = &mut w.agent;
     for _ in 0..COLLISION_PASSES {
         let mut moved = false;
@@ -122,9 +128,13 @@ fn collide(w: &mut World) {
             a.vel.y = 0.0;
         }
         if !moved {
-            break;
+            return true;
         }
     }
+    !w.colliders.iter().any(|c| {
+        let l = c.to_local(a.pos);
+        (l - l.clamp(-c.half, c.half)).length() < AGENT_RADIUS - 1e-3
+    })
 }
 
 /// Goals fall under gravity (no drag) and bounce once on the floor.

@@ -1,0 +1,321 @@
+//! The v1 dynamics against the published numbers (arenas.md section 3), collisions and rewards.
+#![cfg(not(target_arch = "wasm32"))]
+
+use glam::Vec2;
+use sec_playground::arena::{
+    Action, AgentSpec, Env, EnvConfig, Layout, ObjectKind, ObjectSpec, Task, AGENT_RADIUS,
+};
+
+/// An arena with only the given objects and the agent at (x, z) facing `heading`.
+fn open_env(objects: Vec<ObjectSpec>, x: f32, z: f32, heading: f32) -> Env {
+    let layout = Layout {
+        name: "test".into(),
+        t: 1000,
+        objects,
+        agent: AgentSpec { position: [Some(x), Some(z)], rotation: Some(heading) },
+    };
+    let task = Task { name: "test".into(), description: String::new(), layouts: vec![layout] };
+    Env::new(EnvConfig::new(task), 1).unwrap()
+}
+
+fn speed(env: &Env) -> f32 {
+    env.world().agent.vel.length()
+}
+
+#[test]
+fn velocity_trace_matches_the_published_v1_log() {
+    // OLY issue #77, forward held; started from the published second step (3.00 m/s, grounded).
+    let published = [0.847, 3.00, 5.10, 6.95, 8.59, 10.04, 11.32, 12.46, 13.46, 14.35, 15.14];
+    let mut env = open_env(vec![], 5.0, 2.0, 0.0);
+    env.step(Action::NOOP).unwrap(); // settle: grounded from now on
+    {
+        let a = &mut env.world_mut().agent;
+        a.vel = Vec2::new(0.0, published[1]);
+    }
+    for (k, &want) in published.iter().enumerate().skip(2) {
+        env.step(Action::FORWARD).unwrap();
+        let got = speed(&env);
+        assert!((got - want).abs() / want < 0.005, "env step {}: speed {got}, published {want}", k + 1);
+    }
+}
+
+#[test]
+fn speeds_from_rest_and_top_speed() {
+    for (steps, want) in [(4, 8.20), (8, 13.2), (16, 18.2)] {
+        let mut env = open_env(vec![], 5.0, 2.0, 0.0);
+        env.step(Action::NOOP).unwrap();
+        assert_eq!(speed(&env), 0.0, "at rest before pushing");
+        for _ in 0..steps {
+            env.step(Action::FORWARD).unwrap();
+        }
+        let got = speed(&env);
+        assert!((got - want).abs() / want < 0.005, "{steps} steps from rest: {got}, expected {want}");
+    }
+    // Top speed: hold forward long enough, teleporting back before the far fence.
+    let mut env = open_env(vec![], 20.0, 2.0, 0.0);
+    for _ in 0..300 {
+        env.step(Action::FORWARD).unwrap();
+        let a = &mut env.world_mut().agent;
+        if a.pos.y > 30.0 {
+            a.pos.y = 2.0;
+        }
+    }
+    let top = speed(&env);
+    assert!((top - 21.17).abs() < 0.01, "top speed {top}");
+}
+
+#[test]
+fn turning_is_six_degrees_per_env_step_and_momentum_stays_in_the_world_frame() {
+    let mut env = open_env(vec![], 20.0, 5.0, 0.0);
+    env.step(Action::RIGHT).unwrap();
+    assert_eq!(env.world().agent.heading, 6.0);
+    env.step(Action::LEFT).unwrap();
+    env.step(Action::LEFT).unwrap();
+    assert_eq!(env.world().agent.heading, 354.0);
+    // Build speed along +z, then turn 90 degrees without pushing: the velocity keeps its direction.
+    let mut env = open_env(vec![], 20.0, 2.0, 0.0);
+    for _ in 0..4 {
+        env.step(Action::FORWARD).unwrap();
+    }
+    for _ in 0..5 {
+        env.step(Action::RIGHT).unwrap();
+    }
+    let v = env.world().agent.vel;
+    assert_eq!(env.world().agent.heading, 30.0);
+    assert!(v.x.abs() < 1e-6 && v.y > 0.5, "drift keeps the world-frame direction: {v}");
+}
+
+/// Drives at `heading` for `steps` env steps and returns the largest penetration into any
+/// collider seen after any physics step, plus the final position.
+fn drive(env: &mut Env, action: Action, steps: u32) -> (f32, Vec2) {
+    let mut worst = 0.0f32;
+    for _ in 0..steps {
+        if env.is_over() {
+            break;
+        }
+        env.step(action).unwrap();
+        let w = env.world();
+        for c in &w.colliders {
+            let l = c.to_local(w.agent.pos);
+            let q = l.clamp(-c.half, c.half);
+            worst = worst.max(AGENT_RADIUS - (l - q).length());
+        }
+    }
+    (worst, env.world().agent.pos)
+}
+
+#[test]
+fn no_wall_of_the_double_t_maze_can_be_crossed() {
+    let task = Task::preset("double-t-maze").unwrap();
+    let walls: Vec<ObjectSpec> = task.layouts[0].objects.iter().filter(|o| o.kind == ObjectKind::Wall).cloned().collect();
+    let mut runs = 0;
+    // Run at the middle of every wall from all four sides at full speed, head-on and skewed.
+    for w in &walls {
+        let centre = Vec2::new(w.position[0].unwrap(), w.position[2].unwrap());
+        let half = Vec2::new(w.size[0].unwrap(), w.size[2].unwrap()) / 2.0;
+        for heading in [0.0f32, 90.0, 180.0, 270.0] {
+            for skew in [0.0f32, 25.0, -25.0] {
+                let h = (heading + skew).to_radians();
+                let dir = Vec2::new(h.sin(), h.cos());
+                let reach = (dir.x.abs() * half.x).max(dir.y.abs() * half.y).min(half.length());
+                let start = centre - dir * (reach + 6.0);
+                if !(1.0..=39.0).contains(&start.x) || !(1.0..=39.0).contains(&start.y) {
+                    continue;
+                }
+                runs += 1;
+                let mut env = open_env(vec![w.clone()], start.x, start.y, heading + skew);
+                let foot = env.world().colliders[0];
+                let mut prev = start;
+                for _ in 0..60 {
+                    let (pen, p) = drive(&mut env, Action::FORWARD, 1);
+                    assert!(pen < 0.02, "wall at {centre} heading {heading}+{skew}: penetration {pen}");
+                    // The centre's path never passes through the wall (it may go round it).
+                    for k in 0..=20 {
+                        let q = prev + (p - prev) * (k as f32 / 20.0);
+                        assert!(!foot.contains(q, 0.0), "went through the wall at {centre} heading {heading}+{skew}: {prev} -> {p}");
+                    }
+                    prev = p;
+                }
+            }
+        }
+    }
+    assert!(runs >= 100, "only {runs} runs");
+}
+
+#[test]
+fn the_transparent_wall_and_the_tunnel_legs_block() {
+    // detour-transparent: straight at the glass from the start.
+    let mut env = Env::new(EnvConfig::new(Task::preset("detour-transparent").unwrap()), 3).unwrap();
+    let (pen, end) = drive(&mut env, Action::FORWARD, 120);
+    assert!(pen < 0.02 && end.y <= 36.5 - AGENT_RADIUS + 0.02, "went through the glass to {end}");
+    // cylinder: from the start (1,1) facing 45 degrees the arch is side-on; run into the near leg.
+    let mut env = Env::new(EnvConfig::new(Task::preset("cylinder").unwrap()), 3).unwrap();
+    let (pen, end) = drive(&mut env, Action::FORWARD, 120);
+    let axis_dist = ((end.x - 20.0) + (end.y - 20.0)) / std::f32::consts::SQRT_2;
+    assert!(pen < 0.02, "penetrated the leg by {pen}");
+    assert!(axis_dist < -5.0 + 0.02, "got through the leg: {end}, {axis_dist} from the axis");
+}
+
+#[test]
+fn a_gap_of_1_1_is_passable() {
+    // Two walls along x leave x in [19.45, 20.55] open at z = 20.
+    let left = ObjectSpec::new(ObjectKind::Wall, 9.725, 0.0, 20.0).size(19.45, 2.0, 1.0);
+    let right = ObjectSpec::new(ObjectKind::Wall, 30.275, 0.0, 20.0).size(19.45, 2.0, 1.0);
+    // The 0.999 size adjustment widens the gap slightly; the config gap is 1.1.
+    let mut env = open_env(vec![left, right], 20.0, 10.0, 0.0);
+    let (pen, end) = drive(&mut env, Action::FORWARD, 30);
+    assert!(pen < 0.02);
+    assert!(end.y > 22.0, "stuck at {end}");
+    // And a 0.9 gap is not.
+    let left = ObjectSpec::new(ObjectKind::Wall, 9.775, 0.0, 20.0).size(19.55, 2.0, 1.0);
+    let right = ObjectSpec::new(ObjectKind::Wall, 30.225, 0.0, 20.0).size(19.55, 2.0, 1.0);
+    let mut env = open_env(vec![left, right], 20.0, 10.0, 0.0);
+    let (pen, end) = drive(&mut env, Action::FORWARD, 30);
+    assert!(pen < 0.02, "penetration {pen}");
+    assert!(end.y < 20.0, "squeezed through a 0.9 gap to {end}");
+}
+
+#[test]
+fn a_timed_out_t_maze_episode_sums_to_minus_one() {
+    let mut env = Env::new(EnvConfig::new(Task::preset("double-t-maze").unwrap()), 5).unwrap();
+    let mut total = 0.0;
+    let mut n = 0;
+    loop {
+        // Turning on the spot never reaches the goal.
+        let s = env.step(Action::RIGHT).unwrap();
+        total += s.reward;
+        n += 1;
+        assert!(!s.terminated);
+        if s.truncated {
+            break;
+        }
+    }
+    assert_eq!(n, 1000);
+    assert!((total + 1.0).abs() < 1e-9, "total {total}");
+    assert!(env.step(Action::NOOP).is_err(), "stepping a finished episode is an error");
+}
+
+#[test]
+fn touching_the_t_maze_goal_pays_2_997_and_ends_the_episode() {
+    let mut env = Env::new(EnvConfig::new(Task::preset("double-t-maze").unwrap()), 5).unwrap();
+    {
+        let a = &mut env.world_mut().agent;
+        a.pos = Vec2::new(20.0, 16.5);
+        a.heading = 0.0;
+    }
+    let mut last = None;
+    for _ in 0..20 {
+        let s = env.step(Action::FORWARD).unwrap();
+        if s.terminated {
+            last = Some((s.reward, s.info.good_goal));
+            break;
+        }
+        assert!((s.reward + 0.001).abs() < 1e-12);
+    }
+    let (reward, good) = last.expect("the goal was not reached");
+    assert!(good);
+    assert!((reward - (2.997 - 0.001)).abs() < 1e-12, "goal step reward {reward}");
+    assert!(env.is_over());
+}
+
+#[test]
+fn the_dropped_goal_falls_bounces_once_and_rests() {
+    let mut env = Env::new(EnvConfig::new(Task::preset("object-permanence").unwrap()), 1).unwrap();
+    let big = |env: &Env| env.world().goals[0].clone();
+    assert!((big(&env).centre.y - 11.5085).abs() < 1e-3);
+    let mut first_bounce = None;
+    let mut bounces = 0;
+    let mut falling = true;
+    for _ in 0..60 {
+        env.step(Action::NOOP).unwrap();
+        let g = big(&env);
+        if falling && g.vy > 0.0 {
+            bounces += 1;
+            first_bounce.get_or_insert(env.steps());
+        }
+        falling = g.vy <= 0.0;
+    }
+    let g = big(&env);
+    assert!(g.resting && (g.centre.y - g.radius).abs() < 1e-6);
+    assert_eq!(bounces, 1, "bounces once");
+    let landed = first_bounce.unwrap();
+    assert!((23..=25).contains(&landed), "landed after {landed} env steps (arenas.md: about 24)");
+}
+
+#[test]
+fn good_goal_multi_ends_after_the_last_and_death_zones_cost_one() {
+    let multi = |x| ObjectSpec::new(ObjectKind::GoodGoalMulti, x, 0.0, 10.0);
+    let mut env = open_env(vec![multi(20.0), ObjectSpec::new(ObjectKind::DeathZone, 20.0, 0.0, 30.0).size(10.0, 0.0, 4.0)], 20.0, 5.0, 0.0);
+    let mut total = 0.0;
+    let mut goal_steps = 0;
+    for _ in 0..100 {
+        let s = env.step(Action::FORWARD).unwrap().info;
+        total += s.reward;
+        if s.good_goal {
+            goal_steps += 1;
+            assert!(!s.terminated || env.world().goals.iter().all(|g| g.collected));
+        }
+        if s.terminated {
+            break;
+        }
+    }
+    assert_eq!(goal_steps, 1);
+    assert!(env.is_over(), "the last GoodGoalMulti ends the episode");
+    assert!(total > 0.9);
+    // Death zone straight ahead: -1 and the end.
+    let mut env = open_env(vec![ObjectSpec::new(ObjectKind::DeathZone, 20.0, 0.0, 12.0).size(10.0, 0.0, 4.0)], 20.0, 5.0, 0.0);
+    let mut last = 0.0;
+    for _ in 0..100 {
+        let s = env.step(Action::FORWARD).unwrap();
+        last = s.reward;
+        if s.terminated {
+            break;
+        }
+    }
+    assert!(env.is_over());
+    assert!((last - (-1.0 - 0.001)).abs() < 1e-12, "{last}");
+}
+
+#[test]
+fn layouts_cycle_in_an_order_shuffled_once_per_seed() {
+    let mut env = Env::new(EnvConfig::new(Task::preset("double-t-maze").unwrap()), 11).unwrap();
+    let mut names = vec![env.layout_name().to_string()];
+    for _ in 0..7 {
+        env.reset(None);
+        names.push(env.layout_name().to_string());
+    }
+    let mut first4 = names[..4].to_vec();
+    first4.sort();
+    assert_eq!(first4, ["corner-1", "corner-2", "corner-3", "corner-4"]);
+    assert_eq!(names[..4], names[4..], "the order repeats");
+    let starts: Vec<Vec2> = (0..4)
+        .map(|_| {
+            env.reset(None);
+            env.world().agent.pos
+        })
+        .collect();
+    assert!(starts.iter().all(|p| [3.0, 37.0].contains(&p.x) && [3.0, 37.0].contains(&p.y)));
+    // Same seed, same everything.
+    let a = Env::new(EnvConfig::new(Task::preset("double-t-maze").unwrap()), 11).unwrap();
+    assert_eq!(a.layout_name(), names[0]);
+    assert_eq!(a.world(), &Env::new(EnvConfig::new(Task::preset("double-t-maze").unwrap()), 11).unwrap().world().clone());
+}
+
+#[test]
+fn actions_and_limits_are_validated() {
+    assert!(Action::new(9).unwrap_err().to_string().contains("action"));
+    assert_eq!(Action::from_branches(1, 2).unwrap().index(), 5);
+    assert!(Action::from_branches(3, 0).is_err());
+    let mut cfg = EnvConfig::new(Task::preset("detour").unwrap());
+    cfg.t = Some(10_000_000);
+    let e = Env::new(cfg, 1).unwrap_err();
+    assert_eq!(e.field, "t");
+    assert!(e.message.contains("0..=100000"));
+    assert!(Task::preset("nope").unwrap_err().message.contains("double-t-maze"));
+    let mut env = open_env(vec![], 5.0, 5.0, 0.0);
+    assert_eq!(env.step_held(Action::FORWARD, 0).unwrap_err().field, "k");
+    let s = env.step_held(Action::FORWARD, 4).unwrap();
+    assert_eq!(s.info.env_steps, 4);
+    assert!((s.reward + 0.004).abs() < 1e-12);
+    assert_eq!(env.steps(), 4);
+}
