@@ -1,0 +1,144 @@
+//! Golden images of every task's first frame, and pixel checks of what the agent must (not) see.
+#![cfg(not(target_arch = "wasm32"))]
+
+use sec_playground::arena::{Action, Env, EnvConfig, Task, TASK_NAMES};
+use sec_playground::render::{colours, Frame, TopDown, HEIGHT, WIDTH};
+use std::path::PathBuf;
+
+fn first_frame(task: &str) -> (Env, Frame) {
+    let mut env = Env::new(EnvConfig::new(Task::preset(task).unwrap()), 1).unwrap();
+    let f = env.observation().clone();
+    (env, f)
+}
+
+fn golden_path(task: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden").join(format!("{task}.png"))
+}
+
+fn read_png(path: &PathBuf) -> Vec<u8> {
+    let dec = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))));
+    let mut reader = dec.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!((info.width as usize, info.height as usize), (WIDTH, HEIGHT));
+    assert_eq!(info.color_type, png::ColorType::Rgba);
+    buf.truncate(info.buffer_size());
+    buf
+}
+
+fn write_png(path: &PathBuf, rgba: &[u8]) {
+    let mut enc = png::Encoder::new(std::fs::File::create(path).unwrap(), WIDTH as u32, HEIGHT as u32);
+    enc.set_color(png::ColorType::Rgba);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.write_header().unwrap().write_image_data(rgba).unwrap();
+}
+
+/// Compares with the checked-in PNGs: at most 1% of pixels may differ, none by more than 8 per
+/// channel. `SEC_UPDATE_GOLDEN=1` rewrites them (look at them before committing).
+#[test]
+fn first_frames_match_the_golden_images() {
+    let update = std::env::var("SEC_UPDATE_GOLDEN").is_ok_and(|v| v == "1");
+    for task in TASK_NAMES {
+        let (_, frame) = first_frame(task);
+        let path = golden_path(task);
+        if update {
+            write_png(&path, &frame.rgba);
+            continue;
+        }
+        let want = read_png(&path);
+        let mut differing = 0;
+        for (a, b) in frame.rgba.chunks_exact(4).zip(want.chunks_exact(4)) {
+            let d = (0..3).map(|k| a[k].abs_diff(b[k])).max().unwrap();
+            assert!(d <= 8, "{task}: a pixel differs by {d}");
+            differing += (d > 0) as usize;
+        }
+        assert!(differing * 100 <= WIDTH * HEIGHT, "{task}: {differing} pixels differ");
+    }
+}
+
+fn count(frame: &Frame, rgb: [u8; 3], cols: std::ops::Range<usize>, rows: std::ops::Range<usize>) -> usize {
+    rows.flat_map(|r| cols.clone().map(move |c| (c, r))).filter(|&(c, r)| frame.pixel(c, r) == rgb).count()
+}
+
+const GOAL: [u8; 3] = [colours::GOOD_GOAL.0, colours::GOOD_GOAL.1, colours::GOOD_GOAL.2];
+
+#[test]
+fn the_sky_is_exactly_the_v1_background() {
+    let (_, f) = first_frame("detour");
+    assert_eq!(f.pixel(83, 0), [49, 77, 121]);
+    // Every task shows some sky above the horizon... except where a wall fills the view.
+    for task in ["detour", "cylinder", "object-permanence"] {
+        let (_, f) = first_frame(task);
+        assert!(count(&f, [49, 77, 121], 0..WIDTH, 0..HEIGHT / 2) > 500, "{task}: no sky");
+    }
+}
+
+#[test]
+fn the_detour_goal_shows_above_the_low_wall_from_the_start() {
+    let (env, f) = first_frame("detour");
+    assert_eq!(env.world().agent.pos.y, 1.0);
+    assert!(count(&f, GOAL, 0..WIDTH, 0..HEIGHT / 2) >= 1, "the goal is not visible above the horizon");
+    // It lies left of the centre: bearing -7.7 degrees (arenas.md 7.4).
+    assert_eq!(count(&f, GOAL, WIDTH / 2..WIDTH, 0..HEIGHT), 0);
+    // Behind the glass the goal is tinted but still green.
+    let (_, f) = first_frame("detour-transparent");
+    let greenish = (0..HEIGHT)
+        .flat_map(|r| (0..WIDTH / 2).map(move |c| (c, r)))
+        .filter(|&(c, r)| {
+            let [r_, g, b] = f.pixel(c, r);
+            g as i32 > r_ as i32 + 20 && g as i32 > b as i32 + 40
+        })
+        .count();
+    assert!(greenish >= 1, "the goal is not visible through the glass");
+    // The opaque 0.5-high wall is a thin band at the horizon; behind the glass the floor is tinted.
+    let (_, f) = first_frame("detour");
+    let grey = f.pixel(60, HEIGHT / 2);
+    assert!(grey[0] == grey[1] && grey[1] == grey[2], "wall band at the horizon is grey: {grey:?}");
+}
+
+#[test]
+fn the_dropped_goal_is_visible_while_falling_and_hidden_once_landed() {
+    let (mut env, f) = first_frame("object-permanence");
+    // The big goal falls left of the centre, the small one is to the right.
+    assert!(count(&f, GOAL, 0..WIDTH / 2, 0..HEIGHT) > 20, "the big goal is not visible at the start");
+    assert!(count(&f, GOAL, WIDTH / 2..WIDTH, 0..HEIGHT) > 0, "the small goal is not visible");
+    for _ in 0..40 {
+        env.step(Action::NOOP).unwrap();
+    }
+    assert!(env.world().goals[0].resting);
+    let f = env.observation().clone();
+    assert_eq!(count(&f, GOAL, 0..WIDTH / 2, 0..HEIGHT), 0, "the landed goal must be hidden by the wall");
+    assert!(count(&f, GOAL, WIDTH / 2..WIDTH, 0..HEIGHT) > 0, "the small goal stays visible");
+}
+
+#[test]
+fn the_cylinder_goal_is_hidden_side_on_and_visible_along_the_axis() {
+    let (mut env, f) = first_frame("cylinder");
+    assert_eq!(count(&f, GOAL, 0..WIDTH, 0..HEIGHT), 0, "side-on, the arch hides the goal");
+    // From (27, 13) looking up the axis (heading 315), the goal shows through the opening.
+    {
+        let a = &mut env.world_mut().agent;
+        a.pos = glam::Vec2::new(27.0, 13.0);
+        a.heading = 315.0;
+    }
+    let f = env.observation().clone();
+    assert!(count(&f, GOAL, 30..54, 0..HEIGHT) > 20, "the goal is visible along the axis");
+}
+
+#[test]
+fn frames_are_deterministic_and_the_top_down_view_draws_the_agent() {
+    let (_, a) = first_frame("double-t-maze");
+    let (env, b) = first_frame("double-t-maze");
+    assert_eq!(a, b);
+    let mut top = TopDown::new(210);
+    top.render(env.world(), &[env.world().agent.pos]);
+    let p = env.world().agent.pos;
+    let (px, py) = (((p.x + 1.0) * 5.0) as usize, ((41.0 - p.y) * 5.0) as usize);
+    let i = (py * 210 + px) * 4;
+    let ag = colours::AGENT;
+    let got = &top.rgba[i..i + 3];
+    assert!(got == [ag.0, ag.1, ag.2] || got == [255, 255, 255], "agent pixel {got:?}");
+    // The goal in the middle.
+    let i = (105 * 210 + 105) * 4;
+    assert_eq!(&top.rgba[i..i + 3], GOAL);
+}

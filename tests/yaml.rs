@@ -1,0 +1,111 @@
+//! The Animal-AI YAML loader: the v1 files load into the same worlds as the presets, and bad
+//! files are refused with the line and the field.
+#![cfg(not(target_arch = "wasm32"))]
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use sec_playground::arena::yaml::load_task;
+use sec_playground::arena::{Layout, Task, World};
+
+const TMAZE: &str = include_str!("../assets/arenas/sec_doubletmaze_corner1.yaml");
+const DETOUR: &str = include_str!("../assets/arenas/v1_3-4-1.yml");
+const GLASS: &str = include_str!("../assets/arenas/v1_3-5-1.yml");
+const CYLINDER: &str = include_str!("../assets/arenas/v1_3-13-1.yml");
+const PERMANENCE: &str = include_str!("../assets/arenas/v1_8-7-1.yml");
+
+fn one(name: &str, src: &str) -> Layout {
+    let t = load_task(name, src).unwrap_or_else(|e| panic!("{name}: {e}"));
+    assert_eq!(t.layouts.len(), 1);
+    t.layouts.into_iter().next().unwrap()
+}
+
+/// Same objects and agent, and the same spawned world from the same generator state.
+fn assert_same_world(from_file: &Layout, preset: &Layout) {
+    assert_eq!(from_file.objects, preset.objects);
+    assert_eq!(from_file.agent, preset.agent);
+    let a = World::spawn(from_file, &mut ChaCha8Rng::seed_from_u64(3));
+    let b = World::spawn(preset, &mut ChaCha8Rng::seed_from_u64(3));
+    assert_eq!(a, b);
+}
+
+#[test]
+fn the_v1_files_give_the_preset_worlds() {
+    // Detour, transparent detour and object permanence: identical but for t (250 in the files,
+    // the project's 1000 in the presets).
+    for (name, src, preset, k) in [
+        ("3-4-1", DETOUR, "detour", 0),
+        ("3-5-1", GLASS, "detour-transparent", 0),
+        ("8-7-1", PERMANENCE, "object-permanence", 0),
+    ] {
+        let l = one(name, src);
+        assert_eq!(l.t, 250);
+        assert_same_world(&l, &Task::preset(preset).unwrap().layouts[k]);
+    }
+    // The T-maze generator's corner 1, with its random heading filled as 0 in the file.
+    let l = one("tmaze", TMAZE);
+    assert_eq!(l.t, 1000);
+    let mut preset = Task::preset("double-t-maze").unwrap().layouts[0].clone();
+    assert_eq!(preset.agent.rotation, None, "the preset draws the heading");
+    preset.agent.rotation = Some(0.0);
+    assert_same_world(&l, &preset);
+    // 3-13-1 has a size-1 goal; SEC's cylinder (and the preset) uses size 2.
+    let mut l = one("3-13-1", CYLINDER);
+    assert_eq!(l.objects[1].size, [Some(1.0); 3]);
+    l.objects[1].size = [Some(2.0), Some(1.0), Some(1.0)];
+    assert_same_world(&l, &Task::preset("cylinder").unwrap().layouts[0]);
+}
+
+fn err(src: &str) -> sec_playground::arena::ConfigError {
+    load_task("bad", src).unwrap_err()
+}
+
+#[test]
+fn bad_files_name_the_line_and_the_field() {
+    let unknown = DETOUR.replace("name: GoodGoal", "name: Ramp");
+    let e = err(&unknown);
+    assert_eq!(e.line, Some(20), "{e}");
+    assert_eq!(e.field, "arenas.0.items[1].name");
+    assert!(e.message.contains("unknown item 'Ramp'"), "{e}");
+
+    let too_big = DETOUR.replace("{x: 35, y: .5, z: 1}", "{x: 35, y: 12, z: 1}");
+    let e = err(&too_big);
+    assert_eq!(e.line, Some(14), "{e}");
+    assert_eq!(e.field, "arenas.0.items[0].sizes[0].y");
+    assert!(e.message.contains("0.1..=10"), "{e}");
+
+    let e = err(&DETOUR.replace("      rotations: [0,0]\n", "      rotations: [0,0]\n      colour: 3\n"));
+    assert_eq!(e.field, "arenas.0.items[0].colour");
+    assert!(e.message.contains("unknown field"));
+
+    let e = err("!ArenaConfig\narenas:\n  0: !Arena\n    t: 250\n    items: [\n");
+    assert_eq!(e.field, "yaml");
+    assert!(e.line.is_some(), "{e}");
+
+    let e = err(&DETOUR.replace("t: 250", "t: 2.5"));
+    assert_eq!((e.line, e.field.as_str()), (Some(5), "arenas.0.t"));
+
+    let e = err(&DETOUR.replace("{x: 5, y: 0, z: 38}", "{x: 45, y: 0, z: 38}"));
+    assert_eq!(e.field, "arenas.0.items[1].positions[0].x");
+    assert!(e.message.contains("0..=40"), "{e}");
+
+    let e = err(&DETOUR.replace("{x: 5, y: 0, z: 38}", "{x: 5, y: 0}"));
+    assert_eq!(e.field, "arenas.0.items[1].positions[0].z");
+
+    assert_eq!(err("").field, "yaml");
+    assert_eq!(err("arenas: 3").field, "arenas");
+}
+
+#[test]
+fn random_values_and_several_arenas() {
+    let src = "!ArenaConfig\narenas:\n  0: !Arena\n    t: 100\n    items:\n    - !Item\n      name: GoodGoal\n      positions: [!Vector3 {x: -1, y: 0, z: -1}]\n  1: !Arena\n    t: 0\n    items: []\n";
+    let t = load_task("mine", src).unwrap();
+    assert_eq!(t.layouts.len(), 2);
+    assert_eq!(t.layouts[0].name, "mine#0");
+    assert_eq!(t.layouts[0].objects[0].position, [None, Some(0.0), None]);
+    assert_eq!(t.layouts[1].agent.position, [None, None]);
+    let a = World::spawn(&t.layouts[0], &mut ChaCha8Rng::seed_from_u64(1));
+    let b = World::spawn(&t.layouts[0], &mut ChaCha8Rng::seed_from_u64(2));
+    assert_ne!(a.goals[0].centre, b.goals[0].centre, "-1 draws a position per seed");
+    let g = a.goals[0].centre;
+    assert!((0.0..=40.0).contains(&g.x) && (0.0..=40.0).contains(&g.z));
+}
