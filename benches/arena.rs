@@ -1,1 +1,40 @@
-fn main(){}
+//! Arena speed: physics env steps per second and 84x84 renders per second, per task.
+//! Run: `cargo bench --bench arena`. Targets (BENCHMARKS.md): >= 200,000 env steps/s and
+//! >= 5,000 renders/s on one core. `bench/wasm-bench.mjs` measures the same work in Node.
+
+use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
+use sec_playground::arena::trace::{bench_env_steps, bench_worlds};
+use sec_playground::arena::{Env, EnvConfig, Task, TASK_NAMES};
+use sec_playground::render::{Camera, Frame};
+
+fn env_steps(c: &mut Criterion) {
+    let mut g = c.benchmark_group("env_step");
+    g.throughput(Throughput::Elements(1000));
+    for name in TASK_NAMES {
+        let mut env = Env::new(EnvConfig::new(Task::preset(name).unwrap()), 1).unwrap();
+        g.bench_function(name, |b| b.iter(|| black_box(bench_env_steps(&mut env, 1000))));
+    }
+    g.finish();
+}
+
+fn renders(c: &mut Criterion) {
+    let mut g = c.benchmark_group("render_84x84");
+    g.throughput(Throughput::Elements(1));
+    for name in TASK_NAMES {
+        let worlds = bench_worlds(name).unwrap();
+        let mut cam = Camera::new();
+        let mut frame = Frame::new();
+        let mut i = 0;
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                i = (i + 1) % worlds.len();
+                cam.render(black_box(&worlds[i]), &mut frame);
+                black_box(frame.rgba[0]);
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, env_steps, renders);
+criterion_main!(benches);

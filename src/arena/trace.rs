@@ -42,3 +42,43 @@ pub fn scripted_run(task: &str, seed: u64, steps: u32) -> Result<String, ConfigE
     }
     Ok(out)
 }
+
+/// The action cycle the speed benchmarks drive with (native criterion and the Node wasm script),
+/// so both measure the same work: mostly forward, with turns and a pause, bumping into walls.
+pub const BENCH_SCRIPT: [Action; 8] = [
+    Action::FORWARD,
+    Action::FORWARD,
+    Action::RIGHT,
+    Action::FORWARD,
+    Action::LEFT,
+    Action::FORWARD,
+    Action::NOOP,
+    Action::FORWARD,
+];
+
+/// Runs `n` physics-only env steps of the benchmark script, resetting at episode ends; returns
+/// the summed reward so the work cannot be optimised away.
+pub fn bench_env_steps(env: &mut Env, n: u32) -> f64 {
+    let mut total = 0.0;
+    for i in 0..n {
+        if env.is_over() {
+            env.reset(None);
+        }
+        let a = BENCH_SCRIPT[i as usize % BENCH_SCRIPT.len()];
+        total += env.advance(a, 1).map(|o| o.reward).unwrap_or(0.0);
+    }
+    total
+}
+
+/// Ten poses of a task for the render benchmarks: the world every 40 steps of the script.
+pub fn bench_worlds(task: &str) -> Result<Vec<super::World>, ConfigError> {
+    let mut env = Env::new(EnvConfig::new(Task::preset(task)?), 1)?;
+    let mut worlds = Vec::new();
+    for i in 0..400u32 {
+        if i % 40 == 0 {
+            worlds.push(env.world().clone());
+        }
+        bench_env_steps(&mut env, 1);
+    }
+    Ok(worlds)
+}

@@ -93,9 +93,24 @@ pub struct Tunnel {
     pub half_len: f32,
     pub colour: Rgb,
     pub transparent: bool,
+    /// 1/outer_w^2, 1/outer_h^2, 1/inner_w^2, 1/inner_h^2, for the renderer's per-pixel tests.
+    pub inv_sq: [f32; 4],
 }
 
 impl Tunnel {
+    pub fn outer_ia(&self) -> f32 {
+        self.inv_sq[0]
+    }
+    pub fn outer_ib(&self) -> f32 {
+        self.inv_sq[1]
+    }
+    pub fn inner_ia(&self) -> f32 {
+        self.inv_sq[2]
+    }
+    pub fn inner_ib(&self) -> f32 {
+        self.inv_sq[3]
+    }
+
     /// The two legs, which are what the agent collides with (arenas.md section 5).
     pub fn legs(&self) -> [Footprint; 2] {
         let w = (self.outer_w - self.inner_w) / 2.0;
@@ -243,12 +258,15 @@ impl World {
                 self.colliders.push(foot);
             }
             ObjectKind::CylinderTunnel | ObjectKind::CylinderTunnelTransparent => {
+                let (outer_w, outer_h) = (size[0] / 2.0, size[1] / 2.0);
+                let (inner_w, inner_h) = (TUNNEL_INNER * size[0], TUNNEL_INNER * size[1]);
                 let t = Tunnel {
                     foot: Footprint::new(centre, footprint_half, rotation),
-                    outer_w: size[0] / 2.0,
-                    outer_h: size[1] / 2.0,
-                    inner_w: TUNNEL_INNER * size[0],
-                    inner_h: TUNNEL_INNER * size[1],
+                    outer_w,
+                    outer_h,
+                    inner_w,
+                    inner_h,
+                    inv_sq: [outer_w, outer_h, inner_w, inner_h].map(|v| 1.0 / (v * v)),
                     half_len: size[2] / 2.0,
                     colour: if kind == ObjectKind::CylinderTunnel && spec.colour.is_none() { Rgb(51, 51, 51) } else { colour },
                     transparent: kind == ObjectKind::CylinderTunnelTransparent,

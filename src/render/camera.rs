@@ -116,15 +116,22 @@ impl Camera {
 
     fn floor_and_fence(&mut self, w: &World, col: Column, px: &mut [u8]) {
         let Column { c, eye, h } = col;
+        // Where this column's ray crosses each zone, so floor pixels test one interval each.
+        let mut spans = [(0.0f32, 0.0f32, colours::FLOOR); 8];
+        let mut n = 0;
+        for z in &w.zones {
+            if let Some((s0, s1, _)) = slab(z.foot.to_local(eye), local_dir(&z.foot, h), z.foot.half) {
+                if n == spans.len() {
+                    break;
+                }
+                let colour = if z.kind == ObjectKind::DeathZone { colours::DEATH_ZONE } else { colours::HOT_ZONE };
+                spans[n] = (s0, s1, colour);
+                n += 1;
+            }
+        }
         for r in HEIGHT / 2..HEIGHT {
             let s = -EYE / self.row_slope[r];
-            let p = eye + h * s;
-            let zone = w.zones.iter().find(|z| z.foot.contains(p, 0.0));
-            let colour = match zone.map(|z| z.kind) {
-                Some(ObjectKind::DeathZone) => colours::DEATH_ZONE,
-                Some(ObjectKind::HotZone) => colours::HOT_ZONE,
-                _ => colours::FLOOR,
-            };
+            let colour = spans[..n].iter().find(|(s0, s1, _)| (*s0..=*s1).contains(&s)).map_or(colours::FLOOR, |z| z.2);
             let i = r * WIDTH + c;
             self.depth[i] = s;
             put(px, i, [colour.0, colour.1, colour.2]);
@@ -249,15 +256,18 @@ impl Camera {
             if s_min >= self.depth[i] {
                 continue;
             }
-            let mut hits = [Hit { s: 0.0, n: Vec3::ZERO }; 6];
-            let k = arch_hits(t, [o.x, EYE, o.y], [d.x, self.row_slope[r], d.y], &mut hits);
+            let (o3, d3) = ([o.x, EYE, o.y], [d.x, self.row_slope[r], d.y]);
             if glass {
+                let mut hits = [Hit { s: 0.0, n: Vec3::ZERO }; 4];
+                let k = arch_hits(t, o3, d3, &mut hits);
                 for hit in hits[..k].iter().rev().filter(|h| h.s < self.depth[i]) {
                     blend(px, i, shade_factor(hit.n.to_array()));
                 }
-            } else if k > 0 && hits[0].s < self.depth[i] {
-                self.depth[i] = hits[0].s;
-                put(px, i, lit(t.colour, shade_factor(hits[0].n.to_array())));
+            } else if let Some((s, nl)) = arch_nearest(t, o3, d3) {
+                if s < self.depth[i] {
+                    self.depth[i] = s;
+                    put(px, i, lit(t.colour, shade_factor(arch_normal(t, nl).to_array())));
+                }
             }
         }
     }
@@ -314,37 +324,28 @@ fn slab(o: Vec2, d: Vec2, half: Vec2) -> Option<(f32, f32, Vec2)> {
     Some((t0, t1, n))
 }
 
-/// Entering crossings of a ray with the arch solid (outer elliptic shell minus the inner one,
-/// y >= 0, |z| <= half length), sorted nearest first; returns how many. Works in the tunnel's
-/// local frame and reports world normals.
-fn arch_hits(t: &Tunnel, o: [f32; 3], d: [f32; 3], out: &mut [Hit; 6]) -> usize {
-    let mut k = 0;
-    let mut push = |s: f32, nl: [f32; 3], out: &mut [Hit; 6]| {
-        if s > NEAR && k < out.len() {
-            // Local (x, y, z) to world: local x is (cos, -sin), local z is (sin, cos) in (x, z).
-            let (cos, sin) = (t.foot.cos, t.foot.sin);
-            let n = Vec3::new(nl[0] * cos + nl[2] * sin, nl[1], -nl[0] * sin + nl[2] * cos).normalize();
-            out[k] = Hit { s, n };
-            k += 1;
-        }
-    };
+/// The surfaces of the arch solid (outer elliptic shell minus the inner one, y >= 0,
+/// |z| <= half length) that a ray enters, as (parameter, local normal, unnormalised), in no
+/// particular order; `f` receives each.
+#[inline]
+fn arch_crossings(t: &Tunnel, o: [f32; 3], d: [f32; 3], mut f: impl FnMut(f32, [f32; 3])) {
     let valid = |s: f32| {
         let y = o[1] + d[1] * s;
         let z = o[2] + d[2] * s;
-        y >= 0.0 && z.abs() <= t.half_len
+        s > NEAR && y >= 0.0 && z.abs() <= t.half_len
     };
     // Outer surface: entering the ellipse enters the solid.
-    if let Some((s1, _)) = ellipse_roots(o, d, t.outer_w, t.outer_h) {
+    if let Some((s1, _)) = ellipse_roots(o, d, t.outer_ia(), t.outer_ib()) {
         if valid(s1) {
             let (x, y) = (o[0] + d[0] * s1, o[1] + d[1] * s1);
-            push(s1, [x / (t.outer_w * t.outer_w), y / (t.outer_h * t.outer_h), 0.0], out);
+            f(s1, [x * t.outer_ia(), y * t.outer_ib(), 0.0]);
         }
     }
     // Inner surface: leaving the hollow enters the solid; it faces the axis.
-    if let Some((_, s2)) = ellipse_roots(o, d, t.inner_w, t.inner_h) {
+    if let Some((_, s2)) = ellipse_roots(o, d, t.inner_ia(), t.inner_ib()) {
         if valid(s2) {
             let (x, y) = (o[0] + d[0] * s2, o[1] + d[1] * s2);
-            push(s2, [-x / (t.inner_w * t.inner_w), -y / (t.inner_h * t.inner_h), 0.0], out);
+            f(s2, [-x * t.inner_ia(), -y * t.inner_ib(), 0.0]);
         }
     }
     // End faces: the annulus at z = +-half length, entered when moving towards the middle.
@@ -355,17 +356,56 @@ fn arch_hits(t: &Tunnel, o: [f32; 3], d: [f32; 3], out: &mut [Hit; 6]) -> usize 
         let s = (zc - o[2]) / d[2];
         let (x, y) = (o[0] + d[0] * s, o[1] + d[1] * s);
         let e = |a: f32, b: f32| (x / a) * (x / a) + (y / b) * (y / b);
-        if y >= 0.0 && e(t.outer_w, t.outer_h) <= 1.0 && e(t.inner_w, t.inner_h) >= 1.0 {
-            push(s, [0.0, 0.0, zc.signum()], out);
+        if s > NEAR && y >= 0.0 && e(t.outer_w, t.outer_h) <= 1.0 && e(t.inner_w, t.inner_h) >= 1.0 {
+            f(s, [0.0, 0.0, zc.signum()]);
         }
     }
+}
+
+/// The first surface an opaque arch shows along a ray.
+fn arch_nearest(t: &Tunnel, o: [f32; 3], d: [f32; 3]) -> Option<(f32, [f32; 3])> {
+    // Fast path: a valid entry into the outer shell is always the nearest crossing, because the
+    // ray is outside the outer ellipse (hence outside the solid) until then.
+    if let Some((s1, _)) = ellipse_roots(o, d, t.outer_ia(), t.outer_ib()) {
+        let (x, y, z) = (o[0] + d[0] * s1, o[1] + d[1] * s1, o[2] + d[2] * s1);
+        if s1 > NEAR && y >= 0.0 && z.abs() <= t.half_len {
+            return Some((s1, [x * t.outer_ia(), y * t.outer_ib(), 0.0]));
+        }
+    } else {
+        // Missing the outer ellipse misses the whole arch.
+        return None;
+    }
+    let mut best: Option<(f32, [f32; 3])> = None;
+    arch_crossings(t, o, d, |s, n| {
+        if best.is_none_or(|(b, _)| s < b) {
+            best = Some((s, n));
+        }
+    });
+    best
+}
+
+/// Every front face of a transparent arch along a ray, nearest first; returns how many.
+fn arch_hits(t: &Tunnel, o: [f32; 3], d: [f32; 3], out: &mut [Hit; 4]) -> usize {
+    let mut k = 0;
+    arch_crossings(t, o, d, |s, n| {
+        out[k] = Hit { s, n: arch_normal(t, n) };
+        k += 1;
+    });
     out[..k].sort_by(|a, b| a.s.total_cmp(&b.s));
     k
 }
 
+/// A local arch normal in world axes, unit length: local x is (cos, -sin) and local z is
+/// (sin, cos) in world (x, z).
+fn arch_normal(t: &Tunnel, nl: [f32; 3]) -> Vec3 {
+    let (cos, sin) = (t.foot.cos, t.foot.sin);
+    Vec3::new(nl[0] * cos + nl[2] * sin, nl[1], -nl[0] * sin + nl[2] * cos).normalize()
+}
+
 /// Both parameters where a ray meets the elliptic cylinder (x/a)^2 + (y/b)^2 = 1.
-fn ellipse_roots(o: [f32; 3], d: [f32; 3], a: f32, b: f32) -> Option<(f32, f32)> {
-    let (ia, ib) = (1.0 / (a * a), 1.0 / (b * b));
+/// `ia` and `ib` are 1/a^2 and 1/b^2.
+#[inline]
+fn ellipse_roots(o: [f32; 3], d: [f32; 3], ia: f32, ib: f32) -> Option<(f32, f32)> {
     let qa = d[0] * d[0] * ia + d[1] * d[1] * ib;
     if qa == 0.0 {
         return None;

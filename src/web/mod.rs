@@ -188,3 +188,24 @@ pub fn frame_size() -> u32 {
 pub fn scripted_run(task: &str, seed: f64, steps: u32) -> Result<String, JsError> {
     trace::scripted_run(task, seed_from_js(seed)?, steps).map_err(js_err)
 }
+
+/// Benchmark helper: `n` physics-only env steps of the shared script (see `bench/wasm-bench.mjs`).
+#[wasm_bindgen(js_name = benchEnvSteps)]
+pub fn bench_env_steps(task: &str, n: u32) -> Result<f64, JsError> {
+    let mut env = Env::new(EnvConfig::new(Task::preset(task).map_err(js_err)?), 1).map_err(js_err)?;
+    Ok(trace::bench_env_steps(&mut env, n))
+}
+
+/// Benchmark helper: `n` camera renders cycling through the benchmark poses of a task.
+#[wasm_bindgen(js_name = benchRenders)]
+pub fn bench_renders(task: &str, n: u32) -> Result<u32, JsError> {
+    let worlds = trace::bench_worlds(task).map_err(js_err)?;
+    let mut cam = crate::render::Camera::new();
+    let mut frame = crate::render::Frame::new();
+    let mut acc = 0u32;
+    for i in 0..n as usize {
+        cam.render(&worlds[i % worlds.len()], &mut frame);
+        acc = acc.wrapping_add(frame.rgba[i % frame.rgba.len()] as u32);
+    }
+    Ok(acc)
+}

@@ -1,0 +1,34 @@
+// Arena speed in Node, running the release wasm build (pkg/): env steps/s and 84x84 renders/s
+// per task, the same work as `cargo bench --bench arena`. Run `npm run bench:wasm` after
+// `scripts/build.sh`. Targets (BENCHMARKS.md): >= 2,000 renders/s.
+import { readFileSync } from 'node:fs';
+import { fileURLToPath } from 'node:url';
+import { performance } from 'node:perf_hooks';
+
+const root = fileURLToPath(new URL('..', import.meta.url));
+const wasm = await import(`${root}pkg/sec_playground.js`);
+wasm.initSync({ module: readFileSync(`${root}pkg/sec_playground_bg.wasm`) });
+
+/** Best of `repeats` timings of fn(), in seconds. */
+function best(fn, repeats = 5) {
+  let t = Infinity;
+  for (let i = 0; i < repeats; i++) {
+    const t0 = performance.now();
+    fn();
+    t = Math.min(t, (performance.now() - t0) / 1000);
+  }
+  return t;
+}
+
+const rows = [];
+for (const task of wasm.taskNames()) {
+  wasm.benchEnvSteps(task, 20000); // warm up
+  const steps = 200000;
+  const ts = best(() => wasm.benchEnvSteps(task, steps));
+  wasm.benchRenders(task, 200);
+  const frames = 2000;
+  const tr = best(() => wasm.benchRenders(task, frames));
+  rows.push({ task, envStepsPerSec: Math.round(steps / ts), rendersPerSec: Math.round(frames / tr) });
+}
+console.log(`node ${process.version}, wasm release build`);
+console.table(rows);
