@@ -38,8 +38,10 @@ if [ ${#need_apt[@]} -gt 0 ]; then
 fi
 
 # npm packages (binaryen's wasm-opt, playwright-core, charting) pinned by package-lock.json.
-if [ ! -d node_modules ] || ! cmp -s package-lock.json node_modules/.package-lock.json 2>/dev/null; then
+lock_sum=$(sha256sum package-lock.json | cut -d' ' -f1)
+if [ "$(cat node_modules/.sec-lock-sum 2>/dev/null)" != "$lock_sum" ]; then
   log "installing npm packages"
   npm ci --no-audit --no-fund --loglevel=error
+  echo "$lock_sum" > node_modules/.sec-lock-sum
 fi
-log "tools ready: $(wasm-bindgen --version), $(wasm-pack --version), wasm-opt $(npx --no-install wasm-opt --version 2>/dev/null | head -n1), $(chromium --version 2>/dev/null)"
+log "tools ready: $(wasm-bindgen --version), $(wasm-pack --version), $(node_modules/.bin/wasm-opt --version), $(chromium --version 2>/dev/null)"

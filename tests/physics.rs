@@ -2,9 +2,7 @@
 #![cfg(not(target_arch = "wasm32"))]
 
 use glam::Vec2;
-use sec_playground::arena::{
-    Action, AgentSpec, Env, EnvConfig, Layout, ObjectKind, ObjectSpec, Task, AGENT_RADIUS,
-};
+use sec_playground::arena::{Action, AgentSpec, Env, EnvConfig, Layout, ObjectKind, ObjectSpec, Task, AGENT_RADIUS};
 
 /// An arena with only the given objects and the agent at (x, z) facing `heading`.
 fn open_env(objects: Vec<ObjectSpec>, x: f32, z: f32, heading: f32) -> Env {
@@ -107,7 +105,8 @@ fn drive(env: &mut Env, action: Action, steps: u32) -> (f32, Vec2) {
 #[test]
 fn no_wall_of_the_double_t_maze_can_be_crossed() {
     let task = Task::preset("double-t-maze").unwrap();
-    let walls: Vec<ObjectSpec> = task.layouts[0].objects.iter().filter(|o| o.kind == ObjectKind::Wall).cloned().collect();
+    let walls: Vec<ObjectSpec> =
+        task.layouts[0].objects.iter().filter(|o| o.kind == ObjectKind::Wall).cloned().collect();
     let mut runs = 0;
     // Run at the middle of every wall from all four sides at full speed, head-on and skewed.
     for w in &walls {
@@ -132,7 +131,10 @@ fn no_wall_of_the_double_t_maze_can_be_crossed() {
                     // The centre's path never passes through the wall (it may go round it).
                     for k in 0..=20 {
                         let q = prev + (p - prev) * (k as f32 / 20.0);
-                        assert!(!foot.contains(q, 0.0), "went through the wall at {centre} heading {heading}+{skew}: {prev} -> {p}");
+                        assert!(
+                            !foot.contains(q, 0.0),
+                            "went through the wall at {centre} heading {heading}+{skew}: {prev} -> {p}"
+                        );
                     }
                     prev = p;
                 }
@@ -245,7 +247,12 @@ fn the_dropped_goal_falls_bounces_once_and_rests() {
 #[test]
 fn good_goal_multi_ends_after_the_last_and_death_zones_cost_one() {
     let multi = |x| ObjectSpec::new(ObjectKind::GoodGoalMulti, x, 0.0, 10.0);
-    let mut env = open_env(vec![multi(20.0), ObjectSpec::new(ObjectKind::DeathZone, 20.0, 0.0, 30.0).size(10.0, 0.0, 4.0)], 20.0, 5.0, 0.0);
+    let mut env = open_env(
+        vec![multi(20.0), ObjectSpec::new(ObjectKind::DeathZone, 20.0, 0.0, 30.0).size(10.0, 0.0, 4.0)],
+        20.0,
+        5.0,
+        0.0,
+    );
     let mut total = 0.0;
     let mut goal_steps = 0;
     for _ in 0..100 {
@@ -263,7 +270,8 @@ fn good_goal_multi_ends_after_the_last_and_death_zones_cost_one() {
     assert!(env.is_over(), "the last GoodGoalMulti ends the episode");
     assert!(total > 0.9);
     // Death zone straight ahead: -1 and the end.
-    let mut env = open_env(vec![ObjectSpec::new(ObjectKind::DeathZone, 20.0, 0.0, 12.0).size(10.0, 0.0, 4.0)], 20.0, 5.0, 0.0);
+    let mut env =
+        open_env(vec![ObjectSpec::new(ObjectKind::DeathZone, 20.0, 0.0, 12.0).size(10.0, 0.0, 4.0)], 20.0, 5.0, 0.0);
     let mut last = 0.0;
     for _ in 0..100 {
         let s = env.step(Action::FORWARD).unwrap();
@@ -298,7 +306,10 @@ fn layouts_cycle_in_an_order_shuffled_once_per_seed() {
     // Same seed, same everything.
     let a = Env::new(EnvConfig::new(Task::preset("double-t-maze").unwrap()), 11).unwrap();
     assert_eq!(a.layout_name(), names[0]);
-    assert_eq!(a.world(), &Env::new(EnvConfig::new(Task::preset("double-t-maze").unwrap()), 11).unwrap().world().clone());
+    assert_eq!(
+        a.world(),
+        &Env::new(EnvConfig::new(Task::preset("double-t-maze").unwrap()), 11).unwrap().world().clone()
+    );
 }
 
 #[test]

@@ -13,8 +13,7 @@ pub mod yaml;
 
 pub use env::{Action, Env, EnvConfig, Step, StepOutcome};
 pub use physics::{
-    AGENT_RADIUS, DRAG_FACTOR, FRAMES_PER_STEP, FRAME_DT, FRICTION_DV, GRAVITY, IMPULSE_DV,
-    TURN_DEGREES,
+    AGENT_RADIUS, DRAG_FACTOR, FRAMES_PER_STEP, FRAME_DT, FRICTION_DV, GRAVITY, IMPULSE_DV, TURN_DEGREES,
 };
 pub use tasks::{Task, TASK_NAMES};
 pub use world::{Agent, BoxObj, Footprint, Goal, Tunnel, World, Zone};
@@ -222,7 +221,12 @@ impl Layout {
         }
         for (axis, p) in self.agent.position.iter().enumerate() {
             if let Some(p) = *p {
-                check_range(&format!("agent.position.{}", ["x", "z"][axis]), p, AGENT_RADIUS, ARENA_SIZE - AGENT_RADIUS)?;
+                check_range(
+                    &format!("agent.position.{}", ["x", "z"][axis]),
+                    p,
+                    AGENT_RADIUS,
+                    ARENA_SIZE - AGENT_RADIUS,
+                )?;
             }
         }
         if let Some(r) = self.agent.rotation {

@@ -58,15 +58,26 @@ impl Task {
             "object-permanence" => (
                 "Olympics 8-7-1/2/3: a size-3 goal drops behind a 4-high wall and disappears; a small \
                  visible goal (+0.999) is the local optimum.",
-                [25.0, 27.0, 23.0].iter().enumerate().map(|(i, &r)| permanence(&format!("8-7-{}", i + 1), r, false)).collect(),
+                [25.0, 27.0, 23.0]
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &r)| permanence(&format!("8-7-{}", i + 1), r, false))
+                    .collect(),
             ),
             "object-permanence-pits" => (
                 "Object permanence with the paper's holes: 8-7 plus three DeathZone pits (-1, episode ends) \
                  off the route around the wall.",
-                [25.0, 27.0, 23.0].iter().enumerate().map(|(i, &r)| permanence(&format!("8-7-{}-pits", i + 1), r, true)).collect(),
+                [25.0, 27.0, 23.0]
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &r)| permanence(&format!("8-7-{}-pits", i + 1), r, true))
+                    .collect(),
             ),
             _ => {
-                return Err(ConfigError::new("task", format!("unknown task '{name}'; one of {}", TASK_NAMES.join(", "))))
+                return Err(ConfigError::new(
+                    "task",
+                    format!("unknown task '{name}'; one of {}", TASK_NAMES.join(", ")),
+                ))
             }
         };
         Ok(Task { name: name.to_string(), description: description.to_string(), layouts })

@@ -1,6 +1,6 @@
 //! A layout instantiated: concrete objects, the agent, and the collision footprints.
 
-use super::{AgentSpec, Layout, ObjectKind, ObjectSpec, Rgb, ARENA_SIZE, AGENT_RADIUS, SIZE_ADJUST};
+use super::{AgentSpec, Layout, ObjectKind, ObjectSpec, Rgb, AGENT_RADIUS, ARENA_SIZE, SIZE_ADJUST};
 use glam::{Vec2, Vec3};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -27,7 +27,15 @@ impl Footprint {
         let r = degrees.to_radians();
         let (sin, cos) = (libm::sinf(r), libm::cosf(r));
         // Snap the exact quarter turns, so axis-aligned layouts stay exactly axis aligned.
-        let snap = |v: f32| if v.abs() < 1e-6 { 0.0 } else if (v.abs() - 1.0).abs() < 1e-6 { v.signum() } else { v };
+        let snap = |v: f32| {
+            if v.abs() < 1e-6 {
+                0.0
+            } else if (v.abs() - 1.0).abs() < 1e-6 {
+                v.signum()
+            } else {
+                v
+            }
+        };
         Footprint { centre, half, cos: snap(cos), sin: snap(sin) }
     }
     pub fn axis_x(&self) -> Vec2 {
@@ -121,8 +129,7 @@ impl Tunnel {
             half: Vec2::new(w, self.half_len),
             ..self.foot
         };
-        [leg(1.0), leg(-1.0)
-        ]
+        [leg(1.0), leg(-1.0)]
     }
 }
 
@@ -268,7 +275,11 @@ impl World {
                     inner_h,
                     inv_sq: [outer_w, outer_h, inner_w, inner_h].map(|v| 1.0 / (v * v)),
                     half_len: size[2] / 2.0,
-                    colour: if kind == ObjectKind::CylinderTunnel && spec.colour.is_none() { Rgb(51, 51, 51) } else { colour },
+                    colour: if kind == ObjectKind::CylinderTunnel && spec.colour.is_none() {
+                        Rgb(51, 51, 51)
+                    } else {
+                        colour
+                    },
                     transparent: kind == ObjectKind::CylinderTunnelTransparent,
                 };
                 let legs = t.legs();
@@ -318,7 +329,10 @@ impl World {
                 spec.position[1].unwrap_or_else(|| rng.gen_range(lo..hi)),
             );
             let blocked = self.colliders.iter().any(|c| c.overlaps_disc(p, AGENT_RADIUS))
-                || self.goals.iter().any(|g| g.centre.y - g.radius < 1.0 && (Vec2::new(g.centre.x, g.centre.z) - p).length() < g.radius + AGENT_RADIUS + 0.5)
+                || self.goals.iter().any(|g| {
+                    g.centre.y - g.radius < 1.0
+                        && (Vec2::new(g.centre.x, g.centre.z) - p).length() < g.radius + AGENT_RADIUS + 0.5
+                })
                 || self.zones.iter().any(|z| z.foot.contains(p, AGENT_RADIUS));
             if !blocked {
                 break;
@@ -331,5 +345,9 @@ impl World {
 /// Maps any angle in degrees into [0, 360).
 pub fn wrap_degrees(d: f32) -> f32 {
     let w = d % 360.0;
-    if w < 0.0 { w + 360.0 } else { w }
+    if w < 0.0 {
+        w + 360.0
+    } else {
+        w
+    }
 }

@@ -120,7 +120,11 @@ fn map_get<'a>(node: &'a Node, field: &str, allowed: &[&str]) -> Result<Vec<(Str
     for (k, v) in pairs {
         let key = scalar(k, field)?;
         if !allowed.contains(&key.as_str()) {
-            return Err(ConfigError::at(k.line(), join(field, &key), format!("unknown field; expected one of {}", allowed.join(", "))));
+            return Err(ConfigError::at(
+                k.line(),
+                join(field, &key),
+                format!("unknown field; expected one of {}", allowed.join(", ")),
+            ));
         }
         if out.iter().any(|(seen, _): &(String, &Node)| *seen == key) {
             return Err(ConfigError::at(k.line(), join(field, &key), "appears twice"));
@@ -132,11 +136,19 @@ fn map_get<'a>(node: &'a Node, field: &str, allowed: &[&str]) -> Result<Vec<(Str
 }
 
 fn field_or(field: &str, fallback: &str) -> String {
-    if field.is_empty() { fallback.to_string() } else { field.to_string() }
+    if field.is_empty() {
+        fallback.to_string()
+    } else {
+        field.to_string()
+    }
 }
 
 fn join(field: &str, key: &str) -> String {
-    if field.is_empty() { key.to_string() } else { format!("{field}.{key}") }
+    if field.is_empty() {
+        key.to_string()
+    } else {
+        format!("{field}.{key}")
+    }
 }
 
 fn scalar(node: &Node, field: &str) -> Result<String, ConfigError> {
@@ -162,7 +174,9 @@ fn seq<'a>(node: &'a Node, field: &str) -> Result<&'a [Node], ConfigError> {
 }
 
 fn layout(name: &str, node: &Node, field: &str) -> Result<Layout, ConfigError> {
-    let mut out = Layout { name: name.to_string(), t: 0, objects: Vec::new(), agent: AgentSpec::default() };
+    // A missing t is the project default (1000), which is also Animal-AI's `Arena` default.
+    let mut out =
+        Layout { name: name.to_string(), t: super::DEFAULT_T, objects: Vec::new(), agent: AgentSpec::default() };
     let mut agent_seen = false;
     for (key, v) in map_get(node, field, &["t", "pass_mark", "blackouts", "items"])? {
         let f = join(field, &key);
@@ -220,7 +234,11 @@ fn vector(node: &Node, field: &str, keys: [&str; 3]) -> Result<[Option<f32>; 3],
         let f = join(field, k);
         let value = number(v, &f)?;
         if value < 0.0 && value != -1.0 {
-            return Err(ConfigError::at(v.line(), f, format!("{value} is negative (only -1, meaning random, is allowed)")));
+            return Err(ConfigError::at(
+                v.line(),
+                f,
+                format!("{value} is negative (only -1, meaning random, is allowed)"),
+            ));
         }
         out[keys.iter().position(|&x| x == k).unwrap()] = if value == -1.0 { None } else { Some(value) };
     }
@@ -229,7 +247,9 @@ fn vector(node: &Node, field: &str, keys: [&str; 3]) -> Result<[Option<f32>; 3],
 
 fn in_range(v: Option<f32>, lo: f32, hi: f32, line: usize, field: &str) -> Result<(), ConfigError> {
     match v {
-        Some(x) if !(lo..=hi).contains(&x) => Err(ConfigError::at(line, field, format!("{x} is out of range {lo}..={hi} (or -1 for random)"))),
+        Some(x) if !(lo..=hi).contains(&x) => {
+            Err(ConfigError::at(line, field, format!("{x} is out of range {lo}..={hi} (or -1 for random)")))
+        }
         _ => Ok(()),
     }
 }
@@ -282,7 +302,11 @@ fn parse_item(node: &Node, field: &str) -> Result<Item, ConfigError> {
     }
     let Some(kind) = ObjectKind::from_name(&name) else {
         let known: Vec<&str> = ObjectKind::ALL.iter().map(|k| k.name()).chain(["Agent"]).collect();
-        return Err(ConfigError::at(name_node.line(), join(field, "name"), format!("unknown item '{name}'; supported: {}", known.join(", "))));
+        return Err(ConfigError::at(
+            name_node.line(),
+            join(field, "name"),
+            format!("unknown item '{name}'; supported: {}", known.join(", ")),
+        ));
     };
     let (lo, hi) = kind.size_range();
     let mut sizes = Vec::new();
@@ -299,7 +323,9 @@ fn parse_item(node: &Node, field: &str) -> Result<Item, ConfigError> {
         let f = format!("{field}.colors[{j}]");
         // v1 files write colours as !RGB {r, g, b} or as !Vector3 {x, y, z}.
         let keys = match c {
-            Node::Map(pairs, _) if pairs.iter().any(|(k, _)| matches!(k, Node::Scalar(s, _) if s == "x")) => ["x", "y", "z"],
+            Node::Map(pairs, _) if pairs.iter().any(|(k, _)| matches!(k, Node::Scalar(s, _) if s == "x")) => {
+                ["x", "y", "z"]
+            }
             _ => ["r", "g", "b"],
         };
         let v = vector(c, &f, keys)?;
@@ -318,7 +344,11 @@ fn parse_item(node: &Node, field: &str) -> Result<Item, ConfigError> {
             kind,
             position: positions.get(j).copied().unwrap_or([None; 3]),
             // A missing rotation is random, except for spheres, which look the same either way.
-            rotation: if kind.is_goal() { Some(rotations.get(j).copied().flatten().unwrap_or(0.0)) } else { rotations.get(j).copied().flatten() },
+            rotation: if kind.is_goal() {
+                Some(rotations.get(j).copied().flatten().unwrap_or(0.0))
+            } else {
+                rotations.get(j).copied().flatten()
+            },
             size: sizes.get(j).copied().unwrap_or(default.map(Some)),
             colour: colours.get(j).copied().flatten(),
         })

@@ -7,7 +7,7 @@
 //! cost. Spheres and arches, which are not vertical extrusions, are intersected per pixel.
 
 use super::{colours, lit, shade_factor, Frame, GLASS_ALPHA, HEIGHT, PIXELS, WIDTH};
-use crate::arena::{BoxObj, Footprint, ObjectKind, Tunnel, World, ARENA_SIZE, AGENT_RADIUS};
+use crate::arena::{BoxObj, Footprint, ObjectKind, Tunnel, World, AGENT_RADIUS, ARENA_SIZE};
 use glam::{Vec2, Vec3};
 
 /// tan(30 degrees): half the field of view, horizontally and vertically (the image is square).
@@ -86,8 +86,20 @@ impl Camera {
         }
         // Transparent surfaces last, farthest first, blended over what is behind them.
         let mut glass: Vec<(f32, usize, bool)> = Vec::new();
-        glass.extend(w.walls.iter().enumerate().filter(|(_, b)| b.transparent).map(|(i, b)| ((b.foot.centre - w.agent.pos).length(), i, true)));
-        glass.extend(w.tunnels.iter().enumerate().filter(|(_, t)| t.transparent).map(|(i, t)| ((t.foot.centre - w.agent.pos).length(), i, false)));
+        glass.extend(
+            w.walls
+                .iter()
+                .enumerate()
+                .filter(|(_, b)| b.transparent)
+                .map(|(i, b)| ((b.foot.centre - w.agent.pos).length(), i, true)),
+        );
+        glass.extend(
+            w.tunnels
+                .iter()
+                .enumerate()
+                .filter(|(_, t)| t.transparent)
+                .map(|(i, t)| ((t.foot.centre - w.agent.pos).length(), i, false)),
+        );
         glass.sort_by(|a, b| b.0.total_cmp(&a.0));
         for (_, i, is_wall) in glass {
             for c in 0..WIDTH {

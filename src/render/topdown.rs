@@ -1,7 +1,7 @@
 //! The top-down view for the page: footprints in their colours, the agent, its heading and trail.
 
 use super::colours;
-use crate::arena::{Footprint, ObjectKind, Rgb, World, ARENA_SIZE, AGENT_RADIUS};
+use crate::arena::{Footprint, ObjectKind, Rgb, World, AGENT_RADIUS, ARENA_SIZE};
 use glam::Vec2;
 
 /// World margin drawn around the arena, metres (the fences).

@@ -21,7 +21,9 @@ fn run() -> Result<(), String> {
         match a.as_str() {
             "--seed" => {
                 let v = args.next().ok_or("--seed needs a value")?;
-                seed = v.parse().map_err(|_| format!("--seed: '{v}' is not a whole number in 0..=18446744073709551615"))?;
+                seed = v
+                    .parse()
+                    .map_err(|_| format!("--seed: '{v}' is not a whole number in 0..=18446744073709551615"))?;
             }
             "-h" | "--help" => {
                 println!("usage: frames [OUT_DIR] [--seed N]  (default OUT_DIR docs/frames, seed 1)");
