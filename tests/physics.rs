@@ -330,3 +330,14 @@ fn actions_and_limits_are_validated() {
     assert!((s.reward + 0.004).abs() < 1e-12);
     assert_eq!(env.steps(), 4);
 }
+
+#[test]
+fn a_hot_zone_costs_ten_times_the_time_penalty_and_does_not_end_the_episode() {
+    let zone = ObjectSpec::new(ObjectKind::HotZone, 20.0, 0.0, 20.0).size(6.0, 0.0, 6.0);
+    let mut env = open_env(vec![zone], 20.0, 20.0, 0.0);
+    let s = env.step(Action::NOOP).unwrap();
+    // -1/t for the step plus min(10 * -1/(3t), -1e-5) in each of its 3 frames.
+    let want = -0.001 + 3.0 * (-10.0 / 3000.0);
+    assert!((s.reward - want).abs() < 1e-12, "{} vs {want}", s.reward);
+    assert!(!s.terminated && !s.truncated);
+}

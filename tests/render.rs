@@ -144,3 +144,35 @@ fn frames_are_deterministic_and_the_top_down_view_draws_the_agent() {
     let i = (105 * 210 + 105) * 4;
     assert_eq!(&top.rgba[i..i + 3], GOAL);
 }
+
+#[test]
+fn a_transparent_arch_shows_the_goal_inside_tinted() {
+    use sec_playground::arena::{AgentSpec, Layout, ObjectKind, ObjectSpec};
+    let layout = |kind| Layout {
+        name: "glass-arch".into(),
+        t: 1000,
+        objects: vec![
+            ObjectSpec::new(kind, 20.0, 0.0, 20.0).size(10.0, 10.0, 10.0).rotation(90.0),
+            ObjectSpec::new(ObjectKind::GoodGoal, 20.0, 0.0, 20.0).size(2.0, 2.0, 2.0),
+        ],
+        agent: AgentSpec { position: [Some(20.0), Some(5.0)], rotation: Some(0.0) },
+    };
+    let frame = |kind, with_goal: bool| {
+        let mut l = layout(kind);
+        if !with_goal {
+            l.objects.pop();
+        }
+        let task = Task { name: "t".into(), description: String::new(), layouts: vec![l] };
+        Env::new(EnvConfig::new(task), 1).unwrap().observation().clone()
+    };
+    // Side-on, the opaque arch hides the goal; the transparent one shows it through two layers,
+    // tinted: greener than the same view without the goal.
+    let opaque = frame(ObjectKind::CylinderTunnel, true);
+    assert_eq!(count(&opaque, GOAL, 0..WIDTH, 0..HEIGHT), 0);
+    let glass = frame(ObjectKind::CylinderTunnelTransparent, true);
+    let empty = frame(ObjectKind::CylinderTunnelTransparent, false);
+    let (c, r) = (WIDTH / 2, 40);
+    let green = |p: [u8; 3]| p[1] as i32 - (p[0] as i32 + p[2] as i32) / 2;
+    assert!(green(glass.pixel(c, r)) > green(empty.pixel(c, r)) + 20, "{:?} vs {:?}", glass.pixel(c, r), empty.pixel(c, r));
+    assert_ne!(glass.pixel(c, r), GOAL, "tinted, not the bare goal colour");
+}
