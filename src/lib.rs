@@ -2,6 +2,7 @@
 //! browser (wasm32) and natively from the same code, deterministically.
 
 pub mod arena;
+pub mod encoder;
 pub mod render;
 
 #[cfg(target_arch = "wasm32")]

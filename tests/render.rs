@@ -173,6 +173,11 @@ fn a_transparent_arch_shows_the_goal_inside_tinted() {
     let empty = frame(ObjectKind::CylinderTunnelTransparent, false);
     let (c, r) = (WIDTH / 2, 40);
     let green = |p: [u8; 3]| p[1] as i32 - (p[0] as i32 + p[2] as i32) / 2;
-    assert!(green(glass.pixel(c, r)) > green(empty.pixel(c, r)) + 20, "{:?} vs {:?}", glass.pixel(c, r), empty.pixel(c, r));
+    assert!(
+        green(glass.pixel(c, r)) > green(empty.pixel(c, r)) + 20,
+        "{:?} vs {:?}",
+        glass.pixel(c, r),
+        empty.pixel(c, r)
+    );
     assert_ne!(glass.pixel(c, r), GOAL, "tinted, not the bare goal colour");
 }
