@@ -4,6 +4,7 @@
 pub mod arena;
 pub mod encoder;
 pub mod render;
+pub mod util;
 
 #[cfg(target_arch = "wasm32")]
 pub mod web;

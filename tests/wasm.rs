@@ -39,3 +39,16 @@ fn the_js_api_validates_its_inputs() {
     let e = ArenaEnv::from_yaml("x", "arenas:\n  0:\n    items:\n    - name: Ramp\n", 1.0, None).err().unwrap();
     assert!(message(e).contains("line 4"));
 }
+
+#[wasm_bindgen_test]
+fn wasm_gives_the_native_golden_embedding() {
+    use sec_playground::arena::{Env, EnvConfig, Task};
+    use sec_playground::encoder::{Autoencoder, Scratch, EMBEDDING, IMAGE};
+    let mut env = Env::new(EnvConfig::new(Task::preset("double-t-maze").unwrap()), 1).unwrap();
+    let mut rgb = vec![0.0; IMAGE];
+    env.observation().to_rgb_f32(&mut rgb);
+    let mut e = [0.0; EMBEDDING];
+    Autoencoder::glorot(1).encode(&rgb, &mut Scratch::default(), &mut e);
+    let text: String = e.iter().map(|v| format!("{:08x}\n", v.to_bits())).collect();
+    assert_eq!(text, include_str!("golden/embedding.txt"));
+}

@@ -1,0 +1,107 @@
+//! The inference kernels, channel-last (NHWC, one image). Each output channel sums its terms in
+//! one fixed order (bias, then kernel row, column and input channel ascending); loops run across
+//! output channels, so vectorising them never reorders a sum and every target gives the same bits.
+//! No fused multiply-add: Rust never contracts `a * b + c`.
+
+/// 3x3 convolution with ReLU. `same` pads by one with zeros (output h x w); otherwise `valid`
+/// (output (h-2) x (w-2)). Weights are HWIO: `[ky][kx][ci][co]`.
+pub fn conv3x3_relu<const CI: usize, const CO: usize>(
+    input: &[f32],
+    h: usize,
+    w: usize,
+    weights: &[f32],
+    bias: &[f32],
+    same: bool,
+    out: &mut Vec<f32>,
+) -> (usize, usize) {
+    assert_eq!(input.len(), h * w * CI);
+    assert_eq!(weights.len(), 9 * CI * CO);
+    assert_eq!(bias.len(), CO);
+    let (oh, ow, pad) = if same { (h, w, 1isize) } else { (h - 2, w - 2, 0) };
+    out.clear();
+    out.resize(oh * ow * CO, 0.0);
+    let bias: &[f32; CO] = bias.try_into().unwrap();
+    for oy in 0..oh {
+        for ox in 0..ow {
+            let mut acc = *bias;
+            for ky in 0..3 {
+                let iy = oy as isize + ky as isize - pad;
+                if iy < 0 || iy >= h as isize {
+                    continue;
+                }
+                for kx in 0..3 {
+                    let ix = ox as isize + kx as isize - pad;
+                    if ix < 0 || ix >= w as isize {
+                        continue;
+                    }
+                    let px = &input[(iy as usize * w + ix as usize) * CI..][..CI];
+                    let wk = &weights[(ky * 3 + kx) * CI * CO..][..CI * CO];
+                    for (ci, &v) in px.iter().enumerate() {
+                        let wr: &[f32; CO] = wk[ci * CO..][..CO].try_into().unwrap();
+                        for co in 0..CO {
+                            acc[co] += v * wr[co];
+                        }
+                    }
+                }
+            }
+            let o = &mut out[(oy * ow + ox) * CO..][..CO];
+            for co in 0..CO {
+                o[co] = acc[co].max(0.0);
+            }
+        }
+    }
+    (oh, ow)
+}
+
+/// 2x2 max pooling, stride 2, TensorFlow `same` padding: an odd side gets one extra output that
+/// pools over the remaining row or column only (21 -> 11).
+pub fn maxpool2(input: &[f32], h: usize, w: usize, c: usize, out: &mut Vec<f32>) -> (usize, usize) {
+    let (oh, ow) = (h.div_ceil(2), w.div_ceil(2));
+    out.clear();
+    out.resize(oh * ow * c, f32::NEG_INFINITY);
+    for oy in 0..oh {
+        for ox in 0..ow {
+            let o = &mut out[(oy * ow + ox) * c..][..c];
+            for iy in 2 * oy..(2 * oy + 2).min(h) {
+                for ix in 2 * ox..(2 * ox + 2).min(w) {
+                    let p = &input[(iy * w + ix) * c..][..c];
+                    for k in 0..c {
+                        o[k] = o[k].max(p[k]);
+                    }
+                }
+            }
+        }
+    }
+    (oh, ow)
+}
+
+/// Nearest-neighbour upsampling by 2.
+pub fn upsample2(input: &[f32], h: usize, w: usize, c: usize, out: &mut Vec<f32>) -> (usize, usize) {
+    out.clear();
+    out.resize(4 * h * w * c, 0.0);
+    for oy in 0..2 * h {
+        for ox in 0..2 * w {
+            out[(oy * 2 * w + ox) * c..][..c].copy_from_slice(&input[((oy / 2) * w + ox / 2) * c..][..c]);
+        }
+    }
+    (2 * h, 2 * w)
+}
+
+/// Dense layer `out = b + x W` (W is `[in][out]`), optionally with ReLU.
+pub fn dense(x: &[f32], weights: &[f32], bias: &[f32], relu: bool, out: &mut [f32]) {
+    let n = bias.len();
+    assert_eq!(out.len(), n);
+    assert_eq!(weights.len(), x.len() * n);
+    out.copy_from_slice(bias);
+    for (i, &v) in x.iter().enumerate() {
+        let row = &weights[i * n..][..n];
+        for (o, &wv) in out.iter_mut().zip(row) {
+            *o += v * wv;
+        }
+    }
+    if relu {
+        for o in out.iter_mut() {
+            *o = o.max(0.0);
+        }
+    }
+}

@@ -1,0 +1,157 @@
+//! The paper's autoencoder, layer for layer (sec-algorithm.md section 11): 196,663 parameters,
+//! a Dense(20, ReLU) bottleneck, and a decoder with one `valid` convolution.
+//!
+//! Tensors use Keras layouts: convolutions HWIO `[3][3][in][out]`, dense `[in][out]`, and the
+//! flatten before the bottleneck is channel-last `(y, x, c)` order. A trainer with other layouts
+//! transposes when it writes the weights file.
+
+use super::kernels::{conv3x3_relu, dense, maxpool2, upsample2};
+use super::weights::{Tensor, Weights};
+use crate::arena::ConfigError;
+use crate::render::{HEIGHT, WIDTH};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// Embedding size (`prototype_length`).
+pub const EMBEDDING: usize = 20;
+/// Flattened bottleneck input: 11 x 11 x 32.
+pub const FLAT: usize = 11 * 11 * 32;
+/// Input and output values: 84 x 84 x 3 in [0, 1].
+pub const IMAGE: usize = WIDTH * HEIGHT * 3;
+/// Every parameter of the model.
+pub const PARAMETERS: usize = 196_663;
+
+/// Names and shapes of the tensors, in file order.
+pub const TENSORS: [(&str, &[usize]); 18] = [
+    ("enc.conv1.w", &[3, 3, 3, 16]),
+    ("enc.conv1.b", &[16]),
+    ("enc.conv2.w", &[3, 3, 16, 32]),
+    ("enc.conv2.b", &[32]),
+    ("enc.conv3.w", &[3, 3, 32, 32]),
+    ("enc.conv3.b", &[32]),
+    ("enc.dense.w", &[FLAT, EMBEDDING]),
+    ("enc.dense.b", &[EMBEDDING]),
+    ("dec.dense.w", &[EMBEDDING, FLAT]),
+    ("dec.dense.b", &[FLAT]),
+    ("dec.conv1.w", &[3, 3, 32, 32]),
+    ("dec.conv1.b", &[32]),
+    ("dec.conv2.w", &[3, 3, 32, 32]),
+    ("dec.conv2.b", &[32]),
+    ("dec.conv3.w", &[3, 3, 32, 16]),
+    ("dec.conv3.b", &[16]),
+    ("dec.conv4.w", &[3, 3, 16, 3]),
+    ("dec.conv4.b", &[3]),
+];
+
+/// The autoencoder's parameters, in `TENSORS` order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Autoencoder {
+    params: Vec<Vec<f32>>,
+    pub task: String,
+    pub embedding_scale: f32,
+}
+
+/// Reusable activation buffers, so encoding allocates nothing after the first call.
+#[derive(Clone, Debug, Default)]
+pub struct Scratch {
+    a: Vec<f32>,
+    b: Vec<f32>,
+    flat: Vec<f32>,
+    rec: Vec<f32>,
+}
+
+impl Autoencoder {
+    /// Checks names and shapes against the architecture.
+    pub fn from_weights(w: &Weights) -> Result<Self, ConfigError> {
+        let params =
+            TENSORS.iter().map(|(name, shape)| w.tensor(name, shape).map(<[f32]>::to_vec)).collect::<Result<_, _>>()?;
+        if w.tensors.len() != TENSORS.len() {
+            return Err(ConfigError::new(
+                "weights",
+                format!("{} tensors, expected {}", w.tensors.len(), TENSORS.len()),
+            ));
+        }
+        Ok(Autoencoder { params, task: w.task.clone(), embedding_scale: w.embedding_scale })
+    }
+
+    /// Keras' initialisation: Glorot-uniform kernels, zero biases. For tests and benchmarks.
+    pub fn glorot(seed: u64) -> Self {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let params = TENSORS
+            .iter()
+            .map(|(_, shape)| {
+                let n: usize = shape.iter().product();
+                if shape.len() == 1 {
+                    return vec![0.0; n];
+                }
+                let receptive: usize = shape[..shape.len() - 2].iter().product();
+                let (fan_in, fan_out) = (shape[shape.len() - 2] * receptive, shape[shape.len() - 1] * receptive);
+                let limit = (6.0 / (fan_in + fan_out) as f32).sqrt();
+                (0..n).map(|_| rng.gen_range(-limit..limit)).collect()
+            })
+            .collect();
+        Autoencoder { params, task: String::new(), embedding_scale: 1.0 }
+    }
+
+    pub fn to_weights(&self) -> Weights {
+        let tensors = TENSORS
+            .iter()
+            .zip(&self.params)
+            .map(|((name, shape), data)| Tensor { name: name.to_string(), shape: shape.to_vec(), data: data.clone() })
+            .collect();
+        Weights { task: self.task.clone(), embedding_scale: self.embedding_scale, tensors }
+    }
+
+    pub fn parameter_count(&self) -> usize {
+        self.params.iter().map(Vec::len).sum()
+    }
+
+    fn p(&self, i: usize) -> &[f32] {
+        &self.params[i]
+    }
+
+    /// The embedding of an 84x84x3 image (channel-last, values in [0, 1]), times the model's
+    /// embedding scale.
+    pub fn encode(&self, image: &[f32], s: &mut Scratch, out: &mut [f32; EMBEDDING]) {
+        assert_eq!(image.len(), IMAGE, "the image must be 84x84x3");
+        let (h, w) = conv3x3_relu::<3, 16>(image, HEIGHT, WIDTH, self.p(0), self.p(1), true, &mut s.a);
+        let (h, w) = maxpool2(&s.a, h, w, 16, &mut s.b);
+        let (h, w) = conv3x3_relu::<16, 32>(&s.b, h, w, self.p(2), self.p(3), true, &mut s.a);
+        let (h, w) = maxpool2(&s.a, h, w, 32, &mut s.b);
+        let (h, w) = conv3x3_relu::<32, 32>(&s.b, h, w, self.p(4), self.p(5), true, &mut s.a);
+        let (h, w) = maxpool2(&s.a, h, w, 32, &mut s.b);
+        debug_assert_eq!(h * w * 32, FLAT);
+        dense(&s.b, self.p(6), self.p(7), true, out);
+        if self.embedding_scale != 1.0 {
+            for v in out.iter_mut() {
+                *v *= self.embedding_scale;
+            }
+        }
+    }
+
+    /// The reconstruction (84x84x3, channel-last) of an embedding as `encode` returns it.
+    pub fn decode(&self, embedding: &[f32; EMBEDDING], s: &mut Scratch, out: &mut Vec<f32>) {
+        let raw: [f32; EMBEDDING] = std::array::from_fn(|i| embedding[i] / self.embedding_scale);
+        s.flat.resize(FLAT, 0.0);
+        dense(&raw, self.p(8), self.p(9), false, &mut s.flat);
+        let (h, w) = conv3x3_relu::<32, 32>(&s.flat, 11, 11, self.p(10), self.p(11), true, &mut s.a);
+        let (h, w) = upsample2(&s.a, h, w, 32, &mut s.b);
+        let (h, w) = conv3x3_relu::<32, 32>(&s.b, h, w, self.p(12), self.p(13), true, &mut s.a);
+        let (h, w) = upsample2(&s.a, h, w, 32, &mut s.b);
+        let (h, w) = conv3x3_relu::<32, 16>(&s.b, h, w, self.p(14), self.p(15), false, &mut s.a);
+        let (h, w) = upsample2(&s.a, h, w, 16, &mut s.b);
+        let (h, w) = conv3x3_relu::<16, 3>(&s.b, h, w, self.p(16), self.p(17), true, out);
+        debug_assert_eq!((h, w), (HEIGHT, WIDTH));
+    }
+
+    /// Mean squared reconstruction error of an image: the reconstruction gate's measure.
+    pub fn reconstruction_mse(&self, image: &[f32], s: &mut Scratch) -> f32 {
+        let mut e = [0.0; EMBEDDING];
+        self.encode(image, s, &mut e);
+        let mut rec = std::mem::take(&mut s.rec);
+        self.decode(&e, s, &mut rec);
+        let sum: f32 = image.iter().zip(&rec).map(|(a, b)| (a - b) * (a - b)).sum();
+        s.rec = rec;
+        sum / IMAGE as f32
+    }
+}

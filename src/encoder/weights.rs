@@ -1,0 +1,163 @@
+//! The autoencoder weights file: small, versioned and checked, so a corrupt or mismatched file is
+//! a clear error instead of a wrong embedding.
+//!
+//! Layout, little-endian:
+//! - magic `SECAEWTS` (8 bytes), format version (u32, now 1), value type (u32: 1 = f32, 2 = f16);
+//! - the task name (u16 length + UTF-8) and the per-model embedding scale (f32);
+//! - the tensor count (u32), then per tensor its name (u16 length + UTF-8), rank (u8) and dims (u32
+//!   each);
+//! - every tensor's values in order (f32 or IEEE half);
+//! - an FNV-1a 64 checksum (u64) of all the bytes before it.
+
+use crate::arena::ConfigError;
+use crate::util::fnv1a;
+
+pub const MAGIC: [u8; 8] = *b"SECAEWTS";
+pub const VERSION: u32 = 1;
+
+/// How values are stored.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DType {
+    F32 = 1,
+    F16 = 2,
+}
+
+/// One named tensor (row-major, shape as stored).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tensor {
+    pub name: String,
+    pub shape: Vec<usize>,
+    pub data: Vec<f32>,
+}
+
+/// A weights file's content.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Weights {
+    pub task: String,
+    /// Multiplies the embedding; 1.0 is the authors' raw ReLU output (sec-algorithm.md D17).
+    pub embedding_scale: f32,
+    pub tensors: Vec<Tensor>,
+}
+
+fn err(message: impl Into<String>) -> ConfigError {
+    ConfigError::new("weights", message)
+}
+
+impl Weights {
+    /// Serialises; f16 storage halves the size.
+    pub fn to_bytes(&self, dtype: DType) -> Vec<u8> {
+        let mut b = Vec::new();
+        b.extend_from_slice(&MAGIC);
+        b.extend_from_slice(&VERSION.to_le_bytes());
+        b.extend_from_slice(&(dtype as u32).to_le_bytes());
+        put_str(&mut b, &self.task);
+        b.extend_from_slice(&self.embedding_scale.to_le_bytes());
+        b.extend_from_slice(&(self.tensors.len() as u32).to_le_bytes());
+        for t in &self.tensors {
+            put_str(&mut b, &t.name);
+            b.push(t.shape.len() as u8);
+            for &d in &t.shape {
+                b.extend_from_slice(&(d as u32).to_le_bytes());
+            }
+        }
+        for t in &self.tensors {
+            for &v in &t.data {
+                match dtype {
+                    DType::F32 => b.extend_from_slice(&v.to_le_bytes()),
+                    DType::F16 => b.extend_from_slice(&half::f16::from_f32(v).to_le_bytes()),
+                }
+            }
+        }
+        let sum = fnv1a(&b);
+        b.extend_from_slice(&sum.to_le_bytes());
+        b
+    }
+
+    /// Parses and checks a file: magic, version, checksum, sizes.
+    pub fn from_bytes(bytes: &[u8]) -> Result<Weights, ConfigError> {
+        if bytes.len() < MAGIC.len() || bytes[..MAGIC.len()] != MAGIC {
+            return Err(err("not a SEC autoencoder weights file (bad magic number)"));
+        }
+        if bytes.len() < MAGIC.len() + 8 + 8 {
+            return Err(err("file is truncated"));
+        }
+        let (body, tail) = bytes.split_at(bytes.len() - 8);
+        let stored = u64::from_le_bytes(tail.try_into().unwrap());
+        let mut r = Reader { b: body, at: MAGIC.len() };
+        let version = r.u32()?;
+        if version != VERSION {
+            return Err(err(format!("format version {version} is not supported (this build reads {VERSION})")));
+        }
+        if fnv1a(body) != stored {
+            return Err(err("checksum mismatch: the file is corrupt"));
+        }
+        let dtype = match r.u32()? {
+            1 => DType::F32,
+            2 => DType::F16,
+            d => return Err(err(format!("unknown value type {d} (1 = f32, 2 = f16)"))),
+        };
+        let task = r.string()?;
+        let embedding_scale = f32::from_le_bytes(r.take(4)?.try_into().unwrap());
+        if !(embedding_scale.is_finite() && embedding_scale > 0.0) {
+            return Err(err(format!("embedding scale {embedding_scale} must be a positive number")));
+        }
+        let n = r.u32()? as usize;
+        let mut heads = Vec::new();
+        for _ in 0..n.min(1024) {
+            let name = r.string()?;
+            let rank = r.take(1)?[0] as usize;
+            let shape = (0..rank).map(|_| r.u32().map(|d| d as usize)).collect::<Result<Vec<_>, _>>()?;
+            heads.push((name, shape));
+        }
+        let width = if dtype == DType::F32 { 4 } else { 2 };
+        let mut tensors = Vec::new();
+        for (name, shape) in heads {
+            let count: usize = shape.iter().product();
+            let raw = r.take(count.checked_mul(width).ok_or_else(|| err("tensor size overflows"))?)?;
+            let data = match dtype {
+                DType::F32 => raw.chunks_exact(4).map(|c| f32::from_le_bytes(c.try_into().unwrap())).collect(),
+                DType::F16 => raw.chunks_exact(2).map(|c| half::f16::from_le_bytes([c[0], c[1]]).to_f32()).collect(),
+            };
+            tensors.push(Tensor { name, shape, data });
+        }
+        if r.at != body.len() {
+            return Err(err(format!("{} unexpected bytes after the tensors", body.len() - r.at)));
+        }
+        Ok(Weights { task, embedding_scale, tensors })
+    }
+
+    /// The tensor called `name` with exactly `shape`.
+    pub fn tensor(&self, name: &str, shape: &[usize]) -> Result<&[f32], ConfigError> {
+        let t = self.tensors.iter().find(|t| t.name == name).ok_or_else(|| err(format!("tensor {name} is missing")))?;
+        if t.shape != shape {
+            return Err(err(format!("tensor {name} has shape {:?}, expected {shape:?}", t.shape)));
+        }
+        Ok(&t.data)
+    }
+}
+
+fn put_str(b: &mut Vec<u8>, s: &str) {
+    b.extend_from_slice(&(s.len() as u16).to_le_bytes());
+    b.extend_from_slice(s.as_bytes());
+}
+
+struct Reader<'a> {
+    b: &'a [u8],
+    at: usize,
+}
+
+impl Reader<'_> {
+    fn take(&mut self, n: usize) -> Result<&[u8], ConfigError> {
+        let end = self.at.checked_add(n).filter(|&e| e <= self.b.len()).ok_or_else(|| err("file is truncated"))?;
+        let s = &self.b[self.at..end];
+        self.at = end;
+        Ok(s)
+    }
+    fn u32(&mut self) -> Result<u32, ConfigError> {
+        Ok(u32::from_le_bytes(self.take(4)?.try_into().unwrap()))
+    }
+    fn string(&mut self) -> Result<String, ConfigError> {
+        let n = u16::from_le_bytes(self.take(2)?.try_into().unwrap()) as usize;
+        String::from_utf8(self.take(n)?.to_vec()).map_err(|_| err("a name is not UTF-8"))
+    }
+}

@@ -1,0 +1,214 @@
+//! The autoencoder: architecture, inference against an independent f64 reference, the weights
+//! file (round trip, f16 accuracy, every kind of bad file), the reconstruction gate, and a golden
+//! embedding that `tests/wasm.rs` checks bit for bit under Node.
+#![cfg(not(target_arch = "wasm32"))]
+
+use sec_playground::arena::{Env, EnvConfig, Task};
+use sec_playground::encoder::{Autoencoder, DType, ReconstructionGate, Scratch, Weights, EMBEDDING, IMAGE, PARAMETERS};
+
+fn frame(task: &str) -> Vec<f32> {
+    let mut env = Env::new(EnvConfig::new(Task::preset(task).unwrap()), 1).unwrap();
+    let mut rgb = vec![0.0; IMAGE];
+    env.observation().to_rgb_f32(&mut rgb);
+    rgb
+}
+
+/// Straightforward f64 NHWC layers, written independently of the kernels.
+mod reference {
+    pub fn conv(
+        x: &[f64],
+        h: usize,
+        w: usize,
+        ci: usize,
+        wt: &[f32],
+        b: &[f32],
+        co: usize,
+        same: bool,
+    ) -> (Vec<f64>, usize, usize) {
+        let (oh, ow, pad) = if same { (h, w, 1i64) } else { (h - 2, w - 2, 0) };
+        let mut out = vec![0.0; oh * ow * co];
+        for oy in 0..oh {
+            for ox in 0..ow {
+                for o in 0..co {
+                    let mut s = b[o] as f64;
+                    for ky in 0..3i64 {
+                        for kx in 0..3i64 {
+                            let (iy, ix) = (oy as i64 + ky - pad, ox as i64 + kx - pad);
+                            if iy < 0 || ix < 0 || iy >= h as i64 || ix >= w as i64 {
+                                continue;
+                            }
+                            for i in 0..ci {
+                                let wi = ((ky as usize * 3 + kx as usize) * ci + i) * co + o;
+                                s += x[(iy as usize * w + ix as usize) * ci + i] * wt[wi] as f64;
+                            }
+                        }
+                    }
+                    out[(oy * ow + ox) * co + o] = s.max(0.0);
+                }
+            }
+        }
+        (out, oh, ow)
+    }
+    pub fn pool(x: &[f64], h: usize, w: usize, c: usize) -> (Vec<f64>, usize, usize) {
+        let (oh, ow) = ((h + 1) / 2, (w + 1) / 2);
+        let mut out = vec![f64::MIN; oh * ow * c];
+        for y in 0..h {
+            for xx in 0..w {
+                for k in 0..c {
+                    let o = &mut out[((y / 2) * ow + xx / 2) * c + k];
+                    *o = o.max(x[(y * w + xx) * c + k]);
+                }
+            }
+        }
+        (out, oh, ow)
+    }
+    pub fn up(x: &[f64], h: usize, w: usize, c: usize) -> (Vec<f64>, usize, usize) {
+        let mut out = vec![0.0; 4 * h * w * c];
+        for y in 0..2 * h {
+            for xx in 0..2 * w {
+                for k in 0..c {
+                    out[(y * 2 * w + xx) * c + k] = x[((y / 2) * w + xx / 2) * c + k];
+                }
+            }
+        }
+        (out, 2 * h, 2 * w)
+    }
+    pub fn dense(x: &[f64], wt: &[f32], b: &[f32], relu: bool) -> Vec<f64> {
+        (0..b.len())
+            .map(|j| {
+                let s = b[j] as f64 + x.iter().enumerate().map(|(i, v)| v * wt[i * b.len() + j] as f64).sum::<f64>();
+                if relu {
+                    s.max(0.0)
+                } else {
+                    s
+                }
+            })
+            .collect()
+    }
+}
+
+fn reference_forward(ae: &Autoencoder, image: &[f32]) -> (Vec<f64>, Vec<f64>) {
+    use reference::*;
+    let w = ae.to_weights();
+    let t = |i: usize| w.tensors[i].data.as_slice();
+    let x: Vec<f64> = image.iter().map(|&v| v as f64).collect();
+    let (x, h, wd) = conv(&x, 84, 84, 3, t(0), t(1), 16, true);
+    let (x, h, wd) = pool(&x, h, wd, 16);
+    let (x, h, wd) = conv(&x, h, wd, 16, t(2), t(3), 32, true);
+    let (x, h, wd) = pool(&x, h, wd, 32);
+    let (x, h, wd) = conv(&x, h, wd, 32, t(4), t(5), 32, true);
+    let (x, _, _) = pool(&x, h, wd, 32);
+    let emb = dense(&x, t(6), t(7), true);
+    let x = dense(&emb, t(8), t(9), false);
+    let (x, h, wd) = conv(&x, 11, 11, 32, t(10), t(11), 32, true);
+    let (x, h, wd) = up(&x, h, wd, 32);
+    let (x, h, wd) = conv(&x, h, wd, 32, t(12), t(13), 32, true);
+    let (x, h, wd) = up(&x, h, wd, 32);
+    let (x, h, wd) = conv(&x, h, wd, 32, t(14), t(15), 16, false);
+    let (x, h, wd) = up(&x, h, wd, 16);
+    let (rec, _, _) = conv(&x, h, wd, 16, t(16), t(17), 3, true);
+    (emb, rec)
+}
+
+#[test]
+fn the_architecture_has_the_papers_parameter_count() {
+    assert_eq!(Autoencoder::glorot(1).parameter_count(), PARAMETERS);
+    assert_eq!(PARAMETERS, 196_663);
+}
+
+#[test]
+fn inference_matches_an_f64_reference() {
+    let ae = Autoencoder::glorot(3);
+    for task in ["double-t-maze", "cylinder"] {
+        let img = frame(task);
+        let (emb_ref, rec_ref) = reference_forward(&ae, &img);
+        let mut s = Scratch::default();
+        let mut emb = [0.0; EMBEDDING];
+        ae.encode(&img, &mut s, &mut emb);
+        let mut rec = Vec::new();
+        ae.decode(&emb, &mut s, &mut rec);
+        let de = emb.iter().zip(&emb_ref).map(|(a, b)| (*a as f64 - b).abs()).fold(0.0, f64::max);
+        let dr = rec.iter().zip(&rec_ref).map(|(a, b)| (*a as f64 - b).abs()).fold(0.0, f64::max);
+        assert!(de <= 1e-5 && dr <= 1e-5, "{task}: embedding off by {de}, reconstruction by {dr}");
+        assert!(emb.iter().any(|&v| v > 0.0), "{task}: a dead embedding proves nothing");
+        assert_eq!(rec.len(), IMAGE);
+    }
+}
+
+#[test]
+fn weights_round_trip_and_f16_keeps_embeddings_within_1e_3() {
+    let mut ae = Autoencoder::glorot(4);
+    ae.task = "cylinder".into();
+    let w = ae.to_weights();
+    let back = Weights::from_bytes(&w.to_bytes(DType::F32)).unwrap();
+    assert_eq!(back, w);
+    let half_bytes = w.to_bytes(DType::F16);
+    assert!(half_bytes.len() < 2 * PARAMETERS + 1024, "{} bytes", half_bytes.len());
+    let ae16 = Autoencoder::from_weights(&Weights::from_bytes(&half_bytes).unwrap()).unwrap();
+    assert_eq!(ae16.task, "cylinder");
+    let img = frame("detour");
+    let mut s = Scratch::default();
+    let (mut a, mut b) = ([0.0; EMBEDDING], [0.0; EMBEDDING]);
+    ae.encode(&img, &mut s, &mut a);
+    ae16.encode(&img, &mut s, &mut b);
+    let d = a.iter().zip(&b).map(|(x, y)| (x - y).abs()).fold(0.0, f32::max);
+    assert!(d <= 1e-3, "f16 storage moves the embedding by {d}");
+}
+
+#[test]
+fn bad_weight_files_are_clear_errors() {
+    let w = Autoencoder::glorot(5).to_weights();
+    let good = w.to_bytes(DType::F16);
+    let msg = |b: &[u8]| Weights::from_bytes(b).unwrap_err().to_string();
+    assert!(msg(b"PNG....").contains("bad magic"));
+    let mut flipped = good.clone();
+    flipped[200] ^= 0x10;
+    assert!(msg(&flipped).contains("checksum mismatch"));
+    assert!(
+        msg(&good[..good.len() / 2]).contains("checksum mismatch")
+            || msg(&good[..good.len() / 2]).contains("truncated")
+    );
+    let mut v2 = good.clone();
+    v2[8] = 2;
+    assert!(msg(&v2).contains("version 2 is not supported"));
+    // A well-formed file for another architecture.
+    let mut other = w.clone();
+    other.tensors[0].shape = vec![3, 3, 3, 8];
+    other.tensors[0].data.truncate(3 * 3 * 3 * 8);
+    let e = Autoencoder::from_weights(&Weights::from_bytes(&other.to_bytes(DType::F32)).unwrap()).unwrap_err();
+    assert!(e.to_string().contains("enc.conv1.w has shape [3, 3, 3, 8], expected [3, 3, 3, 16]"), "{e}");
+    let mut missing = w;
+    missing.tensors.pop();
+    assert!(Autoencoder::from_weights(&missing).unwrap_err().to_string().contains("dec.conv4.b is missing"));
+}
+
+#[test]
+fn the_gate_starts_closed_and_measures_every_16th_step() {
+    let ae = Autoencoder::glorot(6);
+    let img = frame("detour");
+    let mut s = Scratch::default();
+    let mut gate = ReconstructionGate::new();
+    for _ in 0..15 {
+        gate.advance(&ae, &img, &mut s);
+        assert_eq!(gate.mse, 100.0);
+        assert!(!gate.open(0.01));
+    }
+    gate.advance(&ae, &img, &mut s);
+    assert_eq!(gate.mse, ae.reconstruction_mse(&img, &mut s));
+    assert!(gate.mse < 100.0 && gate.mse > 0.0);
+}
+
+/// The embedding of the T-maze's first frame under `glorot(1)` weights, as raw bits: the wasm
+/// test compares the same numbers. `SEC_UPDATE_GOLDEN=1` rewrites the file.
+#[test]
+fn a_fixed_frame_gives_the_golden_embedding() {
+    let ae = Autoencoder::glorot(1);
+    let mut e = [0.0; EMBEDDING];
+    ae.encode(&frame("double-t-maze"), &mut Scratch::default(), &mut e);
+    let text: String = e.iter().map(|v| format!("{:08x}\n", v.to_bits())).collect();
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/golden/embedding.txt");
+    if std::env::var("SEC_UPDATE_GOLDEN").is_ok_and(|v| v == "1") {
+        std::fs::write(path, &text).unwrap();
+    }
+    assert_eq!(text, std::fs::read_to_string(path).unwrap());
+}
