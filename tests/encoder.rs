@@ -14,6 +14,7 @@ fn frame(task: &str) -> Vec<f32> {
 }
 
 /// Straightforward f64 NHWC layers, written independently of the kernels.
+#[allow(clippy::too_many_arguments)]
 mod reference {
     pub fn conv(
         x: &[f64],
@@ -50,7 +51,7 @@ mod reference {
         (out, oh, ow)
     }
     pub fn pool(x: &[f64], h: usize, w: usize, c: usize) -> (Vec<f64>, usize, usize) {
-        let (oh, ow) = ((h + 1) / 2, (w + 1) / 2);
+        let (oh, ow) = (h.div_ceil(2), w.div_ceil(2));
         let mut out = vec![f64::MIN; oh * ow * c];
         for y in 0..h {
             for xx in 0..w {

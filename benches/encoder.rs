@@ -1,0 +1,21 @@
+//! Encoder and decoder speed per frame (issue 3 targets: encoder <= 0.6 ms natively).
+//! Run: `cargo bench --bench encoder`.
+
+use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use sec_playground::arena::{Env, EnvConfig, Task};
+use sec_playground::encoder::{Autoencoder, Scratch, EMBEDDING, IMAGE};
+
+fn encoder(c: &mut Criterion) {
+    let mut env = Env::new(EnvConfig::new(Task::preset("double-t-maze").unwrap()), 3).unwrap();
+    let mut img = vec![0.0; IMAGE];
+    env.observation().to_rgb_f32(&mut img);
+    let ae = Autoencoder::glorot(1);
+    let mut s = Scratch::default();
+    let mut e = [0.0; EMBEDDING];
+    c.bench_function("encode", |b| b.iter(|| ae.encode(black_box(&img), &mut s, &mut e)));
+    let mut rec = Vec::new();
+    c.bench_function("decode", |b| b.iter(|| ae.decode(black_box(&e), &mut s, &mut rec)));
+}
+
+criterion_group!(benches, encoder);
+criterion_main!(benches);
