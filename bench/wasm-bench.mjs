@@ -32,3 +32,10 @@ for (const task of wasm.taskNames()) {
 }
 console.log(`node ${process.version}, wasm release build`);
 console.table(rows);
+
+const n = 300;
+wasm.benchAutoencoder(20, false);
+const te = best(() => wasm.benchAutoencoder(n, false), 3);
+wasm.benchAutoencoder(20, true);
+const td = best(() => wasm.benchAutoencoder(n, true), 3);
+console.log(`autoencoder (Glorot weights, simd128): encode ${(te / n * 1000).toFixed(3)} ms, decode ${(td / n * 1000).toFixed(3)} ms per frame`);

@@ -209,3 +209,29 @@ pub fn bench_renders(task: &str, n: u32) -> Result<u32, JsError> {
     }
     Ok(acc)
 }
+
+/// Benchmark helper: `n` encodes (`decode` false) or decodes of a T-maze frame with
+/// Glorot-initialised weights; returns a checksum.
+#[wasm_bindgen(js_name = benchAutoencoder)]
+pub fn bench_autoencoder(n: u32, decode: bool) -> Result<f32, JsError> {
+    use crate::encoder::{Autoencoder, Scratch, EMBEDDING, IMAGE};
+    let mut env = Env::new(EnvConfig::new(Task::preset("double-t-maze").map_err(js_err)?), 3).map_err(js_err)?;
+    let mut img = vec![0.0; IMAGE];
+    env.observation().to_rgb_f32(&mut img);
+    let ae = Autoencoder::glorot(1);
+    let mut s = Scratch::default();
+    let mut e = [0.0; EMBEDDING];
+    let mut rec = Vec::new();
+    let mut acc = 0.0;
+    ae.encode(&img, &mut s, &mut e);
+    for _ in 0..n {
+        if decode {
+            ae.decode(&e, &mut s, &mut rec);
+            acc += rec[0];
+        } else {
+            ae.encode(&img, &mut s, &mut e);
+            acc += e[0];
+        }
+    }
+    Ok(acc)
+}
