@@ -38,4 +38,12 @@ wasm.benchAutoencoder(20, false);
 const te = best(() => wasm.benchAutoencoder(n, false), 3);
 wasm.benchAutoencoder(20, true);
 const td = best(() => wasm.benchAutoencoder(n, true), 3);
-console.log(`autoencoder (Glorot weights, simd128): encode ${(te / n * 1000).toFixed(3)} ms, decode ${(td / n * 1000).toFixed(3)} ms per frame`);
+// Multiply-adds per frame (docs/ENCODER.md): three convolutions and the Dense(20); the decoder's
+// Dense(3872) and four convolutions.
+const MACS = { encode: 15_318_400, decode: 16_829_824 };
+const gmacs = (macs, s) => (macs / (s / n) / 1e9).toFixed(1);
+console.log(
+  `autoencoder (bundled T-maze model, simd128): encode ${(te / n * 1000).toFixed(3)} ms ` +
+    `(${gmacs(MACS.encode, te)} G multiply-adds/s), decode ${(td / n * 1000).toFixed(3)} ms ` +
+    `(${gmacs(MACS.decode, td)} G/s) per frame`,
+);

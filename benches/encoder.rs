@@ -1,15 +1,15 @@
 //! Encoder and decoder speed per frame (issue 3 targets: encoder <= 0.6 ms natively).
-//! Run: `cargo bench --bench encoder`.
+//! Run: `cargo bench --bench encoder`. Uses the bundled T-maze model.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use sec_playground::arena::{Env, EnvConfig, Task};
-use sec_playground::encoder::{Autoencoder, Scratch, EMBEDDING, IMAGE};
+use sec_playground::encoder::{bundled, Scratch, EMBEDDING, IMAGE};
 
 fn encoder(c: &mut Criterion) {
     let mut env = Env::new(EnvConfig::new(Task::preset("double-t-maze").unwrap()), 3).unwrap();
     let mut img = vec![0.0; IMAGE];
     env.observation().to_rgb_f32(&mut img);
-    let ae = Autoencoder::glorot(1);
+    let ae = bundled::autoencoder("double-t-maze").unwrap();
     let mut s = Scratch::default();
     let mut e = [0.0; EMBEDDING];
     c.bench_function("encode", |b| b.iter(|| ae.encode(black_box(&img), &mut s, &mut e)));

@@ -1,8 +1,12 @@
-//! SEC Playground core: the Animal-AI v1 arenas and their first-person camera, built for the
-//! browser (wasm32) and natively from the same code, deterministically.
+//! SEC Playground core: the Animal-AI v1 arenas and their first-person camera, and SEC's
+//! perceptual layer (the paper's autoencoder), built for the browser (wasm32) and natively from
+//! the same code, deterministically.
 
+pub mod agent;
 pub mod arena;
 pub mod encoder;
+pub mod experiment;
+pub mod memory;
 pub mod render;
 pub mod util;
 

@@ -1,10 +1,13 @@
 //! The autoencoder: architecture, inference against an independent f64 reference, the weights
 //! file (round trip, f16 accuracy, every kind of bad file), the reconstruction gate, and a golden
-//! embedding that `tests/wasm.rs` checks bit for bit under Node.
+//! embedding that `tests/wasm.rs` checks bit for bit under Node, and the bundled trained models.
 #![cfg(not(target_arch = "wasm32"))]
 
-use sec_playground::arena::{Env, EnvConfig, Task};
-use sec_playground::encoder::{Autoencoder, DType, ReconstructionGate, Scratch, Weights, EMBEDDING, IMAGE, PARAMETERS};
+use sec_playground::arena::{Env, EnvConfig, Task, TASK_NAMES};
+use sec_playground::encoder::{
+    bundled, Autoencoder, DType, ReconstructionGate, Scratch, Weights, EMBEDDING, IMAGE, PARAMETERS,
+};
+use sec_playground::render::fnv1a;
 
 fn frame(task: &str) -> Vec<f32> {
     let mut env = Env::new(EnvConfig::new(Task::preset(task).unwrap()), 1).unwrap();
@@ -199,17 +202,61 @@ fn the_gate_starts_closed_and_measures_every_16th_step() {
     assert!(gate.mse < 100.0 && gate.mse > 0.0);
 }
 
-/// The embedding of the T-maze's first frame under `glorot(1)` weights, as raw bits: the wasm
-/// test compares the same numbers. `SEC_UPDATE_GOLDEN=1` rewrites the file.
+/// The embedding of the T-maze's first frame under the bundled T-maze model, as raw bits, and a
+/// fingerprint of its reconstruction's bits: the wasm test compares the same numbers. `SEC_UPDATE_GOLDEN=1` rewrites the file.
 #[test]
 fn a_fixed_frame_gives_the_golden_embedding() {
-    let ae = Autoencoder::glorot(1);
+    let ae = bundled::autoencoder("double-t-maze").unwrap();
     let mut e = [0.0; EMBEDDING];
     ae.encode(&frame("double-t-maze"), &mut Scratch::default(), &mut e);
-    let text: String = e.iter().map(|v| format!("{:08x}\n", v.to_bits())).collect();
+    assert!(e.iter().filter(|&&v| v > 0.0).count() >= 5, "a mostly dead embedding proves little: {e:?}");
+    let mut rec = Vec::new();
+    ae.decode(&e, &mut Scratch::default(), &mut rec);
+    let bytes: Vec<u8> = rec.iter().flat_map(|v| v.to_le_bytes()).collect();
+    let mut text: String = e.iter().map(|v| format!("{:08x}\n", v.to_bits())).collect();
+    text += &format!("reconstruction fnv1a {:016x}\n", fnv1a(&bytes));
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/golden/embedding.txt");
     if std::env::var("SEC_UPDATE_GOLDEN").is_ok_and(|v| v == "1") {
         std::fs::write(path, &text).unwrap();
     }
     assert_eq!(text, std::fs::read_to_string(path).unwrap());
+}
+
+/// The issue's bound on held-out reconstruction MSE (inputs in [0, 1]).
+const BOUND: f64 = 0.003;
+/// Models that do not meet the bound yet, with the held-out MSE they reach (first 400 frames).
+/// Issue 3 stays open while this list is not empty; the test fails when one of them meets the
+/// bound, so the list can only shrink.
+const NOT_YET: [(&str, f64); 1] = [("double-t-maze", 0.0035)];
+
+/// Every task has a bundled model that names its task, carries a usable scale, and reconstructs
+/// the first 400 of its held-out frames (the set `sec-train` reports, seed 1001) within the bound.
+#[test]
+fn every_bundled_model_reconstructs_its_held_out_frames() {
+    use sec_playground::encoder::dataset;
+    for task in TASK_NAMES {
+        let ae = bundled::autoencoder(task).unwrap();
+        assert_eq!(ae.task, task);
+        assert!(ae.embedding_scale.is_finite() && ae.embedding_scale > 0.0, "{task}: scale {}", ae.embedding_scale);
+        let (rgb, _) = dataset::generate(&Task::preset(task).unwrap(), 400, 1001).unwrap();
+        let mut s = Scratch::default();
+        let mut img = vec![0.0; IMAGE];
+        let mut sum = 0.0f64;
+        for f in rgb.chunks_exact(dataset::FRAME_BYTES) {
+            for (d, &b) in img.iter_mut().zip(f) {
+                *d = b as f32 / 255.0;
+            }
+            sum += ae.reconstruction_mse(&img, &mut s) as f64;
+        }
+        let mse = sum / 400.0;
+        match NOT_YET.iter().find(|(t, _)| *t == task) {
+            None => assert!(mse <= BOUND, "{task}: held-out reconstruction MSE {mse:.5} > {BOUND}"),
+            Some((_, limit)) => {
+                assert!(mse > BOUND, "{task} now meets the bound ({mse:.5}): take it off NOT_YET");
+                assert!(mse <= *limit, "{task}: held-out MSE {mse:.5} is worse than its recorded {limit}");
+            }
+        }
+    }
+    let e = bundled::autoencoder("maze").unwrap_err().to_string();
+    assert!(e.contains("task") && e.contains("double-t-maze"), "{e}");
 }

@@ -63,16 +63,14 @@ fn conv3x3_relu_any<const CI: usize, const CO: usize>(
         while ox < ow {
             let x0 = ox as isize - pad;
             if x0 >= 0 && x0 as usize + BLOCK + 2 <= w && ox + BLOCK <= ow {
-                conv_block::<CI, CO>(
-                    input,
-                    h,
-                    w,
-                    weights,
-                    bias,
-                    oy as isize - pad,
-                    x0 as usize,
-                    &mut out[(oy * ow + ox) * CO..][..BLOCK * CO],
-                );
+                let o = &mut out[(oy * ow + ox) * CO..][..BLOCK * CO];
+                #[cfg(target_arch = "wasm32")]
+                if CO % (4 * simd::NV) == 0 {
+                    simd::conv_block::<CI, CO>(input, h, w, weights, bias, oy as isize - pad, x0 as usize, o);
+                    ox += BLOCK;
+                    continue;
+                }
+                conv_block::<CI, CO>(input, h, w, weights, bias, oy as isize - pad, x0 as usize, o);
                 ox += BLOCK;
                 continue;
             }
@@ -108,7 +106,10 @@ fn conv3x3_relu_any<const CI: usize, const CO: usize>(
 }
 
 /// Output pixels convolved together in the interior.
+#[cfg(not(target_arch = "wasm32"))]
 const BLOCK: usize = 4;
+#[cfg(target_arch = "wasm32")]
+const BLOCK: usize = simd::P;
 
 /// BLOCK adjacent output pixels whose windows start at input row `y0` and column `x0`.
 #[inline(always)]
@@ -150,6 +151,73 @@ fn conv_block<const CI: usize, const CO: usize>(
     }
 }
 
+/// The interior blocks written with wasm simd128 instructions: wasm engines have 16 vector
+/// registers, so a block accumulates P pixels x NV vectors of 4 output channels at a time and
+/// walks the channel groups in turn. Each lane does what the portable loop does, in the same
+/// order (multiply, then add; ReLU as max with 0), so the bits are the same.
+#[cfg(target_arch = "wasm32")]
+mod simd {
+    use core::arch::wasm32::*;
+
+    pub const P: usize = 2;
+    pub const NV: usize = 4;
+
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub fn conv_block<const CI: usize, const CO: usize>(
+        input: &[f32],
+        h: usize,
+        w: usize,
+        weights: &[f32],
+        bias: &[f32; CO],
+        y0: isize,
+        x0: usize,
+        out: &mut [f32],
+    ) {
+        assert!(out.len() >= P * CO && weights.len() == 9 * CI * CO);
+        let load = |s: &[f32], i: usize| -> v128 {
+            let q = &s[i..i + 4];
+            // SAFETY: `q` holds 4 f32s; v128_load has no alignment requirement.
+            unsafe { v128_load(q.as_ptr() as *const v128) }
+        };
+        for g0 in (0..CO).step_by(4 * NV) {
+            let mut acc = [[f32x4_splat(0.0); NV]; P];
+            for a in acc.iter_mut() {
+                for (j, v) in a.iter_mut().enumerate() {
+                    *v = load(bias, g0 + 4 * j);
+                }
+            }
+            for ky in 0..3 {
+                let iy = y0 + ky as isize;
+                if iy < 0 || iy >= h as isize {
+                    continue;
+                }
+                let row = &input[(iy as usize * w + x0) * CI..][..(P + 2) * CI];
+                for kx in 0..3 {
+                    let wk = &weights[(ky * 3 + kx) * CI * CO..][..CI * CO];
+                    for ci in 0..CI {
+                        let wr: [v128; NV] = std::array::from_fn(|j| load(wk, ci * CO + g0 + 4 * j));
+                        for (p, a) in acc.iter_mut().enumerate() {
+                            let v = f32x4_splat(row[(p + kx) * CI + ci]);
+                            for j in 0..NV {
+                                a[j] = f32x4_add(a[j], f32x4_mul(v, wr[j]));
+                            }
+                        }
+                    }
+                }
+            }
+            let zero = f32x4_splat(0.0);
+            for (p, a) in acc.iter().enumerate() {
+                for (j, &v) in a.iter().enumerate() {
+                    let q = &mut out[p * CO + g0 + 4 * j..][..4];
+                    // SAFETY: `q` holds 4 f32s; unaligned stores are allowed.
+                    unsafe { v128_store(q.as_mut_ptr() as *mut v128, f32x4_pmax(zero, v)) };
+                }
+            }
+        }
+    }
+}
+
 /// 2x2 max pooling, stride 2, TensorFlow `same` padding: an odd side gets one extra output that
 /// pools over the remaining row or column only (21 -> 11).
 pub fn maxpool2(input: &[f32], h: usize, w: usize, c: usize, out: &mut Vec<f32>) -> (usize, usize) {
@@ -170,6 +238,123 @@ pub fn maxpool2(input: &[f32], h: usize, w: usize, c: usize, out: &mut Vec<f32>)
         }
     }
     (oh, ow)
+}
+
+/// Nearest-neighbour upsampling by 2 into planar form (one `(2h + 2) x (2w + 2)` plane per
+/// channel, with a border of zeros) for `conv3x3_relu_planar`.
+pub fn upsample2_planar(input: &[f32], h: usize, w: usize, c: usize, out: &mut Vec<f32>) -> (usize, usize) {
+    let (oh, ow) = (2 * h, 2 * w);
+    let (ph, pw) = (oh + 2, ow + 2);
+    out.clear();
+    out.resize(c * ph * pw, 0.0);
+    for oy in 0..oh {
+        for ox in 0..ow {
+            let px = &input[((oy / 2) * w + ox / 2) * c..][..c];
+            for (k, &v) in px.iter().enumerate() {
+                out[(k * ph + oy + 1) * pw + ox + 1] = v;
+            }
+        }
+    }
+    (oh, ow)
+}
+
+/// Pixels one vector of `conv3x3_relu_planar` covers: 2 AVX2 or 4 simd128 registers per channel.
+const LANES: usize = 16;
+
+/// 3x3 `same` convolution with ReLU for layers with few output channels (the decoder's last,
+/// 16 -> 3), where vectors across channels would be mostly empty: lanes are adjacent output
+/// pixels instead. Input: the zero-bordered planes of `upsample2_planar`; output channel-last.
+/// Each output sums bias, then kernel row, column and input channel ascending, like
+/// `conv3x3_relu`; the border's zero terms add nothing (at most the sign of a zero).
+pub fn conv3x3_relu_planar<const CI: usize, const CO: usize>(
+    planes: &[f32],
+    h: usize,
+    w: usize,
+    weights: &[f32],
+    bias: &[f32],
+    out: &mut Vec<f32>,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU supports AVX2, checked just above.
+        return unsafe { conv3x3_relu_planar_avx2::<CI, CO>(planes, h, w, weights, bias, out) };
+    }
+    conv3x3_relu_planar_any::<CI, CO>(planes, h, w, weights, bias, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn conv3x3_relu_planar_avx2<const CI: usize, const CO: usize>(
+    planes: &[f32],
+    h: usize,
+    w: usize,
+    weights: &[f32],
+    bias: &[f32],
+    out: &mut Vec<f32>,
+) {
+    conv3x3_relu_planar_any::<CI, CO>(planes, h, w, weights, bias, out)
+}
+
+#[inline(always)]
+fn conv3x3_relu_planar_any<const CI: usize, const CO: usize>(
+    planes: &[f32],
+    h: usize,
+    w: usize,
+    weights: &[f32],
+    bias: &[f32],
+    out: &mut Vec<f32>,
+) {
+    let (ph, pw) = (h + 2, w + 2);
+    assert_eq!(planes.len(), CI * ph * pw);
+    assert_eq!(weights.len(), 9 * CI * CO);
+    assert_eq!(bias.len(), CO);
+    out.clear();
+    out.resize(h * w * CO, 0.0);
+    for y in 0..h {
+        let mut x = 0;
+        while x < w {
+            if x + LANES <= w {
+                let mut acc = [[0.0f32; LANES]; CO];
+                for (a, &b) in acc.iter_mut().zip(bias) {
+                    *a = [b; LANES];
+                }
+                for ky in 0..3 {
+                    for kx in 0..3 {
+                        for ci in 0..CI {
+                            let src: &[f32; LANES] =
+                                planes[(ci * ph + y + ky) * pw + x + kx..][..LANES].try_into().unwrap();
+                            let wr = &weights[((ky * 3 + kx) * CI + ci) * CO..][..CO];
+                            for (a, &wv) in acc.iter_mut().zip(wr) {
+                                for l in 0..LANES {
+                                    a[l] += src[l] * wv;
+                                }
+                            }
+                        }
+                    }
+                }
+                for l in 0..LANES {
+                    for co in 0..CO {
+                        out[(y * w + x + l) * CO + co] = acc[co][l].max(0.0);
+                    }
+                }
+                x += LANES;
+            } else {
+                for co in 0..CO {
+                    let mut a = bias[co];
+                    for ky in 0..3 {
+                        for kx in 0..3 {
+                            for ci in 0..CI {
+                                a += planes[(ci * ph + y + ky) * pw + x + kx]
+                                    * weights[((ky * 3 + kx) * CI + ci) * CO + co];
+                            }
+                        }
+                    }
+                    out[(y * w + x) * CO + co] = a.max(0.0);
+                }
+                x += 1;
+            }
+        }
+    }
 }
 
 /// Nearest-neighbour upsampling by 2.

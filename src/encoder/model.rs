@@ -5,7 +5,7 @@
 //! flatten before the bottleneck is channel-last `(y, x, c)` order. A trainer with other layouts
 //! transposes when it writes the weights file.
 
-use super::kernels::{conv3x3_relu, dense, maxpool2, upsample2};
+use super::kernels::{conv3x3_relu, conv3x3_relu_planar, dense, maxpool2, upsample2, upsample2_planar};
 use super::weights::{Tensor, Weights};
 use crate::arena::ConfigError;
 use crate::render::{HEIGHT, WIDTH};
@@ -139,9 +139,9 @@ impl Autoencoder {
         let (h, w) = conv3x3_relu::<32, 32>(&s.b, h, w, self.p(12), self.p(13), true, &mut s.a);
         let (h, w) = upsample2(&s.a, h, w, 32, &mut s.b);
         let (h, w) = conv3x3_relu::<32, 16>(&s.b, h, w, self.p(14), self.p(15), false, &mut s.a);
-        let (h, w) = upsample2(&s.a, h, w, 16, &mut s.b);
-        let (h, w) = conv3x3_relu::<16, 3>(&s.b, h, w, self.p(16), self.p(17), true, out);
+        let (h, w) = upsample2_planar(&s.a, h, w, 16, &mut s.b);
         debug_assert_eq!((h, w), (HEIGHT, WIDTH));
+        conv3x3_relu_planar::<16, 3>(&s.b, h, w, self.p(16), self.p(17), out);
     }
 
     /// Mean squared reconstruction error of an image: the reconstruction gate's measure.

@@ -2,7 +2,8 @@
 //! `Error` whose message names the parameter and its range, and leaves the state as it was.
 
 use crate::arena::{trace, yaml, Action, ConfigError, Env, EnvConfig, Task, MAX_T, TASK_NAMES};
-use crate::render::{render_top_down, WIDTH};
+use crate::encoder::{bundled, reconstruction_to_rgba, Autoencoder, Scratch, EMBEDDING, IMAGE};
+use crate::render::{render_top_down, Frame, WIDTH};
 use glam::Vec2;
 use serde::Serialize;
 use std::collections::VecDeque;
@@ -210,15 +211,80 @@ pub fn bench_renders(task: &str, n: u32) -> Result<u32, JsError> {
     Ok(acc)
 }
 
-/// Benchmark helper: `n` encodes (`decode` false) or decodes of a T-maze frame with
-/// Glorot-initialised weights; returns a checksum.
+/// The trained autoencoder of a task (bundled with the wasm): the embedding SEC sees, the
+/// reconstruction the page shows, and the reconstruction error that gates the contextual layer.
+#[wasm_bindgen]
+pub struct Encoder {
+    ae: Autoencoder,
+    scratch: Scratch,
+    frame: Frame,
+    img: Vec<f32>,
+    rec: Vec<f32>,
+}
+
+#[wasm_bindgen]
+impl Encoder {
+    /// The model of a built-in task (see `taskNames()`).
+    #[wasm_bindgen(constructor)]
+    pub fn new(task: &str) -> Result<Encoder, JsError> {
+        let ae = bundled::autoencoder(task).map_err(js_err)?;
+        Ok(Encoder { ae, scratch: Scratch::default(), frame: Frame::new(), img: vec![0.0; IMAGE], rec: Vec::new() })
+    }
+
+    fn load(&mut self, rgba: &[u8]) -> Result<(), JsError> {
+        if rgba.len() != self.frame.rgba.len() {
+            return Err(JsError::new(&format!(
+                "rgba: {} bytes, expected {} (an 84x84 RGBA image)",
+                rgba.len(),
+                self.frame.rgba.len()
+            )));
+        }
+        self.frame.rgba.copy_from_slice(rgba);
+        self.frame.to_rgb_f32(&mut self.img);
+        Ok(())
+    }
+
+    /// The 20 embedding values of an 84x84 RGBA image (e.g. `ArenaEnv.observation()`).
+    pub fn encode(&mut self, rgba: &[u8]) -> Result<Vec<f32>, JsError> {
+        self.load(rgba)?;
+        let mut e = [0.0; EMBEDDING];
+        self.ae.encode(&self.img, &mut self.scratch, &mut e);
+        Ok(e.to_vec())
+    }
+
+    /// The autoencoder's reconstruction of an 84x84 RGBA image, as RGBA bytes.
+    pub fn reconstruct(&mut self, rgba: &[u8]) -> Result<Vec<u8>, JsError> {
+        self.load(rgba)?;
+        let mut e = [0.0; EMBEDDING];
+        self.ae.encode(&self.img, &mut self.scratch, &mut e);
+        self.ae.decode(&e, &mut self.scratch, &mut self.rec);
+        let mut out = vec![0u8; self.frame.rgba.len()];
+        reconstruction_to_rgba(&self.rec, &mut out);
+        Ok(out)
+    }
+
+    /// Mean squared reconstruction error (inputs in [0, 1]): the gate's measure.
+    #[wasm_bindgen(js_name = reconstructionMse)]
+    pub fn reconstruction_mse(&mut self, rgba: &[u8]) -> Result<f32, JsError> {
+        self.load(rgba)?;
+        Ok(self.ae.reconstruction_mse(&self.img, &mut self.scratch))
+    }
+
+    /// The model's fixed embedding scale (docs/ENCODER.md, deviation D17).
+    #[wasm_bindgen(getter, js_name = embeddingScale)]
+    pub fn embedding_scale(&self) -> f32 {
+        self.ae.embedding_scale
+    }
+}
+
+/// Benchmark helper: `n` encodes (`decode` false) or decodes of a T-maze frame with the bundled
+/// T-maze model; returns a checksum.
 #[wasm_bindgen(js_name = benchAutoencoder)]
 pub fn bench_autoencoder(n: u32, decode: bool) -> Result<f32, JsError> {
-    use crate::encoder::{Autoencoder, Scratch, EMBEDDING, IMAGE};
     let mut env = Env::new(EnvConfig::new(Task::preset("double-t-maze").map_err(js_err)?), 3).map_err(js_err)?;
     let mut img = vec![0.0; IMAGE];
     env.observation().to_rgb_f32(&mut img);
-    let ae = Autoencoder::glorot(1);
+    let ae = bundled::autoencoder("double-t-maze").map_err(js_err)?;
     let mut s = Scratch::default();
     let mut e = [0.0; EMBEDDING];
     let mut rec = Vec::new();

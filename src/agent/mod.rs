@@ -1,0 +1,158 @@
+//! The SEC agent (sec-algorithm.md section 4): at every decision the contextual layer of
+//! `crate::memory` and the reactive layer both answer, and the contextual action is taken only
+//! when it selected something, the LTM holds enough sequences and the reconstruction gate is open.
+
+pub mod reactive;
+
+use crate::arena::ConfigError;
+use crate::encoder::EMBEDDING;
+use crate::memory::{Couplet, Memory, MemoryConfig};
+use rand_chacha::ChaCha8Rng;
+pub use reactive::Reactive;
+
+/// Which layer's action was taken.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum Layer {
+    #[serde(rename = "R")]
+    Reactive,
+    #[serde(rename = "C")]
+    Contextual,
+}
+
+/// The agent's parameters beyond the memory's. Defaults follow the authors' code.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "camelCase", default, deny_unknown_fields)]
+pub struct AgentConfig {
+    pub memory: MemoryConfig,
+    /// The contextual layer may act once the LTM holds at least this many sequences (code: 5).
+    pub min_sequences: usize,
+    /// Reconstruction-gate threshold: the contextual layer acts only while the frame's MSE is
+    /// below it. `None` turns the gate off (a documented deviation).
+    pub gate: Option<f32>,
+    /// Deviation D4: also store the couplet whose action reached the goal (the paper's figure).
+    pub store_last_couplet: bool,
+    /// Deviation D5: empty the STM at every episode end.
+    pub reset_stm_on_episode: bool,
+}
+
+impl Default for AgentConfig {
+    fn default() -> Self {
+        AgentConfig {
+            memory: MemoryConfig::default(),
+            min_sequences: 5,
+            gate: Some(0.01),
+            store_last_couplet: false,
+            reset_stm_on_episode: false,
+        }
+    }
+}
+
+impl AgentConfig {
+    /// The authors' code (the default).
+    pub fn code() -> Self {
+        Self::default()
+    }
+
+    /// The paper's text: thresholds the other way round (D2) and a T increment of 0.1 (D3).
+    pub fn paper() -> Self {
+        let mut c = Self::default();
+        c.memory.theta_abs = 0.995;
+        c.memory.theta_prop = 0.98;
+        c.memory.alpha = 0.1;
+        c
+    }
+
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        self.memory.validate()?;
+        if self.min_sequences > self.memory.m {
+            return Err(ConfigError::new(
+                "minSequences",
+                format!("{} is out of range 0..={} (the LTM capacity m)", self.min_sequences, self.memory.m),
+            ));
+        }
+        if let Some(g) = self.gate {
+            if !(g.is_finite() && g > 0.0 && g <= 100.0) {
+                return Err(ConfigError::new("gate", format!("{g} is out of range (0, 100]")));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One decision's outcome.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Decision {
+    pub action: u8,
+    pub layer: Layer,
+    /// Whether the contextual layer selected couplets (so its entropy is fresh).
+    pub selected: bool,
+}
+
+/// The contextual and reactive layers and the arbitration between them.
+#[derive(Clone, Debug)]
+pub struct Agent {
+    cfg: AgentConfig,
+    pub memory: Memory,
+    reactive: Reactive,
+    /// The last decision, pushed into the STM at the next one (zeros and [0, 0] at first).
+    previous: Couplet,
+    /// Set when `previous` must not be pushed again: `store_last_couplet` already did, or the
+    /// STM was reset since.
+    previous_pushed: bool,
+}
+
+impl Agent {
+    pub fn new(cfg: AgentConfig, rng: &mut ChaCha8Rng) -> Result<Self, ConfigError> {
+        cfg.validate()?;
+        Ok(Agent {
+            memory: Memory::new(cfg.memory.clone())?,
+            reactive: Reactive::new(rng),
+            previous: Couplet::ZERO,
+            previous_pushed: false,
+            cfg,
+        })
+    }
+
+    pub fn config(&self) -> &AgentConfig {
+        &self.cfg
+    }
+
+    /// Section 4: push the previous couplet (updating T), let both layers answer, arbitrate.
+    /// `rec_mse` is the reconstruction gate's last measurement.
+    pub fn decide(&mut self, e: &[f32; EMBEDDING], rec_mse: f32, rng: &mut ChaCha8Rng) -> Decision {
+        if !self.previous_pushed {
+            self.memory.push(self.previous);
+        }
+        self.memory.update_bias();
+        self.previous_pushed = false;
+        let reactive = self.reactive.step(rng);
+        let contextual = self.memory.advance(e, rng);
+        let gate_open = self.cfg.gate.is_none_or(|g| rec_mse < g);
+        let (action, layer) = match contextual {
+            Some(a) if gate_open && self.memory.len() >= self.cfg.min_sequences => (a, Layer::Contextual),
+            _ => (reactive, Layer::Reactive),
+        };
+        self.previous = Couplet { embedding: *e, action };
+        Decision { action, layer, selected: contextual.is_some() }
+    }
+
+    /// A goal was reached with episode reward `r`: store the STM (section 6). By default the
+    /// couplet of the last decision is not part of it (D4).
+    pub fn goal(&mut self, r: f64, rng: &mut ChaCha8Rng) -> bool {
+        if self.cfg.store_last_couplet && !self.previous_pushed {
+            self.memory.push(self.previous);
+            self.previous_pushed = true;
+        }
+        self.memory.store(r, rng)
+    }
+
+    /// Episode end: T back to 1; the STM too with `reset_stm_on_episode`.
+    pub fn episode_end(&mut self) {
+        self.memory.refresh();
+        if self.cfg.reset_stm_on_episode {
+            self.memory.reset_stm();
+            self.previous = Couplet::ZERO;
+            self.previous_pushed = true;
+        }
+    }
+}

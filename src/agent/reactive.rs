@@ -1,0 +1,49 @@
+//! The reactive layer (sec-algorithm.md section 10): a random walk of straight runs and turns in
+//! place, the only exploration SEC has. It advances at every decision, even when the contextual
+//! layer's action is the one taken, and keeps its state across episodes.
+
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+
+/// Action indices (3 * a0 + a1): forward (1, 0), and the two turns in place (0, 1) and (0, 2).
+pub const FORWARD: u8 = 3;
+pub const TURN_1: u8 = 1;
+pub const TURN_2: u8 = 2;
+
+/// The walk's state: a counter through `straight` forward steps then `turns` turns.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Reactive {
+    c: u32,
+    straight: u32,
+    turns: u32,
+    dir: u32,
+}
+
+impl Reactive {
+    /// The first cycle draws its lengths from 1..=19 (numpy `randint(1, 20)`) and turns with
+    /// direction 0.
+    pub fn new(rng: &mut ChaCha8Rng) -> Self {
+        let straight = rng.gen_range(1..20u32);
+        let turns = rng.gen_range(1..20u32);
+        Reactive { c: 0, straight, turns, dir: 0 }
+    }
+
+    /// The next action. After the first cycle each one is `straight + 1` forward steps then
+    /// `turns` turns, with lengths from 1..=20 and a direction drawn anew.
+    pub fn step(&mut self, rng: &mut ChaCha8Rng) -> u8 {
+        self.c += 1;
+        if self.c > self.straight + self.turns {
+            self.c = 0;
+            self.dir = rng.gen_range(0..2u32);
+            self.straight = rng.gen_range(1..21u32);
+            self.turns = rng.gen_range(1..21u32);
+        }
+        if self.c <= self.straight {
+            FORWARD
+        } else if self.dir == 0 {
+            TURN_1
+        } else {
+            TURN_2
+        }
+    }
+}

@@ -1,0 +1,577 @@
+//! SEC's contextual layer (sec-algorithm.md sections 2 and 5-8): the short-term memory (STM) of
+//! the last n couplets, the long-term memory (LTM) of rewarded sequences, the sequential-bias
+//! matrix T, retrieval and action selection.
+//!
+//! Memory is laid out for retrieval: each LTM row keeps its n embeddings transposed (embedding
+//! component major, couplet minor), so the similarity of all couplets of a row is a loop over
+//! couplets that vectorises, and each couplet still sums its 20 terms in component order on every
+//! target. Nothing is allocated per decision: every buffer is sized for the capacity m up front.
+
+use crate::arena::ConfigError;
+use crate::encoder::EMBEDDING;
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+
+/// The 9 actions (flat index 3*a0 + a1).
+pub const ACTIONS: usize = 9;
+
+/// The option of `table` named `s`, or an error naming `param` and the choices.
+fn parse_named<T: Copy>(param: &str, table: &[(&str, T)], s: &str) -> Result<T, ConfigError> {
+    table.iter().find(|(n, _)| *n == s).map(|(_, v)| *v).ok_or_else(|| {
+        let names: Vec<&str> = table.iter().map(|(n, _)| *n).collect();
+        ConfigError::new(param, format!("'{s}' is not one of {}", names.join(", ")))
+    })
+}
+
+/// How a selected couplet's value combines its similarity g, relative reward rr and distance d
+/// (section 7). `Default` is the paper's SEC; the others are the ablations of experiment 3.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub enum ValueFn {
+    /// g * rr * exp(-d / tau)
+    Default,
+    /// rr * exp(-d / tau)
+    NoGi,
+    /// g * rr
+    NoDist,
+    /// g * exp(-d / tau)
+    NoRr,
+    /// g
+    SoloGi,
+    /// exp(-d / tau)
+    SoloDist,
+    /// rr
+    SoloRr,
+}
+
+impl ValueFn {
+    pub const ALL: [(&'static str, ValueFn); 7] = [
+        ("default", ValueFn::Default),
+        ("noGi", ValueFn::NoGi),
+        ("noDist", ValueFn::NoDist),
+        ("noRR", ValueFn::NoRr),
+        ("soloGi", ValueFn::SoloGi),
+        ("soloDist", ValueFn::SoloDist),
+        ("soloRR", ValueFn::SoloRr),
+    ];
+
+    pub fn parse(s: &str) -> Result<Self, ConfigError> {
+        parse_named("valueFunction", &Self::ALL, s)
+    }
+
+    /// The value of a couplet with similarity `g`, relative reward `rr` and distance weight
+    /// `dist` = exp(-d / tau).
+    pub fn value(self, g: f64, rr: f64, dist: f64) -> f64 {
+        match self {
+            ValueFn::Default => g * rr * dist,
+            ValueFn::NoGi => rr * dist,
+            ValueFn::NoDist => g * rr,
+            ValueFn::NoRr => g * dist,
+            ValueFn::SoloGi => g,
+            ValueFn::SoloDist => dist,
+            ValueFn::SoloRr => rr,
+        }
+    }
+}
+
+/// What happens when a sequence is stored into a full LTM (section 6).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Forgetting {
+    /// The LTM freezes at m; later sequences are not stored (the paper's main runs, D9).
+    None,
+    /// The oldest sequence goes.
+    Fifo,
+    /// A lowest-reward sequence goes (the oldest of equals).
+    Rwd,
+    /// The floor(10 % of m) lowest-reward sequences go.
+    RwdProp,
+    /// One sequence goes, drawn with probability proportional to (max reward + 1) - its reward.
+    Prior,
+}
+
+impl Forgetting {
+    pub const ALL: [(&'static str, Forgetting); 5] = [
+        ("none", Forgetting::None),
+        ("fifo", Forgetting::Fifo),
+        ("rwd", Forgetting::Rwd),
+        ("rwd-prop", Forgetting::RwdProp),
+        ("prior", Forgetting::Prior),
+    ];
+
+    pub fn parse(s: &str) -> Result<Self, ConfigError> {
+        parse_named("forgetting", &Self::ALL, s)
+    }
+}
+
+/// The contextual layer's parameters. Defaults are the authors' code (the "code" preset).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "camelCase", default, deny_unknown_fields)]
+pub struct MemoryConfig {
+    /// STM length n: couplets per sequence.
+    pub n: usize,
+    /// LTM capacity m: sequences.
+    pub m: usize,
+    /// Absolute threshold on the biased similarity G (strict).
+    pub theta_abs: f64,
+    /// Threshold on G / Gmax (strict).
+    pub theta_prop: f64,
+    /// T increment for the successor of a selected couplet.
+    pub alpha: f64,
+    /// T decay rate towards 1.
+    pub beta: f64,
+    /// Distance decay tau in exp(-d / tau).
+    pub tau: f64,
+    /// The sequential bias T; false is NSEC.
+    pub sequential_bias: bool,
+    pub value_function: ValueFn,
+    pub forgetting: Forgetting,
+}
+
+impl Default for MemoryConfig {
+    fn default() -> Self {
+        MemoryConfig {
+            n: 50,
+            m: 500,
+            theta_abs: 0.98,
+            theta_prop: 0.995,
+            alpha: 0.01,
+            beta: 0.05,
+            tau: 0.9,
+            sequential_bias: true,
+            value_function: ValueFn::Default,
+            forgetting: Forgetting::None,
+        }
+    }
+}
+
+/// Allowed ranges, also shown by the page's controls.
+pub const N_RANGE: (usize, usize) = (1, 1000);
+pub const M_RANGE: (usize, usize) = (1, 100_000);
+
+fn check_f(name: &str, v: f64, lo: f64, hi: f64, lo_open: bool) -> Result<(), ConfigError> {
+    let ok = v.is_finite() && v <= hi && if lo_open { v > lo } else { v >= lo };
+    if ok {
+        Ok(())
+    } else {
+        let open = if lo_open { "(" } else { "[" };
+        Err(ConfigError::new(name, format!("{v} is out of range {open}{lo}, {hi}]")))
+    }
+}
+
+impl MemoryConfig {
+    /// Every parameter in its range; the error names the parameter and the range.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        if !(N_RANGE.0..=N_RANGE.1).contains(&self.n) {
+            return Err(ConfigError::new("n", format!("{} is out of range {}..={}", self.n, N_RANGE.0, N_RANGE.1)));
+        }
+        if !(M_RANGE.0..=M_RANGE.1).contains(&self.m) {
+            return Err(ConfigError::new("m", format!("{} is out of range {}..={}", self.m, M_RANGE.0, M_RANGE.1)));
+        }
+        check_f("thetaAbs", self.theta_abs, 0.0, 2.0, false)?;
+        check_f("thetaProp", self.theta_prop, 0.0, 1.0, false)?;
+        check_f("alpha", self.alpha, 0.0, 1.0, false)?;
+        check_f("beta", self.beta, 0.0, 1.0, false)?;
+        check_f("tau", self.tau, 0.0, 100.0, true)?;
+        Ok(())
+    }
+}
+
+/// One decision: the embedding the agent saw and the action it then took.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Couplet {
+    pub embedding: [f32; EMBEDDING],
+    pub action: u8,
+}
+
+impl Couplet {
+    /// The STM's initial content: a zero embedding with action [0, 0].
+    pub const ZERO: Couplet = Couplet { embedding: [0.0; EMBEDDING], action: 0 };
+}
+
+/// A selected couplet (section 7): LTM row, column, and its G (bias included).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Selected {
+    pub row: u32,
+    pub col: u32,
+    pub g: f64,
+}
+
+/// STM, LTM, T and the selection masks, with the operations of sections 5-8.
+#[derive(Clone, Debug)]
+pub struct Memory {
+    cfg: MemoryConfig,
+    /// Ring of n couplets; `stm_head` is the oldest.
+    stm: Vec<Couplet>,
+    stm_head: usize,
+    /// Per LTM row: n x 20 embeddings transposed (`[k][j]`).
+    ltm: Vec<f32>,
+    /// Per LTM row: n actions, oldest first.
+    actions: Vec<u8>,
+    rewards: Vec<f64>,
+    /// T, rows x n (f64 like the authors' numpy array).
+    t: Vec<f64>,
+    /// M (selected by the last `advance`) and M_prev, rows x n.
+    sel: Vec<bool>,
+    sel_prev: Vec<bool>,
+    /// G of the last `advance`, rows x n: 1 - MAE computed in f32 (the embeddings' type), times
+    /// T in f64, as numpy did.
+    g: Vec<f64>,
+    /// 1 - MAE of every couplet, rows x n.
+    sim: Vec<f32>,
+    selected: Vec<Selected>,
+    q: [f64; ACTIONS],
+    p: [f64; ACTIONS],
+    entropy: f64,
+}
+
+impl Memory {
+    pub fn new(cfg: MemoryConfig) -> Result<Self, ConfigError> {
+        cfg.validate()?;
+        let (n, m) = (cfg.n, cfg.m);
+        Ok(Memory {
+            stm: vec![Couplet::ZERO; n],
+            stm_head: 0,
+            ltm: Vec::with_capacity(m * n * EMBEDDING),
+            actions: Vec::with_capacity(m * n),
+            rewards: Vec::with_capacity(m),
+            t: Vec::with_capacity(m * n),
+            sel: Vec::with_capacity(m * n),
+            sel_prev: Vec::with_capacity(m * n),
+            g: Vec::with_capacity(m * n),
+            sim: Vec::with_capacity(m * n),
+            selected: Vec::with_capacity(m * n),
+            q: [0.0; ACTIONS],
+            p: [0.0; ACTIONS],
+            entropy: 0.0,
+            cfg,
+        })
+    }
+
+    pub fn config(&self) -> &MemoryConfig {
+        &self.cfg
+    }
+
+    /// Number of stored sequences S.
+    pub fn len(&self) -> usize {
+        self.rewards.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.rewards.is_empty()
+    }
+
+    /// The last computed entropy in bits: 0 before the first selection, and stale (kept) when
+    /// nothing was selected (section 8).
+    pub fn entropy(&self) -> f64 {
+        self.entropy
+    }
+
+    pub fn rewards(&self) -> &[f64] {
+        &self.rewards
+    }
+
+    /// T, row-major (S x n).
+    pub fn bias(&self) -> &[f64] {
+        &self.t
+    }
+
+    /// G of the last `advance`, row-major (S x n).
+    pub fn similarity(&self) -> &[f64] {
+        &self.g
+    }
+
+    /// The couplets the last `advance` selected, in row-major order.
+    pub fn selected(&self) -> &[Selected] {
+        &self.selected
+    }
+
+    /// Q and p over the 9 actions from the last selection.
+    pub fn q(&self) -> &[f64; ACTIONS] {
+        &self.q
+    }
+
+    pub fn p(&self) -> &[f64; ACTIONS] {
+        &self.p
+    }
+
+    /// The STM, oldest couplet first.
+    pub fn stm(&self) -> impl Iterator<Item = &Couplet> {
+        self.stm[self.stm_head..].iter().chain(&self.stm[..self.stm_head])
+    }
+
+    /// Embedding k of couplet j of LTM row i.
+    pub fn ltm_embedding(&self, i: usize, j: usize) -> [f32; EMBEDDING] {
+        let n = self.cfg.n;
+        std::array::from_fn(|k| self.ltm[(i * EMBEDDING + k) * n + j])
+    }
+
+    pub fn ltm_action(&self, i: usize, j: usize) -> u8 {
+        self.actions[i * self.cfg.n + j]
+    }
+
+    /// Section 5: push the previous decision into the STM, then update T from the mask of the
+    /// last `advance` (decay, clamp, reset the selected, boost their successors: in this order).
+    pub fn update(&mut self, couplet: Couplet) {
+        self.push(couplet);
+        self.update_bias();
+    }
+
+    /// The STM half of `update`: the couplet goes in, the oldest falls out.
+    pub fn push(&mut self, couplet: Couplet) {
+        self.stm[self.stm_head] = couplet;
+        self.stm_head = (self.stm_head + 1) % self.cfg.n;
+    }
+
+    /// The T half of `update`.
+    pub fn update_bias(&mut self) {
+        self.sel_prev.copy_from_slice(&self.sel);
+        if self.is_empty() || !self.cfg.sequential_bias {
+            return;
+        }
+        let (beta, alpha, n) = (self.cfg.beta, self.cfg.alpha, self.cfg.n);
+        for t in self.t.iter_mut() {
+            *t = (*t * (1.0 - beta) + beta).max(1.0);
+        }
+        for (t, &s) in self.t.iter_mut().zip(&self.sel_prev) {
+            if s {
+                *t = 1.0;
+            }
+        }
+        for (t_row, s_row) in self.t.chunks_exact_mut(n).zip(self.sel_prev.chunks_exact(n)) {
+            for j in 0..n - 1 {
+                if s_row[j] {
+                    t_row[j + 1] += alpha;
+                }
+            }
+        }
+    }
+
+    /// Section 7: similarity to every stored couplet, selection by both thresholds, Q over the
+    /// actions of the selected, and an action drawn in proportion to Q. `None` when nothing
+    /// passes (the authors' [-1, -1]); the entropy is then left as it was.
+    pub fn advance(&mut self, e: &[f32; EMBEDDING], rng: &mut ChaCha8Rng) -> Option<u8> {
+        self.selected.clear();
+        let (n, rows) = (self.cfg.n, self.len());
+        if rows == 0 {
+            return None;
+        }
+        self.g.resize(rows * n, 0.0);
+        self.sim.resize(rows * n, 0.0);
+        similarity(e, &self.ltm, n, &mut self.sim);
+        let t: &[f64] = if self.cfg.sequential_bias { &self.t } else { &[] };
+        let gmax = biased(&self.sim, t, &mut self.g);
+        // D16: with Gmax <= 0 nothing can pass; otherwise G > theta_abs and G / Gmax > theta_prop,
+        // i.e. G > max(theta_abs, theta_prop * Gmax): exact comparisons, so exactly the same set.
+        let threshold = if gmax > 0.0 { self.cfg.theta_abs.max(self.cfg.theta_prop * gmax) } else { f64::INFINITY };
+        for (s, &g) in self.sel.iter_mut().zip(&self.g) {
+            *s = g > threshold;
+        }
+        // Few couplets pass: skip eight at a time.
+        for (w, chunk) in self.sel.chunks(8).enumerate() {
+            if chunk.iter().any(|&s| s) {
+                for (l, &s) in chunk.iter().enumerate() {
+                    if s {
+                        let idx = w * 8 + l;
+                        self.selected.push(Selected { row: (idx / n) as u32, col: (idx % n) as u32, g: self.g[idx] });
+                    }
+                }
+            }
+        }
+        if self.selected.is_empty() {
+            return None;
+        }
+        let rmax = self.selected.iter().map(|s| self.rewards[s.row as usize]).fold(f64::NEG_INFINITY, f64::max);
+        self.q = [0.0; ACTIONS];
+        for s in &self.selected {
+            let rr = self.rewards[s.row as usize] / rmax;
+            let d = (n - s.col as usize) as f64 / n as f64;
+            let dist = libm::exp(-d / self.cfg.tau);
+            let a = self.actions[s.row as usize * n + s.col as usize] as usize;
+            self.q[a] += self.cfg.value_function.value(s.g, rr, dist);
+        }
+        let total: f64 = self.q.iter().sum();
+        let mut entropy = 0.0;
+        for (p, &q) in self.p.iter_mut().zip(&self.q) {
+            *p = q / total;
+            if *p > 0.0 {
+                entropy -= *p * libm::log2(*p);
+            }
+        }
+        self.entropy = entropy;
+        Some(sample(&self.p, rng) as u8)
+    }
+
+    /// Section 6: store the STM as a sequence with reward `r` when r > 0 and there is room, then
+    /// forget if the LTM is full. Returns whether the sequence was stored (it may have been
+    /// forgotten again at once by RWD or PRIOR).
+    pub fn store(&mut self, r: f64, rng: &mut ChaCha8Rng) -> bool {
+        let (n, m) = (self.cfg.n, self.cfg.m);
+        let stored = r > 0.0 && self.len() < m;
+        if stored {
+            let row = self.ltm.len();
+            self.ltm.resize(row + EMBEDDING * n, 0.0);
+            let head = self.stm_head;
+            for (j, c) in self.stm[head..].iter().chain(&self.stm[..head]).enumerate() {
+                for k in 0..EMBEDDING {
+                    self.ltm[row + k * n + j] = c.embedding[k];
+                }
+                self.actions.push(c.action);
+            }
+            self.rewards.push(r);
+            self.t.resize(self.t.len() + n, 1.0);
+            self.sel.resize(self.sel.len() + n, false);
+            self.sel_prev.resize(self.sel_prev.len() + n, false);
+        }
+        if self.len() >= m {
+            match self.cfg.forgetting {
+                Forgetting::None => {}
+                Forgetting::Fifo => self.remove(0),
+                Forgetting::Rwd => {
+                    let i = self.lowest_rewards(1)[0];
+                    self.remove(i);
+                }
+                Forgetting::RwdProp => {
+                    let mut rows = self.lowest_rewards((self.len() as f64 * 0.1) as usize);
+                    rows.sort_unstable_by(|a, b| b.cmp(a));
+                    for i in rows {
+                        self.remove(i);
+                    }
+                }
+                Forgetting::Prior => {
+                    let i = sample(&self.prior_probabilities(), rng);
+                    self.remove(i);
+                }
+            }
+        }
+        stored
+    }
+
+    /// Probability of each row being forgotten by PRIOR now (for tests and the page).
+    pub fn prior_probabilities(&self) -> Vec<f64> {
+        let top = self.rewards.iter().copied().fold(f64::NEG_INFINITY, f64::max) + 1.0;
+        let sum: f64 = self.rewards.iter().map(|r| top - r).sum();
+        self.rewards.iter().map(|r| (top - r) / sum).collect()
+    }
+
+    /// End of episode: T back to 1 everywhere. The STM and the masks stay (section 3).
+    pub fn refresh(&mut self) {
+        self.t.fill(1.0);
+    }
+
+    /// Empties the STM (the `reset_stm_on_episode` deviation, D5).
+    pub fn reset_stm(&mut self) {
+        self.stm.fill(Couplet::ZERO);
+        self.stm_head = 0;
+    }
+
+    /// The `k` rows with the lowest rewards, ties broken towards the older row.
+    fn lowest_rewards(&self, k: usize) -> Vec<usize> {
+        let mut idx: Vec<usize> = (0..self.len()).collect();
+        idx.sort_by(|&a, &b| self.rewards[a].total_cmp(&self.rewards[b]).then(a.cmp(&b)));
+        idx.truncate(k);
+        idx
+    }
+
+    fn remove(&mut self, i: usize) {
+        let n = self.cfg.n;
+        self.ltm.drain(i * EMBEDDING * n..(i + 1) * EMBEDDING * n);
+        self.actions.drain(i * n..(i + 1) * n);
+        self.rewards.remove(i);
+        self.t.drain(i * n..(i + 1) * n);
+        self.sel.drain(i * n..(i + 1) * n);
+        self.sel_prev.drain(i * n..(i + 1) * n);
+        self.g.truncate(0);
+    }
+}
+
+/// 1 - MAE between `e` and every stored couplet: `ltm` holds rows of n couplets transposed
+/// (`[k][j]`), `out` gets one value per couplet, row-major. Each couplet sums |e_k - x_k| over k
+/// ascending, so vectorising across couplets changes no bits; on x86-64 with AVX2 the same code
+/// runs 8 couplets per instruction.
+fn similarity(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f32]) {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU supports AVX2, checked just above.
+        return unsafe { similarity_avx2(e, ltm, n, out) };
+    }
+    similarity_any(e, ltm, n, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn similarity_avx2(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f32]) {
+    similarity_any(e, ltm, n, out)
+}
+
+#[inline(always)]
+fn similarity_any(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f32]) {
+    out.fill(0.0);
+    for (row, o) in ltm.chunks_exact(EMBEDDING * n).zip(out.chunks_exact_mut(n)) {
+        for (k, &ek) in e.iter().enumerate() {
+            for (o, &x) in o.iter_mut().zip(&row[k * n..][..n]) {
+                *o += (ek - x).abs();
+            }
+        }
+        for o in o.iter_mut() {
+            *o = 1.0 - *o / EMBEDDING as f32;
+        }
+    }
+}
+
+/// G = (1 - MAE) times T (or 1 when `t` is empty, NSEC) into `g`; returns Gmax. Eight running
+/// maxima so that the loop vectorises; a maximum does not depend on the order.
+fn biased(sim: &[f32], t: &[f64], g: &mut [f64]) -> f64 {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU supports AVX2, checked just above.
+        return unsafe { biased_avx2(sim, t, g) };
+    }
+    biased_any(sim, t, g)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn biased_avx2(sim: &[f32], t: &[f64], g: &mut [f64]) -> f64 {
+    biased_any(sim, t, g)
+}
+
+#[inline(always)]
+fn biased_any(sim: &[f32], t: &[f64], g: &mut [f64]) -> f64 {
+    if t.is_empty() {
+        for (g, &s) in g.iter_mut().zip(sim) {
+            *g = s as f64;
+        }
+    } else {
+        for ((g, &s), &t) in g.iter_mut().zip(sim).zip(t) {
+            *g = s as f64 * t;
+        }
+    }
+    let mut m = [f64::NEG_INFINITY; 8];
+    let chunks = g.chunks_exact(8);
+    let tail = chunks.remainder();
+    for c in chunks {
+        for l in 0..8 {
+            m[l] = if c[l] > m[l] { c[l] } else { m[l] };
+        }
+    }
+    tail.iter().chain(&m).fold(f64::NEG_INFINITY, |a, &b| if b > a { b } else { a })
+}
+
+/// Draws an index with probabilities `p` (summing to 1): the first index whose cumulative sum
+/// exceeds a uniform draw; never an index of probability 0.
+fn sample(p: &[f64], rng: &mut ChaCha8Rng) -> usize {
+    let u: f64 = rng.gen();
+    let mut c = 0.0;
+    let mut last = 0;
+    for (i, &pi) in p.iter().enumerate() {
+        if pi > 0.0 {
+            c += pi;
+            last = i;
+            if u < c {
+                return i;
+            }
+        }
+    }
+    last
+}

@@ -1,0 +1,346 @@
+//! The contextual layer against hand-computed values (sec-algorithm.md sections 5-8) and its
+//! invariants over random operation sequences.
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use sec_playground::encoder::EMBEDDING;
+use sec_playground::memory::{Couplet, Forgetting, Memory, MemoryConfig, ValueFn};
+
+/// An embedding whose every component is `v`. With v a multiple of 2^-6 every MAE below is
+/// exact in f32, so the thresholds can be tested at equality.
+fn emb(v: f32) -> [f32; EMBEDDING] {
+    [v; EMBEDDING]
+}
+
+fn couplet(v: f32, action: u8) -> Couplet {
+    Couplet { embedding: emb(v), action }
+}
+
+fn rng() -> ChaCha8Rng {
+    ChaCha8Rng::seed_from_u64(9)
+}
+
+/// A memory with n couplets per sequence whose STM holds `values` (oldest first) with `action`,
+/// stored as one sequence with reward `r`.
+fn with_sequence(cfg: MemoryConfig, values: &[f32], action: u8, r: f64) -> Memory {
+    let mut m = Memory::new(cfg).unwrap();
+    for &v in values {
+        m.update(couplet(v, action));
+    }
+    assert!(m.store(r, &mut rng()));
+    m
+}
+
+fn cfg(n: usize) -> MemoryConfig {
+    MemoryConfig { n, ..MemoryConfig::default() }
+}
+
+#[test]
+fn both_thresholds_are_strict() {
+    // One stored couplet at MAE 2^-6 from the query: G = 1 - 0.015625 = 0.984375 exactly.
+    let probe = |theta_abs: f64, theta_prop: f64| {
+        let mut m = with_sequence(MemoryConfig { theta_abs, theta_prop, ..cfg(1) }, &[0.0], 1, 1.0);
+        m.advance(&emb(0.015625), &mut rng())
+    };
+    assert_eq!(probe(0.984, 0.995), Some(1));
+    assert_eq!(probe(0.984375, 0.995), None, "G equal to theta_abs must not pass");
+    // G / Gmax = 1 for the only couplet: theta_prop = 1 must not pass, just below must.
+    assert_eq!(probe(0.98, 1.0), None, "G equal to theta_prop * Gmax must not pass");
+    assert_eq!(probe(0.98, 0.999), Some(1));
+}
+
+#[test]
+fn gmax_at_or_below_zero_selects_nothing() {
+    // MAE 2 > 1: every G is negative; even a theta_abs of 0 cannot select (D16).
+    let mut m = with_sequence(MemoryConfig { theta_abs: 0.0, theta_prop: 0.0, ..cfg(3) }, &[0.0, 0.0, 0.0], 1, 1.0);
+    assert_eq!(m.advance(&emb(2.0), &mut rng()), None);
+    assert!(m.selected().is_empty());
+    assert!(m.similarity().iter().all(|&g| g == -1.0));
+}
+
+#[test]
+fn relative_reward_is_over_the_selected_couplets_only() {
+    // Three sequences of one couplet: rewards 1, 2 and 4; the one with 4 is far away.
+    let mut m = Memory::new(MemoryConfig { theta_prop: 0.9, ..cfg(1) }).unwrap();
+    for (v, a, r) in [(0.0, 1u8, 1.0), (0.0, 2, 2.0), (1.0, 3, 4.0)] {
+        m.update(couplet(v, a));
+        m.store(r, &mut rng());
+    }
+    m.advance(&emb(0.0), &mut rng());
+    let sel: Vec<u32> = m.selected().iter().map(|s| s.row).collect();
+    assert_eq!(sel, [0, 1]);
+    // rr = 1/2 and 2/2 (rmax over the selected = 2, not 4); g = 1; d = (1 - 0)/1 = 1.
+    let dist = (-1.0f64 / 0.9).exp();
+    assert!((m.q()[1] - 0.5 * dist).abs() < 1e-12, "{:?}", m.q());
+    assert!((m.q()[2] - 1.0 * dist).abs() < 1e-12);
+    assert_eq!(m.q()[3], 0.0);
+    assert!((m.p()[1] - 1.0 / 3.0).abs() < 1e-12 && (m.p()[2] - 2.0 / 3.0).abs() < 1e-12);
+    let h = -(1.0f64 / 3.0) * (1.0f64 / 3.0).log2() - (2.0f64 / 3.0) * (2.0f64 / 3.0).log2();
+    assert!((m.entropy() - h).abs() < 1e-12, "entropy {} vs {h}", m.entropy());
+}
+
+#[test]
+fn distance_weights_run_from_the_newest_to_the_oldest_couplet() {
+    // n = 4, all couplets identical to the query, actions 0..3 by position j (0 = oldest).
+    let mut m = Memory::new(MemoryConfig { theta_prop: 0.5, ..cfg(4) }).unwrap();
+    for a in 0..4 {
+        m.update(couplet(0.0, a));
+    }
+    m.store(3.0, &mut rng());
+    m.advance(&emb(0.0), &mut rng());
+    for j in 0..4 {
+        let d = (4 - j) as f64 / 4.0;
+        let want = libm::exp(-d / 0.9);
+        assert!((m.q()[j] - want).abs() < 1e-15, "j={j}: {} vs {want}", m.q()[j]);
+    }
+    // d = 1/n for the newest: exp(-1/(4*0.9)); the oldest d = 1: exp(-1/0.9).
+    assert!(m.q()[3] > m.q()[0]);
+}
+
+#[test]
+fn value_functions_combine_g_rr_and_distance_as_named() {
+    let (g, rr, dist) = (1.1, 0.5, 0.3);
+    let want = [
+        ("default", g * rr * dist),
+        ("noGi", rr * dist),
+        ("noDist", g * rr),
+        ("noRR", g * dist),
+        ("soloGi", g),
+        ("soloDist", dist),
+        ("soloRR", rr),
+    ];
+    for (name, v) in want {
+        assert_eq!(ValueFn::parse(name).unwrap().value(g, rr, dist), v, "{name}");
+    }
+    assert!(ValueFn::parse("solo").unwrap_err().to_string().starts_with("valueFunction:"));
+}
+
+#[test]
+fn t_update_order_decay_clamp_reset_then_boost() {
+    // n = 4: a query equal to couplet j selects exactly column j (the others are at MAE >= 0.5).
+    let vals = [0.0, 0.5, 1.0, 1.5];
+    let mut m = with_sequence(cfg(4), &vals, 1, 1.0);
+    // Select column 1; the next update boosts column 2 and resets column 1.
+    m.advance(&emb(0.5), &mut rng());
+    assert_eq!(m.selected().iter().map(|s| s.col).collect::<Vec<_>>(), [1]);
+    m.update(couplet(0.0, 0));
+    assert_eq!(m.bias(), &[1.0, 1.0, 1.01, 1.0]);
+    // Keep selecting column 1: T[2] follows x -> 0.95 x + 0.05 + 0.01, whose fixed point is 1.2.
+    for _ in 0..2000 {
+        m.advance(&emb(0.5), &mut rng());
+        m.update(couplet(0.0, 0));
+    }
+    let t2 = m.bias()[2];
+    assert!((t2 - 1.2).abs() < 1e-4, "fixed point {t2}");
+    assert!(m.bias()[..2].iter().chain(&m.bias()[3..]).all(|&t| t == 1.0));
+}
+
+#[test]
+fn j_and_j_plus_1_both_selected_ends_at_1_01() {
+    let c = MemoryConfig { theta_abs: 0.7, theta_prop: 0.9, ..cfg(4) };
+    let mut m = with_sequence(c, &[1.0, 0.0, 0.5, 1.0], 1, 1.0);
+    // Select column 1 alone a few times, so that T[2] builds up above 1.
+    for _ in 0..3 {
+        m.advance(&emb(0.0), &mut rng());
+        assert_eq!(m.selected().iter().map(|s| s.col).collect::<Vec<_>>(), [1]);
+        m.update(couplet(0.0, 0));
+    }
+    assert!(m.bias()[2] > 1.02, "{:?}", m.bias());
+    // A query between columns 1 and 2 selects both.
+    m.advance(&emb(0.25), &mut rng());
+    assert_eq!(m.selected().iter().map(|s| s.col).collect::<Vec<_>>(), [1, 2]);
+    m.update(couplet(0.0, 0));
+    // Column 2 is decayed, reset to 1 (selected), then boosted (successor of 1): 1.01, not 1
+    // (boost before reset) or ~1.037 (no reset). Column 3 is boosted as the successor of 2.
+    assert_eq!(m.bias(), &[1.0, 1.0, 1.01, 1.01]);
+}
+
+#[test]
+fn column_0_is_never_boosted_and_there_is_no_wrap_around() {
+    // Select the newest column (n - 1): its successor would wrap to column 0 of the next row.
+    let vals = [1.0, 1.0, 0.0];
+    let mut m = Memory::new(cfg(3)).unwrap();
+    for _ in 0..2 {
+        for &v in &vals {
+            m.update(couplet(v, 1));
+        }
+        m.store(1.0, &mut rng());
+    }
+    m.advance(&emb(0.0), &mut rng());
+    assert_eq!(m.selected().iter().map(|s| (s.row, s.col)).collect::<Vec<_>>(), [(0, 2), (1, 2)]);
+    m.update(couplet(0.0, 0));
+    assert!(m.bias().iter().all(|&t| t == 1.0), "{:?}", m.bias());
+}
+
+#[test]
+fn nsec_never_touches_t() {
+    let mut m = with_sequence(MemoryConfig { sequential_bias: false, ..cfg(4) }, &[0.0, 0.5, 1.0, 1.5], 1, 1.0);
+    for _ in 0..10 {
+        m.advance(&emb(0.5), &mut rng());
+        m.update(couplet(0.0, 0));
+    }
+    assert!(m.bias().iter().all(|&t| t == 1.0));
+}
+
+#[test]
+fn entropy_is_zero_at_first_and_stale_when_nothing_is_selected() {
+    let mut m = Memory::new(MemoryConfig { theta_prop: 0.5, ..cfg(2) }).unwrap();
+    assert_eq!(m.entropy(), 0.0);
+    m.update(couplet(0.0, 1));
+    m.update(couplet(0.0, 2));
+    m.store(1.0, &mut rng());
+    m.advance(&emb(0.0), &mut rng());
+    let h = m.entropy();
+    assert!(h > 0.9 && h < 1.0, "two actions with unequal weights: {h}");
+    assert_eq!(m.advance(&emb(5.0), &mut rng()), None);
+    assert_eq!(m.entropy(), h, "stale: the last computed value");
+}
+
+#[test]
+fn the_stored_sequence_is_the_stm_oldest_first_and_t_resets_at_episode_end() {
+    let mut m = Memory::new(cfg(3)).unwrap();
+    for (v, a) in [(0.25, 1), (0.5, 2), (0.75, 3), (1.0, 4)] {
+        m.update(couplet(v, a));
+    }
+    assert!(m.store(2.5, &mut rng()));
+    assert_eq!((0..3).map(|j| m.ltm_embedding(0, j)[7]).collect::<Vec<_>>(), [0.5, 0.75, 1.0]);
+    assert_eq!((0..3).map(|j| m.ltm_action(0, j)).collect::<Vec<_>>(), [2, 3, 4]);
+    assert_eq!(m.rewards(), &[2.5]);
+    m.advance(&emb(0.5), &mut rng());
+    m.update(couplet(0.0, 0));
+    assert!(m.bias().iter().any(|&t| t > 1.0));
+    m.refresh();
+    assert!(m.bias().iter().all(|&t| t == 1.0));
+    // R <= 0 is never stored.
+    assert!(!m.store(0.0, &mut rng()));
+    assert!(!m.store(-0.3, &mut rng()));
+    assert_eq!(m.len(), 1);
+}
+
+/// A memory of capacity 4 filled with one-couplet sequences of rewards `rs` (and action = index).
+fn filled(forgetting: Forgetting, rs: &[f64]) -> Memory {
+    let mut m = Memory::new(MemoryConfig { m: 4, forgetting, ..cfg(1) }).unwrap();
+    for (i, &r) in rs.iter().enumerate() {
+        m.update(couplet(0.0, i as u8));
+        m.store(r, &mut rng());
+    }
+    m
+}
+
+fn actions(m: &Memory) -> Vec<u8> {
+    (0..m.len()).map(|i| m.ltm_action(i, 0)).collect()
+}
+
+#[test]
+fn each_forgetting_mode() {
+    // NONE: the LTM freezes at m.
+    let m = filled(Forgetting::None, &[1.0, 2.0, 3.0, 4.0, 5.0]);
+    assert_eq!(actions(&m), [0, 1, 2, 3]);
+    // FIFO: filling to m drops the oldest at once, so m - 1 rows between rewards.
+    let m = filled(Forgetting::Fifo, &[1.0, 2.0, 3.0, 4.0, 5.0]);
+    assert_eq!(actions(&m), [2, 3, 4]);
+    // RWD: the lowest reward goes (the older of equals), even the row just added.
+    let m = filled(Forgetting::Rwd, &[3.0, 1.0, 2.0, 1.0]);
+    assert_eq!(actions(&m), [0, 2, 3]);
+    let m = filled(Forgetting::Rwd, &[3.0, 2.0, 2.5, 0.5]);
+    assert_eq!(actions(&m), [0, 1, 2]);
+    // RWD-PROP: floor(10 % of 4) = 0 rows: nothing goes and the LTM stays full.
+    let m = filled(Forgetting::RwdProp, &[3.0, 1.0, 2.0, 1.0, 5.0]);
+    assert_eq!(actions(&m), [0, 1, 2, 3]);
+}
+
+#[test]
+fn rwd_prop_drops_the_lowest_tenth() {
+    let mut m = Memory::new(MemoryConfig { m: 20, forgetting: Forgetting::RwdProp, ..cfg(1) }).unwrap();
+    let rs = [5.0, 1.0, 7.0, 0.5, 9.0, 3.0, 2.0, 8.0, 6.0, 4.0, 5.5, 7.5, 8.5, 9.5, 2.5, 3.5, 4.5, 6.5, 1.5, 0.7];
+    for (i, &r) in rs.iter().enumerate() {
+        m.update(couplet(0.0, (i % 9) as u8));
+        m.store(r, &mut rng());
+    }
+    // floor(0.1 * 20) = 2 rows: rewards 0.5 and 0.7.
+    assert_eq!(m.len(), 18);
+    assert!(!m.rewards().contains(&0.5) && !m.rewards().contains(&0.7));
+}
+
+#[test]
+fn prior_forgets_in_proportion_to_the_reward_gap() {
+    let mut m = Memory::new(MemoryConfig { m: 5, forgetting: Forgetting::Prior, ..cfg(1) }).unwrap();
+    for (i, r) in [1.0, 2.0, 3.0, 4.0].into_iter().enumerate() {
+        m.update(couplet(0.0, i as u8));
+        m.store(r, &mut rng());
+    }
+    // w = (4 + 1) - r = 4, 3, 2, 1; p = w / 10.
+    assert_eq!(m.prior_probabilities(), [0.4, 0.3, 0.2, 0.1]);
+    // Storing a fifth (r = 5) fills the LTM and removes one row drawn with those odds.
+    let mut counts = [0usize; 5];
+    let mut r = ChaCha8Rng::seed_from_u64(1);
+    for _ in 0..5000 {
+        let mut mm = m.clone();
+        mm.update(couplet(0.0, 4));
+        mm.store(5.0, &mut r);
+        assert_eq!(mm.len(), 4);
+        let gone = (0..5u8).find(|a| !actions(&mm).contains(a)).unwrap();
+        counts[gone as usize] += 1;
+    }
+    // w over five rows = 5, 4, 3, 2, 1 -> p = 1/3, 4/15, 1/5, 2/15, 1/15.
+    let want = [5.0, 4.0, 3.0, 2.0, 1.0].map(|w| w / 15.0);
+    for (c, p) in counts.iter().zip(want) {
+        let f = *c as f64 / 5000.0;
+        assert!((f - p).abs() < 0.025, "{counts:?} vs {want:?}");
+    }
+}
+
+#[test]
+fn bad_parameters_name_themselves_and_their_range() {
+    let e = |c: MemoryConfig| Memory::new(c).unwrap_err().to_string();
+    assert_eq!(e(MemoryConfig { n: 0, ..cfg(1) }), "n: 0 is out of range 1..=1000");
+    assert_eq!(e(MemoryConfig { m: 0, ..cfg(1) }), "m: 0 is out of range 1..=100000");
+    assert!(e(MemoryConfig { tau: 0.0, ..cfg(1) }).starts_with("tau: 0 is out of range (0, 100]"));
+    assert!(e(MemoryConfig { alpha: f64::NAN, ..cfg(1) }).starts_with("alpha: NaN"));
+    assert!(e(MemoryConfig { theta_prop: 1.5, ..cfg(1) }).starts_with("thetaProp: 1.5 is out of range [0, 1]"));
+    assert!(Forgetting::parse("lru").unwrap_err().to_string().starts_with("forgetting:"));
+}
+
+/// Invariants over random operation sequences: T >= 1 (and <= 1 + alpha / beta), LTM <= m, p
+/// sums to 1 and puts weight only on stored actions, the masks stay in lockstep.
+#[test]
+fn invariants_hold_over_random_runs() {
+    let mut src = ChaCha8Rng::seed_from_u64(2024);
+    for case in 0..60 {
+        let forgetting = Forgetting::ALL[case % 5].1;
+        let cfg = MemoryConfig {
+            n: src.gen_range(1..12),
+            m: src.gen_range(1..15),
+            theta_abs: src.gen_range(0.8..0.99),
+            theta_prop: src.gen_range(0.8..1.0),
+            sequential_bias: case % 7 != 0,
+            forgetting,
+            ..MemoryConfig::default()
+        };
+        let mut m = Memory::new(cfg.clone()).unwrap();
+        let mut r = ChaCha8Rng::seed_from_u64(case as u64);
+        for step in 0..400 {
+            // A few distinct places (multiples of 1/64) so that retrieval selects often.
+            let e = [src.gen_range(0..4) as f32 / 64.0; EMBEDDING];
+            let a = m.advance(&e, &mut r);
+            if let Some(a) = a {
+                let sum: f64 = m.p().iter().sum();
+                assert!((sum - 1.0).abs() < 1e-12, "p sums to {sum}");
+                let stored: Vec<u8> =
+                    m.selected().iter().map(|s| m.ltm_action(s.row as usize, s.col as usize)).collect();
+                assert!(stored.contains(&a), "chose {a}, stored {stored:?}");
+            }
+            m.update(Couplet { embedding: e, action: a.unwrap_or(src.gen_range(0..9)) });
+            if step % 17 == 16 {
+                m.store(src.gen_range(-1.0..3.0), &mut r);
+            }
+            if step % 53 == 52 {
+                m.refresh();
+            }
+            assert!(m.len() <= cfg.m);
+            assert!(m.bias().len() == m.len() * cfg.n);
+            let cap = 1.0 + cfg.alpha / cfg.beta + 1e-4;
+            assert!(m.bias().iter().all(|&t| (1.0..=cap).contains(&t)), "T out of [1, {cap}]: {:?}", m.bias());
+        }
+    }
+}
