@@ -28,4 +28,45 @@ fn retrieval(c: &mut Criterion) {
 }
 
 criterion_group!(benches, retrieval);
-criterion_main!(benches);
+
+/// One full decision as a run makes it: 4 env steps (12 physics frames) with the action held, a
+/// render, the encoder, retrieval over a full 500 x 50 LTM and the arbitration (issue 4 target:
+/// >= 1,000 decisions/s on one core).
+fn full_decision(c: &mut Criterion) {
+    use sec_playground::agent::{Agent, AgentConfig};
+    use sec_playground::arena::{Action, Env, EnvConfig, Task};
+    use sec_playground::encoder::{bundled, Scratch, IMAGE};
+    let mut rng = ChaCha8Rng::seed_from_u64(2);
+    let task = Task::preset("double-t-maze").unwrap();
+    // t = 0: no episode limit, so the walk goes on through the maze.
+    let mut env = Env::new(EnvConfig { task, t: Some(0) }, 1).unwrap();
+    let encoder = bundled::autoencoder("double-t-maze").unwrap();
+    let (mut scratch, mut image) = (Scratch::default(), vec![0.0f32; IMAGE]);
+    let mut agent = Agent::new(AgentConfig::default(), &mut rng).unwrap();
+    // Fill the LTM with sequences of real embeddings from a random walk.
+    let mut action = Action::NOOP;
+    while agent.memory.len() < 500 {
+        env.advance(action, 4).unwrap();
+        env.observation().to_rgb_f32(&mut image);
+        let mut e = [0.0; EMBEDDING];
+        encoder.encode(&image, &mut scratch, &mut e);
+        let d = agent.decide(&e, 0.0, &mut rng);
+        action = Action::new(d.action as u32).unwrap();
+        if rng.gen_bool(0.2) {
+            agent.goal(rng.gen_range(0.5..3.0), &mut rng);
+        }
+    }
+    c.bench_function("full decision, LTM 500x50", |b| {
+        b.iter(|| {
+            env.advance(action, 4).unwrap();
+            env.observation().to_rgb_f32(&mut image);
+            let mut e = [0.0; EMBEDDING];
+            encoder.encode(&image, &mut scratch, &mut e);
+            let d = agent.decide(black_box(&e), 0.0, &mut rng);
+            action = Action::new(d.action as u32).unwrap();
+        })
+    });
+}
+
+criterion_group!(decision, full_decision);
+criterion_main!(benches, decision);

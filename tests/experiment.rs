@@ -1,6 +1,7 @@
 //! Runs of SEC in a task: deterministic, and counted as the paper counts them.
 
-use sec_playground::experiment::{golden_run, Run, RunConfig};
+use sec_playground::agent::mfec::Embedding;
+use sec_playground::experiment::{golden_run, AgentKind, Run, RunConfig};
 
 fn episodes(cfg: &RunConfig, seed: u64, n: usize) -> Vec<String> {
     let mut run = Run::new(cfg.clone(), seed).unwrap();
@@ -53,4 +54,62 @@ fn a_short_run_gives_the_golden_episode_log() {
         std::fs::write(path, &log).unwrap();
     }
     assert_eq!(log, std::fs::read_to_string(path).unwrap());
+}
+
+fn json_lines(cfg: &RunConfig, seed: u64, n: usize) -> Vec<String> {
+    let mut run = Run::new(cfg.clone(), seed).unwrap();
+    (0..n).map(|_| run.episode().to_json()).collect()
+}
+
+#[test]
+fn baselines_run_deterministically_and_count_their_decisions() {
+    let base = RunConfig { task: "object-permanence".into(), t: Some(250), ..RunConfig::default() };
+    let mut rp = RunConfig { kind: AgentKind::Mfec, ..base.clone() };
+    rp.mfec.embedding = Embedding::RandomProjection;
+    let ae = RunConfig { kind: AgentKind::Mfec, ..base.clone() };
+    let reactive = RunConfig { kind: AgentKind::Reactive, ..base.clone() };
+    for cfg in [&rp, &ae, &reactive] {
+        let a = json_lines(cfg, 3, 3);
+        assert_eq!(a, json_lines(cfg, 3, 3), "{:?}", cfg.kind);
+        for line in &a {
+            let v: serde_json::Value = serde_json::from_str(line).unwrap();
+            // The warm-up (1250 decisions) is longer than these episodes: reactive throughout.
+            assert_eq!(v["contextualShare"], 0.0);
+            assert!(v["decisions"].as_u64().unwrap() <= 63);
+        }
+    }
+    // With one neighbour, Q (so the entropy) depends on the embedding: rp and ae differ.
+    let (mut rp1, mut ae1) = (rp.clone(), ae.clone());
+    (rp1.mfec.k, ae1.mfec.k) = (1, 1);
+    assert_ne!(json_lines(&rp1, 3, 2), json_lines(&ae1, 3, 2), "MFEC-rp's entropies differ from MFEC-ae's");
+    // The reactive walk logs no entropy; MFEC logs its softmax entropy.
+    let v: serde_json::Value = serde_json::from_str(&json_lines(&reactive, 3, 1)[0]).unwrap();
+    assert_eq!((v["entropy"].as_f64(), v["entropyFresh"].is_null()), (Some(0.0), true));
+    let v: serde_json::Value = serde_json::from_str(&json_lines(&ae, 3, 1)[0]).unwrap();
+    assert!((v["entropy"].as_f64().unwrap() - 9f64.log2()).abs() < 1e-9, "an empty MFEC is uniform");
+}
+
+#[test]
+fn configurations_round_trip_through_json_and_unknown_fields_are_refused() {
+    let mut cfg = RunConfig { kind: AgentKind::Mfec, ..RunConfig::default() };
+    cfg.mfec.sum_rewards = true;
+    cfg.agent.memory.sequential_bias = false;
+    let text = serde_json::to_string(&cfg).unwrap();
+    assert_eq!(serde_json::from_str::<RunConfig>(&text).unwrap(), cfg);
+    let partial: RunConfig = serde_json::from_str(r#"{"task":"detour","agent":{"memory":{"m":125}}}"#).unwrap();
+    assert_eq!((partial.task.as_str(), partial.agent.memory.m, partial.agent.memory.n), ("detour", 125, 50));
+    let e = serde_json::from_str::<RunConfig>(r#"{"agent":{"memory":{"alfa":0.1}}}"#).unwrap_err().to_string();
+    assert!(e.contains("unknown field `alfa`"), "{e}");
+}
+
+#[test]
+fn raw_embeddings_undo_the_calibrated_scale() {
+    // The object-permanence model's scale is 1.51: with raw embeddings the same run sees other
+    // similarities, so once the contextual layer is consulted the logs differ.
+    let cfg = RunConfig { task: "object-permanence".into(), ..RunConfig::default() };
+    let raw = RunConfig { raw_embeddings: true, ..cfg.clone() };
+    let mut a = Run::new(cfg, 7).unwrap();
+    let mut b = Run::new(raw, 7).unwrap();
+    let (la, lb): (Vec<_>, Vec<_>) = (0..8).map(|_| (a.episode().to_json(), b.episode().to_json())).unzip();
+    assert_ne!(la, lb);
 }

@@ -2,6 +2,7 @@
 //! `crate::memory` and the reactive layer both answer, and the contextual action is taken only
 //! when it selected something, the LTM holds enough sequences and the reconstruction gate is open.
 
+pub mod mfec;
 pub mod reactive;
 
 use crate::arena::ConfigError;

@@ -26,3 +26,8 @@ pub fn upscale(rgba: &[u8], width: usize, height: usize, k: usize) -> Vec<u8> {
     }
     out
 }
+
+pub mod plot;
+pub mod report;
+pub mod runner;
+pub mod stats;

@@ -1,0 +1,223 @@
+//! The experiment runner: the paper's experiments (or any configuration) x seeds on all cores,
+//! resumable and shardable, a report of the paper's measures with plots, and the trace command.
+//!
+//!   sec-experiment run EXPERIMENT [--seeds 20|1..20|1,5,9] [--episodes 5000] [--jobs N]
+//!                      [--shard i/N] [--out results/experiments] [--only GROUP/MODEL,...]
+//!   sec-experiment run --config FILE.json --name GROUP/MODEL [same options]
+//!   sec-experiment report EXPERIMENT [--out results/experiments]
+//!   sec-experiment list
+//!   sec-experiment record --config FILE.json --seed S --episodes N --events OUT.jsonl
+//!   sec-experiment trace --config FILE.json --seed S --events IN.jsonl [--trace OUT.jsonl]
+//!
+//! Runs go to OUT/EXPERIMENT/<group>/<model>/seed-S.jsonl, one JSON line per episode.
+
+use sec_playground::experiment::presets::{self, Condition, EXPERIMENTS};
+use sec_playground::experiment::trace::trace;
+use sec_playground::experiment::{AgentKind, Run, RunConfig};
+use sec_tools::runner::{self, Manifest, ManifestCondition};
+use std::collections::HashMap;
+use std::io::{BufReader, BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+const USAGE: &str = "usage:
+  sec-experiment run EXPERIMENT [--seeds N|A..B|A,B,C] [--episodes N] [--jobs N] [--shard i/N] [--out DIR]
+                     [--only PREFIX,PREFIX]
+  sec-experiment run --config FILE.json --name GROUP/MODEL [the same options]
+  sec-experiment report EXPERIMENT [--out DIR]
+  sec-experiment list
+  sec-experiment record --config FILE.json --seed S --episodes N --events OUT.jsonl
+  sec-experiment trace --config FILE.json --seed S --events IN.jsonl [--trace OUT.jsonl]
+defaults: --seeds 1..20, --episodes 5000, --jobs all cores, --shard 1/1, --out results/experiments";
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    match dispatch(&args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("sec-experiment: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// `--key value` options after the positional arguments; every key must be one of `allowed`.
+fn options<'a>(args: &'a [String], allowed: &[&str]) -> Result<(Vec<&'a str>, HashMap<&'a str, &'a str>), String> {
+    let (mut pos, mut opts) = (Vec::new(), HashMap::new());
+    let mut i = 0;
+    while i < args.len() {
+        let a = args[i].as_str();
+        if let Some(key) = a.strip_prefix("--") {
+            if !allowed.contains(&key) {
+                return Err(format!("unknown option --{key} (allowed: --{})", allowed.join(", --")));
+            }
+            let v = args.get(i + 1).ok_or(format!("--{key} needs a value"))?;
+            opts.insert(key, v.as_str());
+            i += 2;
+        } else {
+            pos.push(a);
+            i += 1;
+        }
+    }
+    Ok((pos, opts))
+}
+
+fn number<T: std::str::FromStr + PartialOrd + std::fmt::Display>(
+    key: &str,
+    v: &str,
+    lo: T,
+    hi: T,
+) -> Result<T, String> {
+    match v.parse::<T>() {
+        Ok(n) if n >= lo && n <= hi => Ok(n),
+        _ => Err(format!("--{key}: '{v}' is not a whole number in {lo}..={hi}")),
+    }
+}
+
+fn read_config(path: &str) -> Result<RunConfig, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("--config {path}: {e}"))?;
+    let cfg: RunConfig = serde_json::from_str(&text).map_err(|e| format!("--config {path}: {e}"))?;
+    // Building a run validates every parameter, naming it.
+    Run::new(cfg.clone(), 0).map_err(|e| format!("--config {path}: {e}"))?;
+    Ok(cfg)
+}
+
+fn dispatch(args: &[String]) -> Result<(), String> {
+    let Some(cmd) = args.first() else { return Err(USAGE.into()) };
+    let rest = &args[1..];
+    match cmd.as_str() {
+        "run" => run(rest),
+        "report" => report(rest),
+        "list" => {
+            for (name, what) in EXPERIMENTS {
+                println!("{name}: {what}");
+                for c in presets::experiment(name).map_err(|e| e.to_string())? {
+                    println!("  {}", c.name);
+                }
+            }
+            Ok(())
+        }
+        "record" => record(rest),
+        "trace" => trace_cmd(rest),
+        "-h" | "--help" | "help" => {
+            println!("{USAGE}");
+            Ok(())
+        }
+        other => Err(format!("unknown command '{other}'\n{USAGE}")),
+    }
+}
+
+fn run(args: &[String]) -> Result<(), String> {
+    let (pos, o) = options(args, &["seeds", "episodes", "jobs", "shard", "out", "config", "name", "only"])?;
+    let seeds = runner::parse_seeds(o.get("seeds").copied().unwrap_or("1..20"))?;
+    let episodes = number("episodes", o.get("episodes").copied().unwrap_or("5000"), 1usize, 1_000_000)?;
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let jobs = match o.get("jobs") {
+        Some(v) => number("jobs", v, 1usize, 4096)?,
+        None => cores,
+    };
+    let shard = runner::parse_shard(o.get("shard").copied().unwrap_or("1/1"))?;
+    let out = PathBuf::from(o.get("out").copied().unwrap_or("results/experiments"));
+    let (experiment, conditions): (String, Vec<Condition>) = match (pos.as_slice(), o.get("config")) {
+        ([name], None) => (name.to_string(), presets::experiment(name).map_err(|e| e.to_string())?),
+        ([], Some(path)) => {
+            let name = o.get("name").ok_or("--config needs --name GROUP/MODEL")?;
+            if !name.contains('/') || name.split('/').any(|p| p.is_empty() || p == ".." || p == ".") {
+                return Err(format!("--name: '{name}' is not GROUP/MODEL"));
+            }
+            ("custom".into(), vec![Condition { name: name.to_string(), config: read_config(path)?, paper_total: None }])
+        }
+        _ => return Err(format!("run takes one EXPERIMENT or --config\n{USAGE}")),
+    };
+    let conditions = match o.get("only") {
+        // Keep the conditions whose names start with one of the comma-separated prefixes.
+        Some(only) => {
+            let keep: Vec<Condition> =
+                conditions.into_iter().filter(|c| only.split(',').any(|p| c.name.starts_with(p.trim()))).collect();
+            if keep.is_empty() {
+                return Err(format!(
+                    "--only: '{only}' matches no condition of {experiment} (see `sec-experiment list`)"
+                ));
+            }
+            keep
+        }
+        None => conditions,
+    };
+    let dir = out.join(&experiment);
+    let manifest = Manifest {
+        experiment: experiment.clone(),
+        episodes,
+        seeds: seeds.clone(),
+        conditions: conditions
+            .iter()
+            .map(|c| ManifestCondition { name: c.name.clone(), paper_total: c.paper_total, config: c.config.clone() })
+            .collect(),
+    };
+    runner::prepare(&dir, &manifest)?;
+    let jobs_list = runner::jobs(&conditions, &seeds, shard);
+    eprintln!(
+        "{experiment}: {} conditions x {} seeds, shard {}/{}: {} runs of {episodes} episodes on {jobs} threads into {}",
+        conditions.len(),
+        seeds.len(),
+        shard.0,
+        shard.1,
+        jobs_list.len(),
+        dir.display()
+    );
+    let t0 = std::time::Instant::now();
+    let (made, skipped) = runner::run_all(&jobs_list, &dir, episodes, jobs)?;
+    eprintln!("{made} runs made, {skipped} already there, in {:.0} s", t0.elapsed().as_secs_f64());
+    Ok(())
+}
+
+fn report(args: &[String]) -> Result<(), String> {
+    let (pos, o) = options(args, &["out"])?;
+    let [name] = pos.as_slice() else { return Err(format!("report takes one EXPERIMENT\n{USAGE}")) };
+    let out = PathBuf::from(o.get("out").copied().unwrap_or("results/experiments"));
+    let what = EXPERIMENTS.iter().find(|(n, _)| n == name).map_or("custom runs", |(_, w)| w);
+    let md = sec_tools::report::report(&out.join(name), what)?;
+    print!("{md}");
+    Ok(())
+}
+
+fn record(args: &[String]) -> Result<(), String> {
+    let (_, o) = options(args, &["config", "seed", "episodes", "events"])?;
+    let cfg = read_config(o.get("config").ok_or("record needs --config")?)?;
+    if cfg.kind != AgentKind::Sec {
+        return Err("--config: record and trace are for SEC (kind \"sec\")".into());
+    }
+    let seed = number("seed", o.get("seed").ok_or("record needs --seed")?, 0u64, 1 << 53)?;
+    let episodes = number("episodes", o.get("episodes").copied().unwrap_or("10"), 1usize, 100_000)?;
+    let path = o.get("events").ok_or("record needs --events")?;
+    let mut run = Run::new(cfg, seed).map_err(|e| e.to_string())?;
+    run.record_events();
+    let file = std::fs::File::create(path).map_err(|e| format!("--events {path}: {e}"))?;
+    let mut w = BufWriter::new(file);
+    for _ in 0..episodes {
+        let m = run.episode();
+        for e in run.take_events() {
+            writeln!(w, "{}", serde_json::to_string(&e).expect("events serialise"))
+                .map_err(|e| format!("--events {path}: {e}"))?;
+        }
+        eprintln!("{}", m.to_json());
+    }
+    w.flush().map_err(|e| format!("--events {path}: {e}"))
+}
+
+fn trace_cmd(args: &[String]) -> Result<(), String> {
+    let (_, o) = options(args, &["config", "seed", "events", "trace"])?;
+    let cfg = read_config(o.get("config").ok_or("trace needs --config")?)?;
+    let seed = number("seed", o.get("seed").ok_or("trace needs --seed")?, 0u64, 1 << 53)?;
+    let input = o.get("events").ok_or("trace needs --events")?;
+    let reader = BufReader::new(std::fs::File::open(input).map_err(|e| format!("--events {input}: {e}"))?);
+    let n = match o.get("trace") {
+        Some(path) => {
+            let file = std::fs::File::create(Path::new(path)).map_err(|e| format!("--trace {path}: {e}"))?;
+            trace(&cfg.agent, seed, reader, BufWriter::new(file))
+        }
+        None => trace(&cfg.agent, seed, reader, BufWriter::new(std::io::stdout().lock())),
+    }
+    .map_err(|e| format!("--events {input}: {e}"))?;
+    eprintln!("{n} decisions traced");
+    Ok(())
+}

@@ -1,0 +1,115 @@
+//! Learning curves with standard-error bands, drawn with plotters to SVG and PNG. The PNG's text
+//! uses DejaVu Sans compiled in, so the plots need no system fonts.
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+use std::sync::Once;
+
+/// One model's curve: the mean across runs and its standard error, per episode.
+pub struct Series {
+    pub label: String,
+    pub mean: Vec<f64>,
+    pub se: Vec<f64>,
+}
+
+const SIZE: (u32, u32) = (900, 520);
+
+/// Colour-blind-safe (Okabe-Ito).
+const COLOURS: [RGBColor; 8] = [
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(230, 159, 0),
+    RGBColor(86, 180, 233),
+    RGBColor(120, 120, 120),
+    RGBColor(0, 0, 0),
+];
+
+fn register_font() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
+            .unwrap_or_else(|_| panic!("the bundled DejaVu Sans is a valid font"));
+    });
+}
+
+fn draw<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    title: &str,
+    ylabel: &str,
+    series: &[Series],
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    root.fill(&WHITE).map_err(err)?;
+    let len = series.iter().map(|s| s.mean.len()).max().unwrap_or(1).max(2);
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for s in series {
+        for (m, e) in s.mean.iter().zip(&s.se) {
+            lo = lo.min(m - e);
+            hi = hi.max(m + e);
+        }
+    }
+    if !lo.is_finite() || !hi.is_finite() {
+        (lo, hi) = (0.0, 1.0);
+    }
+    let pad = ((hi - lo) * 0.05).max(1e-3);
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 22))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0f64..len as f64, (lo - pad)..(hi + pad))
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc("episode")
+        .x_label_formatter(&|x| format!("{x:.0}"))
+        .y_desc(ylabel)
+        .label_style(("sans-serif", 14))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(err)?;
+    for (i, s) in series.iter().enumerate() {
+        let colour = COLOURS[i % COLOURS.len()];
+        let upper = s.mean.iter().zip(&s.se).enumerate().map(|(x, (m, e))| (x as f64, m + e));
+        let lower = s.mean.iter().zip(&s.se).enumerate().rev().map(|(x, (m, e))| (x as f64, m - e));
+        chart
+            .draw_series(std::iter::once(Polygon::new(upper.chain(lower).collect::<Vec<_>>(), colour.mix(0.2))))
+            .map_err(err)?;
+        chart
+            .draw_series(LineSeries::new(
+                s.mean.iter().enumerate().map(|(x, &m)| (x as f64, m)),
+                colour.stroke_width(2),
+            ))
+            .map_err(err)?
+            .label(&s.label)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3)));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 14))
+        .position(SeriesLabelPosition::UpperLeft)
+        .draw()
+        .map_err(err)?;
+    root.present().map_err(err)
+}
+
+/// Writes `<stem>.svg` and `<stem>.png`.
+pub fn curves(stem: &Path, title: &str, ylabel: &str, series: &[Series]) -> Result<(), String> {
+    register_font();
+    let svg = stem.with_extension("svg");
+    draw(SVGBackend::new(&svg, SIZE).into_drawing_area(), title, ylabel, series)
+        .map_err(|e| format!("{}: {e}", svg.display()))?;
+    let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
+    draw(BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area(), title, ylabel, series)
+        .map_err(|e| format!("{}.png: {e}", stem.display()))?;
+    let rgba: Vec<u8> = rgb.chunks_exact(3).flat_map(|p| [p[0], p[1], p[2], 255]).collect();
+    crate::write_png(&stem.with_extension("png"), SIZE.0 as usize, SIZE.1 as usize, &rgba)
+}

@@ -1,0 +1,268 @@
+//! Aggregates an experiment directory's JSON lines into the paper's measures: total reward over
+//! the episodes, final-episode reward, entropy early and late, Mann-Whitney tests against each
+//! group's first model, the SEC/NSEC memory-ratio matrix of figure 6, and the learning curves.
+
+use crate::plot::{self, Series};
+use crate::runner::{Manifest, ManifestCondition};
+use crate::stats::{ci95, mann_whitney, mean, moving_mean, sd, se};
+use sec_playground::experiment::EpisodeMetrics;
+use std::fmt::Write as _;
+use std::fs;
+use std::io::{BufRead, BufReader};
+use std::path::Path;
+
+/// The curves' window, as in the paper's figures.
+pub const WINDOW: usize = 20;
+
+/// The finished runs of one condition, cut to a common length.
+pub struct ConditionRuns {
+    pub condition: ManifestCondition,
+    pub seeds: Vec<u64>,
+    pub runs: Vec<Vec<EpisodeMetrics>>,
+}
+
+impl ConditionRuns {
+    pub fn group(&self) -> &str {
+        self.condition.name.split_once('/').map_or("", |(g, _)| g)
+    }
+
+    pub fn model(&self) -> &str {
+        self.condition.name.split_once('/').map_or(&self.condition.name, |(_, m)| m)
+    }
+
+    /// Per run: the tables' reward summed over the episodes.
+    pub fn totals(&self) -> Vec<f64> {
+        self.runs.iter().map(|r| r.iter().map(|m| m.reward).sum()).collect()
+    }
+
+    /// Per run: the mean of `f` over the episodes in [from, to) (fractions of the run).
+    pub fn span_means(&self, from: f64, to: f64, f: impl Fn(&EpisodeMetrics) -> f64) -> Vec<f64> {
+        self.runs
+            .iter()
+            .map(|r| {
+                let (a, b) = ((r.len() as f64 * from) as usize, ((r.len() as f64 * to) as usize).max(1));
+                r[a..b].iter().map(&f).sum::<f64>() / (b - a) as f64
+            })
+            .collect()
+    }
+
+    /// The fresh-only entropy over the last 10% of the episodes, pooled over the runs' episodes
+    /// that computed one (NaN if none did).
+    pub fn fresh_entropy_late(&self) -> f64 {
+        let v: Vec<f64> = self
+            .runs
+            .iter()
+            .flat_map(|r| r[(r.len() as f64 * 0.9) as usize..].iter().filter_map(|m| m.entropy_fresh))
+            .collect();
+        if v.is_empty() {
+            f64::NAN
+        } else {
+            mean(&v)
+        }
+    }
+
+    /// Mean and standard error across runs of the windowed curve of `f`.
+    pub fn curve(&self, f: impl Fn(&EpisodeMetrics) -> f64) -> (Vec<f64>, Vec<f64>) {
+        let smoothed: Vec<Vec<f64>> =
+            self.runs.iter().map(|r| moving_mean(&r.iter().map(&f).collect::<Vec<_>>(), WINDOW)).collect();
+        let len = smoothed.iter().map(Vec::len).min().unwrap_or(0);
+        let at = |i: usize| smoothed.iter().map(|s| s[i]).collect::<Vec<_>>();
+        ((0..len).map(|i| mean(&at(i))).collect(), (0..len).map(|i| se(&at(i))).collect())
+    }
+}
+
+fn read_run(path: &Path) -> Result<Vec<EpisodeMetrics>, String> {
+    let file = fs::File::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    BufReader::new(file)
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            let l = l.map_err(|e| format!("{}: {e}", path.display()))?;
+            serde_json::from_str(&l).map_err(|e| format!("{} line {}: {e}", path.display(), i + 1))
+        })
+        .collect()
+}
+
+/// Loads the manifest and every finished run, each condition cut to `episodes` (or the shortest
+/// of its runs).
+pub fn load(dir: &Path) -> Result<(Manifest, Vec<ConditionRuns>), String> {
+    let path = dir.join("experiment.json");
+    let text =
+        fs::read_to_string(&path).map_err(|e| format!("{}: {e} (run `sec-experiment run` first)", path.display()))?;
+    let manifest: Manifest = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut out = Vec::new();
+    for c in &manifest.conditions {
+        let (mut seeds, mut runs) = (Vec::new(), Vec::new());
+        for &seed in &manifest.seeds {
+            let p = crate::runner::run_path(dir, &c.name, seed);
+            if p.exists() {
+                seeds.push(seed);
+                runs.push(read_run(&p)?);
+            }
+        }
+        let len = runs.iter().map(Vec::len).min().unwrap_or(0).min(manifest.episodes);
+        for r in &mut runs {
+            r.truncate(len);
+        }
+        if len > 0 {
+            out.push(ConditionRuns { condition: c.clone(), seeds, runs });
+        }
+    }
+    Ok((manifest, out))
+}
+
+fn fmt_p(p: f64) -> String {
+    if p < 0.001 {
+        format!("{p:.1e}")
+    } else {
+        format!("{p:.3}")
+    }
+}
+
+/// Writes `report.md`, `summary.csv` and the plots into `dir`; returns the report's text.
+pub fn report(dir: &Path, description: &str) -> Result<String, String> {
+    let (manifest, conds) = load(dir)?;
+    if conds.is_empty() {
+        return Err(format!("{}: no finished runs yet", dir.display()));
+    }
+    let mut md = String::new();
+    let mut csv = String::from(
+        "condition,runs,episodes,total_mean,total_ci95,per_episode,paper_total,paper_per_episode,final_mean,final_sd,entropy_first10,entropy_last10,entropy_fresh_last10,ltm_end,p_vs_reference\n",
+    );
+    writeln!(md, "# {}: {description}\n", manifest.experiment).unwrap();
+    let episodes = conds.iter().map(|c| c.runs[0].len()).min().unwrap_or(0);
+    writeln!(
+        md,
+        "Runs per condition: up to {} (seeds {:?}); episodes per run: {episodes} (the paper: 20 x 5000). \
+         Reward is R_ep when positive, else 0; totals are summed over the run's episodes and the paper's are \
+         over 5000, so compare the per-episode columns. Entropy (bits) is the authors' stale-inclusive mean \
+         per episode, averaged over the first and last 10% of the run; p is a two-sided Mann-Whitney U test \
+         of the run totals against the group's first model, Bonferroni-corrected over the experiment's {} \
+         comparisons. Curves: {WINDOW}-episode window, mean and standard error across runs.\n",
+        manifest.seeds.len(),
+        manifest.seeds,
+        comparisons(&conds),
+    )
+    .unwrap();
+    let groups: Vec<String> = conds.iter().fold(Vec::new(), |mut g, c| {
+        if !g.iter().any(|x| x == c.group()) {
+            g.push(c.group().to_string());
+        }
+        g
+    });
+    let bonferroni = comparisons(&conds).max(1) as f64;
+    fs::create_dir_all(dir.join("plots")).map_err(|e| format!("{}: {e}", dir.display()))?;
+    for group in &groups {
+        let members: Vec<&ConditionRuns> = conds.iter().filter(|c| c.group() == group).collect();
+        let reference = members[0];
+        writeln!(md, "## {group}\n").unwrap();
+        writeln!(md, "| model | runs | total reward (95% CI) | per episode | paper: total (per episode) | final episode (sd) | entropy first 10% -> last 10% (fresh) | LTM at end | p vs {} |", reference.model()).unwrap();
+        writeln!(md, "|---|---|---|---|---|---|---|---|---|").unwrap();
+        for c in &members {
+            let n = c.runs[0].len();
+            let totals = c.totals();
+            let finals: Vec<f64> = c.runs.iter().map(|r| r.last().map_or(0.0, |m| m.reward)).collect();
+            let h0 = mean(&c.span_means(0.0, 0.1, |m| m.entropy));
+            let h1 = mean(&c.span_means(0.9, 1.0, |m| m.entropy));
+            let hf = c.fresh_entropy_late();
+            let ltm = mean(&c.runs.iter().map(|r| r.last().map_or(0.0, |m| m.ltm as f64)).collect::<Vec<_>>());
+            let p = if std::ptr::eq(*c, reference) {
+                None
+            } else {
+                Some((mann_whitney(&totals, &reference.totals()).1 * bonferroni).min(1.0))
+            };
+            let paper = c.condition.paper_total;
+            writeln!(
+                md,
+                "| {} | {} | {:.1} ± {:.1} | {:.3} | {} | {:.3} ± {:.3} | {:.3} -> {:.3} ({}) | {:.0} | {} |",
+                c.model(),
+                c.runs.len(),
+                mean(&totals),
+                ci95(&totals),
+                mean(&totals) / n as f64,
+                paper.map_or("-".into(), |t| format!("{t:.1} ({:.3})", t / 5000.0)),
+                mean(&finals),
+                sd(&finals),
+                h0,
+                h1,
+                if hf.is_nan() { "-".into() } else { format!("{hf:.3}") },
+                ltm,
+                p.map_or("-".into(), fmt_p),
+            )
+            .unwrap();
+            writeln!(
+                csv,
+                "{},{},{n},{},{},{},{},{},{},{},{h0},{h1},{hf},{ltm},{}",
+                c.condition.name,
+                c.runs.len(),
+                mean(&totals),
+                ci95(&totals),
+                mean(&totals) / n as f64,
+                paper.map_or(String::new(), |t| t.to_string()),
+                paper.map_or(String::new(), |t| (t / 5000.0).to_string()),
+                mean(&finals),
+                sd(&finals),
+                p.map_or(String::new(), |p| p.to_string()),
+            )
+            .unwrap();
+        }
+        let stem = group.replace('/', "-");
+        let reward: Vec<Series> = members.iter().map(|c| series(c, |m| m.reward)).collect();
+        let entropy: Vec<Series> = members.iter().map(|c| series(c, |m| m.entropy)).collect();
+        plot::curves(
+            &dir.join("plots").join(format!("{stem}-reward")),
+            &format!("{group}: reward"),
+            "reward per episode",
+            &reward,
+        )?;
+        plot::curves(
+            &dir.join("plots").join(format!("{stem}-entropy")),
+            &format!("{group}: entropy"),
+            "entropy (bits)",
+            &entropy,
+        )?;
+        writeln!(md, "\n![{group} reward](plots/{stem}-reward.svg) ![{group} entropy](plots/{stem}-entropy.svg)\n")
+            .unwrap();
+    }
+    if manifest.experiment == "exp2" {
+        md += &memory_ratios(&conds);
+    }
+    fs::write(dir.join("report.md"), &md).map_err(|e| format!("{}: {e}", dir.display()))?;
+    fs::write(dir.join("summary.csv"), csv).map_err(|e| format!("{}: {e}", dir.display()))?;
+    Ok(md)
+}
+
+fn series(c: &ConditionRuns, f: impl Fn(&EpisodeMetrics) -> f64) -> Series {
+    let (mean, se) = c.curve(f);
+    Series { label: c.model().to_string(), mean, se }
+}
+
+/// Tests in the report: every model against its group's first.
+fn comparisons(conds: &[ConditionRuns]) -> usize {
+    let mut groups: Vec<&str> = conds.iter().map(ConditionRuns::group).collect();
+    groups.dedup();
+    conds.len() - groups.len()
+}
+
+/// Figure 6: SEC's total at each capacity over NSEC's at each capacity.
+fn memory_ratios(conds: &[ConditionRuns]) -> String {
+    let pick = |model: &str| -> Vec<(&str, f64)> {
+        conds.iter().filter(|c| c.model() == model).map(|c| (c.group(), mean(&c.totals()))).collect()
+    };
+    let (sec, nsec) = (pick("SEC"), pick("NSEC"));
+    let mut md = String::from("## Memory ratios (figure 6)\n\nSEC's mean total at the row's capacity over NSEC's at the column's (the paper: 2.4 / 2.0 / 1.9 / 1.6 on the diagonal, 1.2 for SEC 125 over NSEC 1000).\n\n| SEC \\ NSEC |");
+    for (g, _) in &nsec {
+        write!(md, " {g} |").unwrap();
+    }
+    md += "\n|---|";
+    md += &"---|".repeat(nsec.len());
+    md += "\n";
+    for (gs, s) in &sec {
+        write!(md, "| {gs} |").unwrap();
+        for (_, n) in &nsec {
+            write!(md, " {:.2} |", s / n).unwrap();
+        }
+        md += "\n";
+    }
+    md
+}

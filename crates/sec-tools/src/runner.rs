@@ -1,0 +1,193 @@
+//! Runs a grid of (condition, seed) jobs on all cores and streams each run's episodes as JSON
+//! lines to `OUT/<condition>/seed-<seed>.jsonl`.
+//!
+//! Resumable: a finished run is a complete `.jsonl` file and is skipped; an unfinished one is a
+//! `.part` file and starts again (runs are deterministic, so nothing differs but the time spent).
+//! `--shard i/N` takes every N-th job, so shards on several machines write disjoint files into
+//! copies of the same tree, which merge by copying.
+
+use indicatif::{ProgressBar, ProgressStyle};
+use sec_playground::experiment::presets::Condition;
+use sec_playground::experiment::{Run, RunConfig};
+use std::fs;
+use std::io::{BufRead, BufReader, BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+/// One run to make.
+#[derive(Clone, Debug)]
+pub struct Job {
+    pub condition: String,
+    pub config: RunConfig,
+    pub seed: u64,
+}
+
+/// What an experiment directory holds besides the runs: written by `run`, read by `report`.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct Manifest {
+    pub experiment: String,
+    pub episodes: usize,
+    pub seeds: Vec<u64>,
+    pub conditions: Vec<ManifestCondition>,
+}
+
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct ManifestCondition {
+    pub name: String,
+    pub paper_total: Option<f64>,
+    pub config: RunConfig,
+}
+
+/// `i/N` with 1 <= i <= N.
+pub fn parse_shard(s: &str) -> Result<(usize, usize), String> {
+    let err = || format!("--shard: '{s}' is not i/N with 1 <= i <= N");
+    let (i, n) = s.split_once('/').ok_or_else(err)?;
+    let (i, n): (usize, usize) = (i.parse().map_err(|_| err())?, n.parse().map_err(|_| err())?);
+    if i == 0 || i > n {
+        return Err(err());
+    }
+    Ok((i, n))
+}
+
+/// `A..B` (inclusive), `A,B,C` or a count `N` (1..=N).
+pub fn parse_seeds(s: &str) -> Result<Vec<u64>, String> {
+    let err = || format!("--seeds: '{s}' is not N, A..B or a list A,B,C of seeds (0..=2^53)");
+    let seeds: Vec<u64> = if let Some((a, b)) = s.split_once("..") {
+        let (a, b): (u64, u64) = (a.parse().map_err(|_| err())?, b.parse().map_err(|_| err())?);
+        if a > b {
+            return Err(err());
+        }
+        (a..=b).collect()
+    } else if s.contains(',') {
+        s.split(',').map(|x| x.trim().parse().map_err(|_| err())).collect::<Result<_, _>>()?
+    } else {
+        let n: u64 = s.parse().map_err(|_| err())?;
+        (1..=n).collect()
+    };
+    if seeds.is_empty() || seeds.len() > 10_000 || seeds.iter().any(|&x| x > 1 << 53) {
+        return Err(err());
+    }
+    Ok(seeds)
+}
+
+/// The file of one run.
+pub fn run_path(out: &Path, condition: &str, seed: u64) -> PathBuf {
+    out.join(condition).join(format!("seed-{seed}.jsonl"))
+}
+
+/// Lines in a finished run file (0 if there is none).
+pub fn finished_episodes(path: &Path) -> usize {
+    fs::File::open(path).map(|f| BufReader::new(f).lines().count()).unwrap_or(0)
+}
+
+/// Writes the manifest and each condition's `config.json`, refusing to mix configurations: a
+/// directory that holds runs of another configuration under the same name is an error.
+pub fn prepare(out: &Path, manifest: &Manifest) -> Result<(), String> {
+    for c in &manifest.conditions {
+        let dir = out.join(&c.name);
+        fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        let path = dir.join("config.json");
+        let text = serde_json::to_string_pretty(&c.config).expect("configurations serialise") + "\n";
+        match fs::read_to_string(&path) {
+            Ok(old) if old != text => {
+                return Err(format!(
+                    "{} holds runs of another configuration of '{}'; use another --out or remove it",
+                    path.display(),
+                    c.name
+                ))
+            }
+            Ok(_) => {}
+            Err(_) => fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?,
+        }
+    }
+    // Runs of other conditions or seeds made earlier into the same directory stay listed.
+    let path = out.join("experiment.json");
+    let mut merged = manifest.clone();
+    if let Ok(old) = fs::read_to_string(&path) {
+        let old: Manifest = serde_json::from_str(&old).map_err(|e| format!("{}: {e}", path.display()))?;
+        let mut conditions = old.conditions;
+        for c in &manifest.conditions {
+            match conditions.iter_mut().find(|o| o.name == c.name) {
+                Some(o) => *o = c.clone(),
+                None => conditions.push(c.clone()),
+            }
+        }
+        let mut seeds = old.seeds;
+        seeds.extend(manifest.seeds.iter().filter(|s| !seeds.contains(s)).copied().collect::<Vec<_>>());
+        seeds.sort_unstable();
+        merged = Manifest { conditions, seeds, episodes: old.episodes.max(manifest.episodes), ..merged };
+    }
+    let text = serde_json::to_string_pretty(&merged).expect("manifests serialise") + "\n";
+    fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// The jobs of `conditions` x `seeds`, in a fixed order, keeping shard `shard` of `of`.
+pub fn jobs(conditions: &[Condition], seeds: &[u64], (shard, of): (usize, usize)) -> Vec<Job> {
+    let all = conditions
+        .iter()
+        .flat_map(|c| seeds.iter().map(|&seed| Job { condition: c.name.clone(), config: c.config.clone(), seed }));
+    all.enumerate().filter(|(i, _)| i % of == shard - 1).map(|(_, j)| j).collect()
+}
+
+/// Plays one job's `episodes` into `<file>.part`, then renames it into place.
+fn run_job(job: &Job, out: &Path, episodes: usize, bar: &ProgressBar) -> Result<(), String> {
+    let path = run_path(out, &job.condition, job.seed);
+    let part = path.with_extension("jsonl.part");
+    let file = fs::File::create(&part).map_err(|e| format!("{}: {e}", part.display()))?;
+    let mut w = BufWriter::new(file);
+    let mut run = Run::new(job.config.clone(), job.seed).map_err(|e| format!("{}: {e}", job.condition))?;
+    for _ in 0..episodes {
+        let m = run.episode();
+        writeln!(w, "{}", m.to_json()).map_err(|e| format!("{}: {e}", part.display()))?;
+        bar.inc(1);
+    }
+    w.flush().map_err(|e| format!("{}: {e}", part.display()))?;
+    drop(w);
+    fs::rename(&part, &path).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Runs the unfinished `jobs` on `threads` threads with a progress bar on standard error (a line
+/// per finished run when it is not a terminal). Returns (runs made, runs already there).
+pub fn run_all(jobs: &[Job], out: &Path, episodes: usize, threads: usize) -> Result<(usize, usize), String> {
+    let todo: Vec<&Job> =
+        jobs.iter().filter(|j| finished_episodes(&run_path(out, &j.condition, j.seed)) < episodes).collect();
+    let skipped = jobs.len() - todo.len();
+    let bar = ProgressBar::new((todo.len() * episodes) as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} episodes, eta {eta} {msg}")
+            .expect("a valid template")
+            .progress_chars("=> "),
+    );
+    let next = AtomicUsize::new(0);
+    let errors = Mutex::new(Vec::new());
+    let done = AtomicUsize::new(0);
+    std::thread::scope(|s| {
+        for _ in 0..threads.max(1) {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::Relaxed);
+                let Some(job) = todo.get(i) else { break };
+                match run_job(job, out, episodes, &bar) {
+                    Ok(()) => {
+                        let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+                        let line = format!("{}/{} runs: {} seed {}", n, todo.len(), job.condition, job.seed);
+                        if bar.is_hidden() {
+                            eprintln!("{line}");
+                        } else {
+                            bar.set_message(line);
+                        }
+                    }
+                    Err(e) => errors.lock().expect("no thread panicked holding it").push(e),
+                }
+            });
+        }
+    });
+    bar.finish();
+    let errors = errors.into_inner().expect("no thread panicked holding it");
+    if let Some(e) = errors.first() {
+        return Err(format!("{} run(s) failed; the first: {e}", errors.len()));
+    }
+    Ok((todo.len(), skipped))
+}

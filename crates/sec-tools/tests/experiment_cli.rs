@@ -1,0 +1,110 @@
+//! The experiment runner end to end: runs, resumes, shards, reports and refuses bad input.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn cli(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_sec-experiment")).args(args).output().unwrap();
+    (out.status.success(), String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
+}
+
+fn temp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("sec-experiment-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+fn files(dir: &Path) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    for cond in ["object-permanence/SEC", "object-permanence/NSEC", "object-permanence/reactive"] {
+        for seed in 1..=2 {
+            let p = dir.join("smoke").join(cond).join(format!("seed-{seed}.jsonl"));
+            out.push((format!("{cond} {seed}"), std::fs::read_to_string(&p).unwrap_or_default()));
+        }
+    }
+    out
+}
+
+#[test]
+fn runs_resume_shard_and_report() {
+    let (a, b) = (temp("whole"), temp("shards"));
+    let run = |dir: &Path, extra: &[&str]| {
+        let mut args =
+            vec!["run", "smoke", "--seeds", "2", "--episodes", "3", "--jobs", "2", "--out", dir.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        cli(&args)
+    };
+    let (ok, _, err) = run(&a, &[]);
+    assert!(ok, "{err}");
+    assert!(err.contains("6 runs made, 0 already there"), "{err}");
+    let whole = files(&a);
+    assert!(whole.iter().all(|(_, text)| text.lines().count() == 3), "every run has its 3 episodes");
+    // Resuming makes nothing new.
+    let (ok, _, err) = run(&a, &[]);
+    assert!(ok && err.contains("0 runs made, 6 already there"), "{err}");
+    // Two shards make disjoint halves of the same files, bit for bit.
+    let (ok1, _, e1) = run(&b, &["--shard", "1/2"]);
+    let (ok2, _, e2) = run(&b, &["--shard", "2/2"]);
+    assert!(ok1 && ok2 && e1.contains("3 runs made") && e2.contains("3 runs made"), "{e1}{e2}");
+    assert_eq!(files(&b), whole);
+    // The report: the table, the CSV and the plots.
+    let (ok, md, err) = cli(&["report", "smoke", "--out", a.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    assert!(md.contains("| SEC | 2 |") && md.contains("| NSEC | 2 |"), "{md}");
+    for f in ["report.md", "summary.csv", "plots/object-permanence-reward.png", "plots/object-permanence-entropy.svg"] {
+        assert!(a.join("smoke").join(f).exists(), "{f}");
+    }
+    let png = std::fs::read(a.join("smoke/plots/object-permanence-reward.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    // A changed configuration under the same name is refused.
+    std::fs::write(a.join("smoke/object-permanence/SEC/config.json"), "{}\n").unwrap();
+    let (ok, _, err) = run(&a, &[]);
+    assert!(!ok && err.contains("holds runs of another configuration"), "{err}");
+    let _ = std::fs::remove_dir_all(&a);
+    let _ = std::fs::remove_dir_all(&b);
+}
+
+#[test]
+fn record_then_trace_reproduces_the_runs_decisions() {
+    let dir = temp("trace");
+    std::fs::create_dir_all(&dir).unwrap();
+    let cfg = dir.join("c.json");
+    std::fs::write(&cfg, r#"{"task":"object-permanence","t":250}"#).unwrap();
+    let (events, trace) = (dir.join("events.jsonl"), dir.join("trace.jsonl"));
+    let (c, e, t) = (cfg.to_str().unwrap(), events.to_str().unwrap(), trace.to_str().unwrap());
+    let (ok, _, err) = cli(&["record", "--config", c, "--seed", "4", "--episodes", "3", "--events", e]);
+    assert!(ok, "{err}");
+    let episodes: Vec<serde_json::Value> = err.lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+    let (ok, _, err) = cli(&["trace", "--config", c, "--seed", "4", "--events", e, "--trace", t]);
+    assert!(ok, "{err}");
+    let lines: Vec<serde_json::Value> =
+        std::fs::read_to_string(&trace).unwrap().lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+    let decisions: u64 = episodes.iter().map(|m| m["decisions"].as_u64().unwrap()).sum();
+    assert_eq!(lines.len() as u64, decisions);
+    assert!(err.contains(&format!("{decisions} decisions traced")));
+    for key in ["action", "layer", "t", "selected", "q", "p", "entropy", "ltm"] {
+        assert!(lines[0].get(key).is_some(), "{key}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bad_input_is_refused_by_name() {
+    let err = |args: &[&str]| {
+        let (ok, _, e) = cli(args);
+        assert!(!ok, "{args:?} should fail");
+        e
+    };
+    assert!(err(&["run", "exp9"]).contains("experiment: 'exp9' is not one of exp1, exp2, exp3, exp4, smoke"));
+    assert!(err(&["run", "smoke", "--episodes", "0"]).contains("--episodes: '0' is not a whole number in 1..=1000000"));
+    assert!(err(&["run", "smoke", "--shard", "3/2"]).contains("--shard: '3/2' is not i/N"));
+    assert!(err(&["run", "smoke", "--seeds", "5..2"]).contains("--seeds: '5..2'"));
+    assert!(err(&["run", "smoke", "--sedes", "2"]).contains("unknown option --sedes"));
+    let dir = temp("bad");
+    std::fs::create_dir_all(&dir).unwrap();
+    let cfg = dir.join("c.json");
+    std::fs::write(&cfg, r#"{"agent":{"memory":{"tau":-1}}}"#).unwrap();
+    let e = err(&["run", "--config", cfg.to_str().unwrap(), "--name", "a/b", "--out", dir.to_str().unwrap()]);
+    assert!(e.contains("tau"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,0 +1,328 @@
+//! The MFEC baseline as the authors ran it (sec-algorithm.md section 13): nine per-action buffers
+//! of (embedding, value), Q by exact match or the mean of the k nearest, argmax, the reactive walk
+//! for exploration, and discounted returns written back at episode end.
+//!
+//! Faithful by default, including the reward bookkeeping handicap of D13: only rewards on decision
+//! frames reach the buffers, so a goal between decisions is lost. `sum_rewards` removes it.
+
+use super::{Decision, Layer, Reactive};
+use crate::arena::ConfigError;
+use crate::encoder::{EMBEDDING, IMAGE};
+use crate::memory::ACTIONS;
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+use std::collections::{HashMap, VecDeque};
+
+/// Where MFEC's state vectors come from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Embedding {
+    /// The task's autoencoder, as SEC sees it (MFEC-ae).
+    Autoencoder,
+    /// A seeded Gaussian random projection of the 84x84x3 image to 20 numbers (MFEC-rp).
+    RandomProjection,
+}
+
+/// MFEC's parameters; defaults are the authors' (FC buffer cap).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "camelCase", default, deny_unknown_fields)]
+pub struct MfecConfig {
+    pub embedding: Embedding,
+    /// Neighbours averaged for an unseen state.
+    pub k: usize,
+    /// Entries per action buffer (FC 100,000; HEAD 25,000; memory-matched runs m * 50 / 9).
+    pub capacity: usize,
+    pub gamma: f64,
+    /// Probability of a reactive step once the warm-up is over.
+    pub epsilon: f64,
+    /// Decisions taken by the reactive walk before MFEC's own.
+    pub warmup_decisions: u64,
+    /// Rewarded episodes needed before MFEC's own decisions.
+    pub warmup_rewarded_episodes: u64,
+    /// Deviation from D13: every frame's reward reaches the transition of the decision it follows.
+    pub sum_rewards: bool,
+}
+
+impl Default for MfecConfig {
+    fn default() -> Self {
+        MfecConfig {
+            embedding: Embedding::Autoencoder,
+            k: 50,
+            capacity: 100_000,
+            gamma: 0.99,
+            epsilon: 0.005,
+            warmup_decisions: 1250,
+            warmup_rewarded_episodes: 5,
+            sum_rewards: false,
+        }
+    }
+}
+
+impl MfecConfig {
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        let range = |p: &str, v: String, r: &str| Err(ConfigError::new(p, format!("{v} is out of range {r}")));
+        if !(1..=1000).contains(&self.k) {
+            return range("mfec.k", self.k.to_string(), "1..=1000");
+        }
+        if !(1..=1_000_000).contains(&self.capacity) {
+            return range("mfec.capacity", self.capacity.to_string(), "1..=1000000");
+        }
+        if !(self.gamma >= 0.0 && self.gamma <= 1.0) {
+            return range("mfec.gamma", self.gamma.to_string(), "[0, 1]");
+        }
+        if !(self.epsilon >= 0.0 && self.epsilon <= 1.0) {
+            return range("mfec.epsilon", self.epsilon.to_string(), "[0, 1]");
+        }
+        if self.warmup_decisions > 1_000_000_000 {
+            return range("mfec.warmupDecisions", self.warmup_decisions.to_string(), "0..=1000000000");
+        }
+        if self.warmup_rewarded_episodes > 1_000_000 {
+            return range("mfec.warmupRewardedEpisodes", self.warmup_rewarded_episodes.to_string(), "0..=1000000");
+        }
+        Ok(())
+    }
+}
+
+/// One action's buffer: entries in slots, an exact-match index, and FIFO order by stamp.
+#[derive(Clone, Debug, Default)]
+struct Buffer {
+    keys: Vec<[f32; EMBEDDING]>,
+    values: Vec<f64>,
+    stamps: Vec<u64>,
+    index: HashMap<[u32; EMBEDDING], usize>,
+    /// (stamp, slot) in insertion order; entries whose slot has a newer stamp are stale.
+    order: VecDeque<(u64, usize)>,
+}
+
+fn bits(e: &[f32; EMBEDDING]) -> [u32; EMBEDDING] {
+    e.map(f32::to_bits)
+}
+
+impl Buffer {
+    fn len(&self) -> usize {
+        self.keys.len()
+    }
+
+    /// Q of state `e`: its value if stored, else the mean value of the k nearest (all of them if
+    /// fewer), nearest by squared Euclidean distance ties to the lower slot.
+    fn q(&self, e: &[f32; EMBEDDING], k: usize, dist: &mut Vec<(f32, u32)>) -> f64 {
+        if let Some(&slot) = self.index.get(&bits(e)) {
+            return self.values[slot];
+        }
+        if self.len() <= k {
+            return self.values.iter().sum::<f64>() / self.len() as f64;
+        }
+        dist.clear();
+        dist.extend(self.keys.iter().enumerate().map(|(i, key)| {
+            let mut s = 0.0f32;
+            for c in 0..EMBEDDING {
+                let d = key[c] - e[c];
+                s += d * d;
+            }
+            (s, i as u32)
+        }));
+        let cmp = |a: &(f32, u32), b: &(f32, u32)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
+        dist.select_nth_unstable_by(k - 1, cmp);
+        let near = &mut dist[..k];
+        near.sort_unstable_by_key(|&(_, i)| i);
+        near.iter().map(|&(_, i)| self.values[i as usize]).sum::<f64>() / k as f64
+    }
+
+    /// Writes a return: a stored state keeps the larger value and moves to the FIFO's end; a new
+    /// one is appended, evicting the oldest entry when the buffer is full.
+    fn write(&mut self, e: &[f32; EMBEDDING], g: f64, capacity: usize, stamp: u64) {
+        let key = bits(e);
+        let slot = match self.index.get(&key) {
+            Some(&slot) => {
+                self.values[slot] = self.values[slot].max(g);
+                slot
+            }
+            None if self.len() < capacity => {
+                self.keys.push(*e);
+                self.values.push(g);
+                self.stamps.push(0);
+                self.index.insert(key, self.len() - 1);
+                self.len() - 1
+            }
+            None => {
+                let slot = loop {
+                    let (s, slot) = self.order.pop_front().expect("a full buffer has a live entry");
+                    if self.stamps[slot] == s {
+                        break slot;
+                    }
+                };
+                self.index.remove(&bits(&self.keys[slot]));
+                self.index.insert(key, slot);
+                self.keys[slot] = *e;
+                self.values[slot] = g;
+                slot
+            }
+        };
+        self.stamps[slot] = stamp;
+        self.order.push_back((stamp, slot));
+    }
+}
+
+/// A transition of the current episode: the state, the action taken there, and the reward that
+/// reached it.
+#[derive(Clone, Copy, Debug)]
+struct Transition {
+    e: [f32; EMBEDDING],
+    action: u8,
+    reward: f64,
+}
+
+/// The MFEC agent.
+#[derive(Clone, Debug)]
+pub struct Mfec {
+    cfg: MfecConfig,
+    buffers: Vec<Buffer>,
+    reactive: Reactive,
+    episode: Vec<Transition>,
+    decisions: u64,
+    rewarded_episodes: u64,
+    stamp: u64,
+    q: [f64; ACTIONS],
+    entropy: f64,
+    dist: Vec<(f32, u32)>,
+}
+
+impl Mfec {
+    pub fn new(cfg: MfecConfig, rng: &mut ChaCha8Rng) -> Result<Self, ConfigError> {
+        cfg.validate()?;
+        // Each buffer starts with one entry: the zero state, valued -10.
+        let mut buffers = vec![Buffer::default(); ACTIONS];
+        for b in &mut buffers {
+            b.write(&[0.0; EMBEDDING], -10.0, cfg.capacity, 0);
+        }
+        Ok(Mfec {
+            cfg,
+            buffers,
+            reactive: Reactive::new(rng),
+            episode: Vec::new(),
+            decisions: 0,
+            rewarded_episodes: 0,
+            stamp: 1,
+            q: [0.0; ACTIONS],
+            entropy: 0.0,
+            dist: Vec::new(),
+        })
+    }
+
+    pub fn config(&self) -> &MfecConfig {
+        &self.cfg
+    }
+
+    /// Q of the last decision's state.
+    pub fn q(&self) -> &[f64; ACTIONS] {
+        &self.q
+    }
+
+    /// Entropy (bits) of the softmax over the last Q.
+    pub fn entropy(&self) -> f64 {
+        self.entropy
+    }
+
+    /// Entries over all buffers.
+    pub fn len(&self) -> usize {
+        self.buffers.iter().map(Buffer::len).sum()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// A frame's reward: `reward` of the frame, `r_ep` the episode's so far, `goal` whether the
+    /// frame reached a goal, `decision` whether a decision is taken on it. Faithfully only decision
+    /// frames count, a goal frame with the cumulative episode reward (D13).
+    pub fn frame(&mut self, reward: f64, r_ep: f64, goal: bool, decision: bool) {
+        let Some(last) = self.episode.last_mut() else { return };
+        if self.cfg.sum_rewards {
+            last.reward += reward;
+        } else if decision {
+            last.reward = if goal { r_ep } else { reward };
+        }
+    }
+
+    /// Chooses the action for state `e`; `terminal` frames are not recorded as transitions.
+    pub fn decide(&mut self, e: &[f32; EMBEDDING], terminal: bool, rng: &mut ChaCha8Rng) -> Decision {
+        for (a, b) in self.buffers.iter().enumerate() {
+            self.q[a] = b.q(e, self.cfg.k, &mut self.dist);
+        }
+        self.entropy = softmax_entropy_bits(&self.q);
+        let explore = rng.gen::<f64>() < self.cfg.epsilon
+            || self.decisions < self.cfg.warmup_decisions
+            || self.rewarded_episodes < self.cfg.warmup_rewarded_episodes;
+        let (action, layer) = if explore {
+            (self.reactive.step(rng), Layer::Reactive)
+        } else {
+            let best = (0..ACTIONS).fold(0, |b, a| if self.q[a] > self.q[b] { a } else { b });
+            (best as u8, Layer::Contextual)
+        };
+        self.decisions += 1;
+        if !terminal {
+            self.episode.push(Transition { e: *e, action, reward: 0.0 });
+        }
+        Decision { action, layer, selected: true }
+    }
+
+    /// Episode end: discounted returns backwards, written into the action buffers in the
+    /// episode's order.
+    pub fn episode_end(&mut self, rewarded: bool) {
+        let mut g = 0.0;
+        for t in self.episode.iter_mut().rev() {
+            g = t.reward + self.cfg.gamma * g;
+            t.reward = g;
+        }
+        for t in &self.episode {
+            self.buffers[t.action as usize].write(&t.e, t.reward, self.cfg.capacity, self.stamp);
+            self.stamp += 1;
+        }
+        self.episode.clear();
+        self.rewarded_episodes += rewarded as u64;
+    }
+}
+
+/// Entropy in bits of softmax(q).
+pub fn softmax_entropy_bits(q: &[f64; ACTIONS]) -> f64 {
+    let max = q.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let w = q.map(|v| libm::exp(v - max));
+    let z: f64 = w.iter().sum();
+    -w.iter().map(|&x| x / z).filter(|&p| p > 0.0).map(|p| p * libm::log2(p)).sum::<f64>()
+}
+
+/// A Gaussian random projection of the RGB image to 20 numbers, N(0, 1/inputs) entries drawn
+/// with Box-Muller from the run's seed.
+#[derive(Clone, Debug)]
+pub struct RandomProjection {
+    /// 20 rows of `IMAGE` weights.
+    w: Vec<f32>,
+}
+
+impl RandomProjection {
+    pub fn new(rng: &mut ChaCha8Rng) -> Self {
+        let sd = 1.0 / (IMAGE as f64).sqrt();
+        let w = (0..EMBEDDING * IMAGE)
+            .map(|_| {
+                let u1 = 1.0 - rng.gen::<f64>();
+                let u2 = rng.gen::<f64>();
+                (libm::sqrt(-2.0 * libm::log(u1)) * libm::cos(2.0 * std::f64::consts::PI * u2) * sd) as f32
+            })
+            .collect();
+        RandomProjection { w }
+    }
+
+    /// Projects an image (`IMAGE` floats). Eight partial sums in a fixed order, so every target
+    /// gets the same bits.
+    pub fn project(&self, image: &[f32], out: &mut [f32; EMBEDDING]) {
+        for (o, row) in out.iter_mut().zip(self.w.chunks_exact(IMAGE)) {
+            let mut acc = [0.0f32; 8];
+            for (x, w) in image.chunks_exact(8).zip(row.chunks_exact(8)) {
+                for l in 0..8 {
+                    acc[l] += x[l] * w[l];
+                }
+            }
+            *o = ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
+        }
+    }
+}

@@ -1,0 +1,135 @@
+//! The paper's four experiments as named grids of run configurations (sec-algorithm.md section 9
+//! holds the numbers they are compared with). Shared by the native runner and the page.
+
+use super::{AgentKind, RunConfig};
+use crate::agent::mfec::Embedding;
+use crate::arena::ConfigError;
+use crate::memory::{Forgetting, ValueFn};
+
+/// One condition of an experiment: a name as the paper's tables use it, its configuration, and
+/// the paper's total reward over 5000 episodes (mean over runs) where the paper gives one.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Condition {
+    /// `group/model`: the group is what one plot shows (a task, or a memory size).
+    pub name: String,
+    pub config: RunConfig,
+    pub paper_total: Option<f64>,
+}
+
+/// The experiment presets by name, with a line on what each is.
+pub const EXPERIMENTS: [(&str, &str); 5] = [
+    ("exp1", "four tasks x SEC, NSEC, MFEC-ae, MFEC-rp and the reactive walk (paper figure 4, table 1)"),
+    ("exp2", "double T-maze, SEC and NSEC with LTM capacity 125, 250, 500, 1000 (figures 5 and 6)"),
+    ("exp3", "double T-maze, SEC's value function and its six ablations (figure 7)"),
+    ("exp4", "double T-maze, SEC and NSEC with forgetting none, FIFO, RWD, PRIOR (figure 8)"),
+    ("smoke", "a few cheap conditions to try the runner (not in the paper)"),
+];
+
+const TASKS: [(&str, [f64; 4]); 4] = [
+    // SEC, NSEC, MFEC-ae, MFEC-rp totals of section 9.
+    ("double-t-maze", [11604.88, 5024.53, 3525.48, 1860.34]),
+    ("cylinder", [5829.88, 5130.67, 4065.24, 5254.58]),
+    ("detour", [1181.82, 3.48, 3.74, 4.02]),
+    ("object-permanence", [7224.33, 3803.15, 5218.06, 4904.88]),
+];
+
+fn sec(task: &str) -> RunConfig {
+    RunConfig { task: task.into(), ..RunConfig::default() }
+}
+
+fn nsec(task: &str) -> RunConfig {
+    let mut c = sec(task);
+    c.agent.memory.sequential_bias = false;
+    c
+}
+
+fn mfec(task: &str, embedding: Embedding) -> RunConfig {
+    let mut c = RunConfig { kind: AgentKind::Mfec, ..sec(task) };
+    c.mfec.embedding = embedding;
+    c
+}
+
+fn condition(name: String, config: RunConfig, paper_total: Option<f64>) -> Condition {
+    Condition { name, config, paper_total }
+}
+
+/// The conditions of experiment `name` (see [`EXPERIMENTS`]).
+pub fn experiment(name: &str) -> Result<Vec<Condition>, ConfigError> {
+    let mut out = Vec::new();
+    match name {
+        "exp1" => {
+            for (task, paper) in TASKS {
+                out.push(condition(format!("{task}/SEC"), sec(task), Some(paper[0])));
+                out.push(condition(format!("{task}/NSEC"), nsec(task), Some(paper[1])));
+                out.push(condition(format!("{task}/MFEC-ae"), mfec(task, Embedding::Autoencoder), Some(paper[2])));
+                out.push(condition(format!("{task}/MFEC-rp"), mfec(task, Embedding::RandomProjection), Some(paper[3])));
+                let reactive = RunConfig { kind: AgentKind::Reactive, ..sec(task) };
+                out.push(condition(format!("{task}/reactive"), reactive, None));
+            }
+        }
+        "exp2" => {
+            let paper = [
+                (125, 9241.33, 3817.13),
+                (250, 10351.39, 5186.52),
+                (500, 12031.59, 6181.66),
+                (1000, 12174.31, 7424.22),
+            ];
+            for (m, p_sec, p_nsec) in paper {
+                let (mut s, mut n) = (sec("double-t-maze"), nsec("double-t-maze"));
+                s.agent.memory.m = m;
+                n.agent.memory.m = m;
+                out.push(condition(format!("m{m}/SEC"), s, Some(p_sec)));
+                out.push(condition(format!("m{m}/NSEC"), n, Some(p_nsec)));
+            }
+        }
+        "exp3" => {
+            // The paper's first ablation table (section 9); the solo variants' are not public.
+            let paper = |v: &str| match v {
+                "default" => Some(11840.32),
+                "noDist" => Some(10841.95),
+                "noRR" => Some(11448.41),
+                "noGi" => Some(11621.25),
+                _ => None,
+            };
+            for (label, v) in ValueFn::ALL {
+                let mut c = sec("double-t-maze");
+                c.agent.memory.value_function = v;
+                out.push(condition(format!("value-function/SEC-{label}"), c, paper(label)));
+            }
+        }
+        "exp4" => {
+            // SEC-rwd's published data is the PRIOR run (section 9); NSEC-rwd's is RWD.
+            let paper: [(Forgetting, &str, Option<f64>, Option<f64>); 4] = [
+                (Forgetting::None, "none", Some(11604.88), Some(5024.53)),
+                (Forgetting::Fifo, "fifo", Some(12401.42), Some(5173.49)),
+                (Forgetting::Rwd, "rwd", None, Some(6669.10)),
+                (Forgetting::Prior, "prior", Some(12191.91), None),
+            ];
+            for (f, label, p_sec, p_nsec) in paper {
+                let (mut s, mut n) = (sec("double-t-maze"), nsec("double-t-maze"));
+                s.agent.memory.forgetting = f;
+                n.agent.memory.forgetting = f;
+                out.push(condition(format!("forgetting/SEC-{label}"), s, p_sec));
+                out.push(condition(format!("forgetting/NSEC-{label}"), n, p_nsec));
+            }
+        }
+        "smoke" => {
+            let mut s = sec("object-permanence");
+            s.t = Some(250);
+            out.push(condition("object-permanence/SEC".into(), s.clone(), None));
+            let mut n = s.clone();
+            n.agent.memory.sequential_bias = false;
+            out.push(condition("object-permanence/NSEC".into(), n, None));
+            out.push(condition(
+                "object-permanence/reactive".into(),
+                RunConfig { kind: AgentKind::Reactive, ..s },
+                None,
+            ));
+        }
+        _ => {
+            let names: Vec<&str> = EXPERIMENTS.iter().map(|(n, _)| *n).collect();
+            return Err(ConfigError::new("experiment", format!("'{name}' is not one of {}", names.join(", "))));
+        }
+    }
+    Ok(out)
+}
