@@ -17,11 +17,12 @@ pub struct Condition {
 }
 
 /// The experiment presets by name, with a line on what each is.
-pub const EXPERIMENTS: [(&str, &str); 5] = [
+pub const EXPERIMENTS: [(&str, &str); 6] = [
     ("exp1", "four tasks x SEC, NSEC, MFEC-ae, MFEC-rp and the reactive walk (paper figure 4, table 1)"),
     ("exp2", "double T-maze, SEC and NSEC with LTM capacity 125, 250, 500, 1000 (figures 5 and 6)"),
     ("exp3", "double T-maze, SEC's value function and its six ablations (figure 7)"),
     ("exp4", "double T-maze, SEC and NSEC with forgetting none, FIFO, RWD, PRIOR (figure 8)"),
+    ("presets", "double T-maze, SEC with the authors' code values and with the paper's text (D2, D3)"),
     ("smoke", "a few cheap conditions to try the runner (not in the paper)"),
 ];
 
@@ -112,6 +113,11 @@ pub fn experiment(name: &str) -> Result<Vec<Condition>, ConfigError> {
                 out.push(condition(format!("forgetting/SEC-{label}"), s, p_sec));
                 out.push(condition(format!("forgetting/NSEC-{label}"), n, p_nsec));
             }
+        }
+        "presets" => {
+            out.push(condition("presets/SEC-code".into(), sec("double-t-maze"), Some(11604.88)));
+            let paper = RunConfig { agent: crate::agent::AgentConfig::paper(), ..sec("double-t-maze") };
+            out.push(condition("presets/SEC-paper".into(), paper, None));
         }
         "smoke" => {
             let mut s = sec("object-permanence");

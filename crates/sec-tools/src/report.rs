@@ -127,7 +127,7 @@ pub fn report(dir: &Path, description: &str) -> Result<String, String> {
     }
     let mut md = String::new();
     let mut csv = String::from(
-        "condition,runs,episodes,total_mean,total_ci95,per_episode,paper_total,paper_per_episode,final_mean,final_sd,entropy_first10,entropy_last10,entropy_fresh_last10,ltm_end,p_vs_reference\n",
+        "condition,runs,episodes,total_mean,total_ci95,per_episode,paper_total,paper_per_episode,last10_per_episode,final_mean,final_sd,entropy_first10,entropy_last10,entropy_fresh_last10,ltm_end,p_vs_reference\n",
     );
     writeln!(md, "# {}: {description}\n", manifest.experiment).unwrap();
     let episodes = conds.iter().map(|c| c.runs[0].len()).min().unwrap_or(0);
@@ -135,7 +135,7 @@ pub fn report(dir: &Path, description: &str) -> Result<String, String> {
         md,
         "Runs per condition: up to {} (seeds {:?}); episodes per run: {episodes} (the paper: 20 x 5000). \
          Reward is R_ep when positive, else 0; totals are summed over the run's episodes and the paper's are \
-         over 5000, so compare the per-episode columns. Entropy (bits) is the authors' stale-inclusive mean \
+         over 5000, so compare the per-episode columns; the paper's final-episode reward (section 9) is for episode 5000. Entropy (bits) is the authors' stale-inclusive mean \
          per episode, averaged over the first and last 10% of the run; p is a two-sided Mann-Whitney U test \
          of the run totals against the group's first model, Bonferroni-corrected over the experiment's {} \
          comparisons. Curves: {WINDOW}-episode window, mean and standard error across runs.\n",
@@ -156,12 +156,13 @@ pub fn report(dir: &Path, description: &str) -> Result<String, String> {
         let members: Vec<&ConditionRuns> = conds.iter().filter(|c| c.group() == group).collect();
         let reference = members[0];
         writeln!(md, "## {group}\n").unwrap();
-        writeln!(md, "| model | runs | total reward (95% CI) | per episode | paper: total (per episode) | final episode (sd) | entropy first 10% -> last 10% (fresh) | LTM at end | p vs {} |", reference.model()).unwrap();
-        writeln!(md, "|---|---|---|---|---|---|---|---|---|").unwrap();
+        writeln!(md, "| model | runs | total reward (95% CI) | per episode | paper: total (per episode) | last 10% per episode | final episode (sd) | entropy first 10% -> last 10% (fresh) | LTM at end | p vs {} |", reference.model()).unwrap();
+        writeln!(md, "|---|---|---|---|---|---|---|---|---|---|").unwrap();
         for c in &members {
             let n = c.runs[0].len();
             let totals = c.totals();
             let finals: Vec<f64> = c.runs.iter().map(|r| r.last().map_or(0.0, |m| m.reward)).collect();
+            let late = mean(&c.span_means(0.9, 1.0, |m| m.reward));
             let h0 = mean(&c.span_means(0.0, 0.1, |m| m.entropy));
             let h1 = mean(&c.span_means(0.9, 1.0, |m| m.entropy));
             let hf = c.fresh_entropy_late();
@@ -174,7 +175,7 @@ pub fn report(dir: &Path, description: &str) -> Result<String, String> {
             let paper = c.condition.paper_total;
             writeln!(
                 md,
-                "| {} | {} | {:.1} ± {:.1} | {:.3} | {} | {:.3} ± {:.3} | {:.3} -> {:.3} ({}) | {:.0} | {} |",
+                "| {} | {} | {:.1} ± {:.1} | {:.3} | {} | {late:.3} | {:.3} ± {:.3} | {:.3} -> {:.3} ({}) | {:.0} | {} |",
                 c.model(),
                 c.runs.len(),
                 mean(&totals),
@@ -192,7 +193,7 @@ pub fn report(dir: &Path, description: &str) -> Result<String, String> {
             .unwrap();
             writeln!(
                 csv,
-                "{},{},{n},{},{},{},{},{},{},{},{h0},{h1},{hf},{ltm},{}",
+                "{},{},{n},{},{},{},{},{},{late},{},{},{h0},{h1},{hf},{ltm},{}",
                 c.condition.name,
                 c.runs.len(),
                 mean(&totals),

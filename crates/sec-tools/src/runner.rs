@@ -91,8 +91,11 @@ pub fn prepare(out: &Path, manifest: &Manifest) -> Result<(), String> {
         fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         let path = dir.join("config.json");
         let text = serde_json::to_string_pretty(&c.config).expect("configurations serialise") + "\n";
+        // Compared as configurations, so a file written before a new field (with its default)
+        // was added still matches.
+        let same = |old: &str| serde_json::from_str::<RunConfig>(old).is_ok_and(|o| o == c.config);
         match fs::read_to_string(&path) {
-            Ok(old) if old != text => {
+            Ok(old) if !same(&old) => {
                 return Err(format!(
                     "{} holds runs of another configuration of '{}'; use another --out or remove it",
                     path.display(),

@@ -95,7 +95,7 @@ fn bad_input_is_refused_by_name() {
         assert!(!ok, "{args:?} should fail");
         e
     };
-    assert!(err(&["run", "exp9"]).contains("experiment: 'exp9' is not one of exp1, exp2, exp3, exp4, smoke"));
+    assert!(err(&["run", "exp9"]).contains("experiment: 'exp9' is not one of exp1, exp2, exp3, exp4, presets, smoke"));
     assert!(err(&["run", "smoke", "--episodes", "0"]).contains("--episodes: '0' is not a whole number in 1..=1000000"));
     assert!(err(&["run", "smoke", "--shard", "3/2"]).contains("--shard: '3/2' is not i/N"));
     assert!(err(&["run", "smoke", "--seeds", "5..2"]).contains("--seeds: '5..2'"));
