@@ -113,3 +113,61 @@ fn raw_embeddings_undo_the_calibrated_scale() {
     let (la, lb): (Vec<_>, Vec<_>) = (0..8).map(|_| (a.episode().to_json(), b.episode().to_json())).unzip();
     assert_ne!(la, lb);
 }
+
+#[test]
+fn stepping_by_ticks_or_decisions_gives_the_same_run_as_by_episodes() {
+    // Object permanence: goals come early, so storage, the contextual layer and T all act.
+    let cfg = RunConfig { task: "object-permanence".into(), ..RunConfig::default() };
+    let whole = episodes(&cfg, 7, 12);
+    let mut run = Run::new(cfg, 7).unwrap();
+    let mut stepped = Vec::new();
+    let mut decisions = 0;
+    while stepped.len() < 12 {
+        // Alternate: a few episodes tick by tick, the rest decision by decision.
+        let t = if stepped.len() % 2 == 0 { run.tick() } else { run.decision() };
+        decisions += t.decision.is_some() as u32;
+        stepped.extend(t.finished.map(|m| format!("{m:?}")));
+    }
+    assert_eq!(stepped, whole);
+    assert!(decisions > 12, "each episode decides");
+}
+
+#[test]
+fn live_changes_apply_to_the_running_agent_and_others_ask_for_a_new_run() {
+    let cfg = RunConfig { task: "object-permanence".into(), ..RunConfig::default() };
+    let mut run = Run::new(cfg.clone(), 7).unwrap();
+    for _ in 0..12 {
+        run.episode();
+    }
+    let ltm = run.agent().unwrap().memory.len();
+    assert!(ltm >= 4, "object permanence stores sequences early: {ltm}");
+    // alpha, the thresholds and a smaller m apply now; m forgets the oldest sequences.
+    let mut live = cfg.clone();
+    live.agent.memory.alpha = 0.3;
+    live.agent.memory.theta_abs = 0.9;
+    live.agent.memory.m = 2;
+    live.agent.min_sequences = 2;
+    let newest = run.agent().unwrap().memory.rewards()[ltm - 2..].to_vec();
+    assert_eq!(run.reconfigure(live.clone()), Ok(true));
+    assert_eq!(run.config(), &live);
+    let mem = &run.agent().unwrap().memory;
+    assert_eq!((mem.len(), mem.config().alpha, mem.rewards()), (2, 0.3, &newest[..]));
+    // n, the task or the agent need a new run: nothing changes.
+    let changes: [fn(&mut RunConfig); 3] =
+        [|c| c.agent.memory.n = 20, |c| c.task = "detour".into(), |c| c.kind = AgentKind::Reactive];
+    for change in changes {
+        let mut next = live.clone();
+        change(&mut next);
+        assert_eq!(run.reconfigure(next), Ok(false));
+        assert_eq!(run.config(), &live);
+    }
+    // A bad value is refused by name and changes nothing.
+    let mut bad = live.clone();
+    bad.agent.memory.tau = 0.0;
+    assert_eq!(run.reconfigure(bad).unwrap_err().field, "tau");
+    assert_eq!(run.config(), &live);
+    // The run goes on with the new parameters; the LTM grows back to at most m.
+    for _ in 0..4 {
+        assert!(run.episode().ltm <= 2);
+    }
+}

@@ -344,3 +344,34 @@ fn invariants_hold_over_random_runs() {
         }
     }
 }
+
+#[test]
+fn reconfiguring_keeps_the_memory_and_refuses_a_new_stm_length() {
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    let cfg = MemoryConfig { n: 3, m: 10, ..MemoryConfig::default() };
+    let mut mem = Memory::new(cfg.clone()).unwrap();
+    for r in 1..=4 {
+        mem.push(Couplet { embedding: [r as f32; 20], action: r as u8 });
+        assert!(mem.store(r as f64, &mut rng));
+    }
+    // The bias switched off and on starts again from T = 1.
+    mem.advance(&[3.0; 20], &mut rng);
+    mem.update_bias();
+    assert!(mem.bias().iter().any(|&t| t > 1.0), "a selection boosts its successor");
+    let err = mem.reconfigure(MemoryConfig { n: 4, ..cfg.clone() }).unwrap_err();
+    assert_eq!(err.field, "n");
+    let err = mem.reconfigure(MemoryConfig { beta: -1.0, ..cfg.clone() }).unwrap_err();
+    assert_eq!(err.field, "beta");
+    assert_eq!((mem.config(), mem.len()), (&cfg, 4), "a refused change changes nothing");
+    assert!(mem.bias().iter().any(|&t| t > 1.0));
+    mem.reconfigure(MemoryConfig { sequential_bias: false, ..cfg.clone() }).unwrap();
+    assert!(mem.bias().iter().all(|&t| t == 1.0));
+    // A smaller m forgets the oldest sequences; a larger one makes room.
+    mem.reconfigure(MemoryConfig { m: 2, ..cfg.clone() }).unwrap();
+    assert_eq!(mem.rewards(), &[3.0, 4.0]);
+    assert_eq!(mem.ltm_action(0, 2), 3, "row 0 is now the third sequence stored");
+    mem.reconfigure(MemoryConfig { m: 3, ..cfg }).unwrap();
+    mem.push(Couplet { embedding: [5.0; 20], action: 5 });
+    assert!(mem.store(5.0, &mut rng));
+    assert_eq!(mem.rewards(), &[3.0, 4.0, 5.0]);
+}

@@ -85,3 +85,106 @@ fn wasm_gives_the_native_golden_episode_log() {
     }
     assert_eq!(log.lines().count(), include_str!("golden/run.txt").lines().count());
 }
+
+fn js(json: &str) -> wasm_bindgen::JsValue {
+    js_sys::JSON::parse(json).unwrap()
+}
+
+fn metrics(v: wasm_bindgen::JsValue) -> sec_playground::experiment::EpisodeMetrics {
+    serde_wasm_bindgen::from_value(v).unwrap()
+}
+
+#[wasm_bindgen_test]
+fn a_run_through_the_js_api_gives_the_native_golden_episode_log() {
+    use sec_playground::experiment::EpisodeMetrics;
+    use sec_playground::web::SecRun;
+    // The golden log's first 16 lines are SEC in object permanence with seed 7 (`golden_run`).
+    let golden: Vec<EpisodeMetrics> =
+        include_str!("golden/run.txt").lines().take(16).map(|l| serde_json::from_str(l).unwrap()).collect();
+    let mut run = SecRun::new(js(r#"{"task": "object-permanence"}"#), 7.0).unwrap();
+    let mut got = Vec::new();
+    // Step by decisions, by episodes and in batches: all the same run.
+    while got.len() < 4 {
+        let s: serde_json::Value = serde_wasm_bindgen::from_value(run.step_decision().unwrap()).unwrap();
+        if !s["finished"].is_null() {
+            got.push(serde_json::from_value::<EpisodeMetrics>(s["finished"].clone()).unwrap());
+        }
+    }
+    for _ in 0..4 {
+        got.push(metrics(run.step_episode().unwrap()));
+    }
+    while got.len() < 16 {
+        let batch: Vec<EpisodeMetrics> = serde_wasm_bindgen::from_value(run.advance(37).unwrap()).unwrap();
+        got.extend(batch);
+    }
+    // Exact f64 comparison: bit for bit with the native run.
+    assert_eq!(&got[..16], &golden[..]);
+}
+
+#[wasm_bindgen_test]
+fn the_run_api_refuses_bad_configurations_by_name_and_keeps_running() {
+    use sec_playground::web::SecRun;
+    let bad = [
+        (r#"{"agent": {"memory": {"alpha": 2}}}"#, "alpha"),
+        (r#"{"agent": {"memory": {"alpah": 0.1}}}"#, "agent.memory"),
+        (r#"{"agent": {"memory": {"tau": "x"}}}"#, "agent.memory.tau"),
+        (r#"{"task": "maze"}"#, "task"),
+        (r#"{"kind": "dqn"}"#, "kind"),
+        (r#"{"t": -3}"#, "t"),
+        (r#"{"decisionPeriod": 0}"#, "decisionPeriod"),
+        (r#"{"mfec": {"k": 0}}"#, "mfec.k"),
+        (r#"[1, 2]"#, "config"),
+    ];
+    for (cfg, name) in bad {
+        let e = message(SecRun::new(js(cfg), 1.0).err().unwrap_or_else(|| panic!("{cfg} was accepted")));
+        assert!(e.starts_with(name), "{cfg}: {e}");
+    }
+    assert!(message(SecRun::new(js("{}"), f64::NAN).err().unwrap()).starts_with("seed:"));
+    let e = message(SecRun::new(js(r#"{"agent": {"memory": {"beta": 1.5}}}"#), 1.0).err().unwrap());
+    assert!(e.contains("[0, 1]"), "the range is named: {e}");
+
+    let mut run = SecRun::new(js(r#"{"task": "object-permanence", "t": 300}"#), 3.0).unwrap();
+    run.advance(100).unwrap();
+    let before: serde_json::Value = serde_wasm_bindgen::from_value(run.config().unwrap()).unwrap();
+    for (cfg, name) in bad {
+        let e = message(run.configure(js(cfg)).err().unwrap_or_else(|| panic!("{cfg} was accepted")));
+        assert!(e.starts_with(name), "{cfg}: {e}");
+    }
+    assert!(message(run.advance(0).err().unwrap()).starts_with("decisions:"));
+    assert!(message(run.memory_map("q").err().unwrap()).starts_with("which:"));
+    assert!(message(run.top_down(8).err().unwrap()).starts_with("size:"));
+    let after: serde_json::Value = serde_wasm_bindgen::from_value(run.config().unwrap()).unwrap();
+    assert_eq!(before, after, "a refused configuration changed nothing");
+    let view: serde_json::Value = serde_wasm_bindgen::from_value(run.view().unwrap()).unwrap();
+    assert!(view["step"].as_u64().unwrap() > 0, "the run kept its state: {view}");
+    run.advance(10).unwrap();
+}
+
+#[wasm_bindgen_test]
+fn live_changes_and_restarts_through_the_js_api() {
+    use sec_playground::web::SecRun;
+    let mut run = SecRun::new(js(r#"{"task": "object-permanence"}"#), 7.0).unwrap();
+    for _ in 0..8 {
+        run.step_episode().unwrap();
+    }
+    let ltm = |run: &SecRun| {
+        let v: serde_json::Value = serde_wasm_bindgen::from_value(run.view().unwrap()).unwrap();
+        v["ltm"].as_u64().unwrap()
+    };
+    let stored = ltm(&run);
+    assert!(stored >= 2, "object permanence stores early: {stored}");
+    let live = r#"{"task": "object-permanence", "agent": {"memory": {"alpha": 0.2, "thetaAbs": 0.9, "tau": 2}}}"#;
+    assert_eq!(run.configure(js(live)).unwrap(), "live");
+    assert_eq!(ltm(&run), stored, "a live change keeps the memory");
+    let cfg: serde_json::Value = serde_wasm_bindgen::from_value(run.config().unwrap()).unwrap();
+    assert_eq!(cfg["agent"]["memory"]["alpha"], 0.2);
+    // The views: the camera, the reconstruction, the top-down map, the LTM heat map.
+    assert_eq!(run.observation().length(), 84 * 84 * 4);
+    assert_eq!(run.reconstruction().length(), 84 * 84 * 4);
+    assert_eq!(run.top_down(64).unwrap().length(), 64 * 64 * 4);
+    run.step_decision().unwrap();
+    assert_eq!(run.memory_map("t").unwrap().length() as u64, ltm(&run) * run.stm_length() as u64);
+    let restart = r#"{"task": "detour", "agent": {"memory": {"n": 20}}}"#;
+    assert_eq!(run.configure(js(restart)).unwrap(), "restart");
+    assert_eq!((ltm(&run), run.stm_length(), run.seed()), (0, 20, 7.0), "a new run with the same seed");
+}

@@ -1,20 +1,124 @@
-// Keyboard driving: arrow keys map to the two action branches, action = 3*a0 + a1.
+// The controls: one per setting of the core's `parameters()` (symbol, one-line explanation,
+// range), the run bar (play, step, reset, speed, presets) and the keyboard shortcuts. Values go
+// out as strings, exactly as the URL hash holds them; the core validates them.
 
-const held = new Set();
+/** The speed slider's stops, in decisions per second; the last is "max". */
+export const SPEEDS = [1, 2, 5, 10, 25, 50, 100, 250, 1000, 'max'];
 
-/** Starts listening; `onReset` runs on R. Returns a function giving the current action. */
-export function keyboard(onReset) {
-  const keys = ['ArrowUp', 'ArrowDown', 'ArrowLeft', 'ArrowRight'];
-  window.addEventListener('keydown', (e) => {
-    if (e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement) return;
-    if (keys.includes(e.key)) { held.add(e.key); e.preventDefault(); }
-    if (e.key === 'r' || e.key === 'R') onReset();
-  });
-  window.addEventListener('keyup', (e) => held.delete(e.key));
-  window.addEventListener('blur', () => held.clear());
-  return () => {
-    const a0 = held.has('ArrowUp') ? 1 : held.has('ArrowDown') ? 2 : 0;
-    const a1 = held.has('ArrowRight') ? 1 : held.has('ArrowLeft') ? 2 : 0;
-    return 3 * a0 + a1;
+function rangeText(kind) {
+  switch (kind.type) {
+    case 'number': return `${kind.minOpen ? '(' : '['}${kind.min}, ${kind.max}]`;
+    case 'integer': return `${kind.min} – ${kind.max.toLocaleString('en')}`;
+    case 'choice': return `${kind.options.length} choices`;
+    default: return 'on / off';
+  }
+}
+
+function input(p) {
+  const { kind } = p;
+  if (kind.type === 'choice') {
+    const sel = document.createElement('select');
+    for (const o of kind.options) sel.add(new Option(o, o));
+    return sel;
+  }
+  const el = document.createElement('input');
+  if (kind.type === 'switch') {
+    el.type = 'checkbox';
+  } else {
+    el.type = 'number';
+    el.min = String(kind.min);
+    el.max = String(kind.max);
+    el.step = kind.type === 'number' ? String(kind.step) : '1';
+  }
+  return el;
+}
+
+/**
+ * Builds a control per parameter into `root`. `onChange(key, value)` gets the new value as a
+ * string. Returns `set(settings)`, which shows settings without firing `onChange`, and
+ * `hide(keys)`.
+ */
+export function buildControls(root, params, onChange) {
+  const fields = new Map();
+  const sliders = new Map();
+  for (const p of params) {
+    const row = document.createElement('div');
+    row.className = 'param';
+    row.dataset.key = p.key;
+    const label = document.createElement('label');
+    label.htmlFor = `p-${p.key}`;
+    label.className = 'symbol';
+    label.textContent = p.symbol;
+    const el = input(p);
+    el.id = `p-${p.key}`;
+    el.dataset.key = p.key;
+    el.setAttribute('aria-describedby', `h-${p.key}`);
+    const value = () => (el.type === 'checkbox' ? (el.checked ? '1' : '0') : el.value.trim());
+    el.addEventListener('change', () => onChange(p.key, value()));
+    row.append(label, el);
+    if (p.kind.type === 'number') {
+      // A slider next to the number box for the real-valued knobs.
+      const slider = document.createElement('input');
+      slider.type = 'range';
+      slider.min = el.min;
+      slider.max = el.max;
+      slider.step = el.step;
+      slider.setAttribute('aria-label', `${p.symbol} slider`);
+      slider.addEventListener('input', () => { el.value = slider.value; });
+      slider.addEventListener('change', () => onChange(p.key, slider.value));
+      sliders.set(p.key, slider);
+      row.append(slider);
+    }
+    const range = document.createElement('span');
+    range.className = 'range';
+    range.textContent = rangeText(p.kind) + (p.live ? '' : ' · new run');
+    const help = document.createElement('p');
+    help.id = `h-${p.key}`;
+    help.className = 'help';
+    help.textContent = p.help;
+    row.append(range, help);
+    root.append(row);
+    fields.set(p.key, el);
+  }
+  return {
+    set(settings) {
+      for (const [k, v] of Object.entries(settings)) {
+        const el = fields.get(k);
+        if (!el) continue;
+        if (el.type === 'checkbox') el.checked = v === '1';
+        else el.value = v;
+        const s = sliders.get(k);
+        if (s) s.value = v;
+      }
+    },
+    hide(keys) {
+      for (const k of keys) root.querySelector(`.param[data-key="${k}"]`)?.setAttribute('hidden', '');
+    },
   };
+}
+
+/** Wires the run bar and the keyboard shortcuts to `actions`. */
+export function runControls($, actions) {
+  $('play').addEventListener('click', actions.toggle);
+  $('step-decision').addEventListener('click', () => actions.step('decision'));
+  $('step-episode').addEventListener('click', () => actions.step('episode'));
+  $('reset').addEventListener('click', actions.reset);
+  $('preset-code').addEventListener('click', () => actions.preset('code'));
+  $('preset-paper').addEventListener('click', () => actions.preset('paper'));
+  const speed = $('speed');
+  const showSpeed = () => {
+    const v = SPEEDS[Number(speed.value)];
+    $('speed-out').textContent = v === 'max' ? 'max' : `${v}/s`;
+    return v;
+  };
+  speed.addEventListener('input', () => actions.speed(showSpeed()));
+  showSpeed();
+  window.addEventListener('keydown', (e) => {
+    if (e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement || e.ctrlKey || e.metaKey || e.altKey) return;
+    const key = { ' ': actions.toggle, '.': () => actions.step('decision'), e: () => actions.step('episode'), r: actions.reset }[e.key];
+    if (key) {
+      e.preventDefault();
+      key();
+    }
+  });
 }

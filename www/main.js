@@ -1,105 +1,168 @@
-// The arena page: builds an environment, steps it in real time with the keyboard's action and
-// draws the camera and the top-down view. Errors show on the page and keep the last good run.
-import init, { ArenaEnv, taskNames, taskDescription, frameSize } from '../pkg/sec_playground.js';
-import { drawRgba, drawStatus } from './views.js';
-import { keyboard } from './controls.js';
+// The playground page: starts the simulation worker, builds the controls from the core's
+// parameter table, keeps the whole configuration in the URL hash, and draws what the worker
+// posts (views at most 30 times a second, charts at most 10).
+import { buildControls, runControls, SPEEDS } from './controls.js';
+import { Charts } from './charts.js';
+import { drawRgba, drawHeat, drawProbs, drawStatus } from './views.js';
 
 const $ = (id) => document.getElementById(id);
-const STEP_MS = 60; // one env step is 3 physics frames of 20 ms
-const TOP = 336;
+const worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
 
-let env = null;
-let episodeReward = 0;
-let lastEpisode = null;
-let message = '';
+let params = [];
+let settings = null;
+let controls = null;
+let playing = false;
+let wantPlay = true; // the user's intent; visibility pauses without changing it
+let speed = SPEEDS[Number($('speed').value)];
+let episodes = 0;
+let lastView = null;
+const charts = new Charts($('charts'));
+const rate = { t: performance.now(), decisions: 0, perSecond: 0 };
 
-function showError(e) {
+function showError(message) {
   const el = $('error');
-  el.textContent = e ? String(e.message ?? e) : '';
-  el.hidden = !e;
+  el.textContent = message ?? '';
+  el.hidden = !message;
 }
 
-/** Reads seed and t; a bad value throws with the parameter named. */
-function settings() {
-  const seed = Number($('seed').value);
-  const t = Number($('limit').value);
-  if ($('seed').value === '' || !Number.isInteger(seed) || seed < 0) throw new Error(`seed: "${$('seed').value}" is out of range 0..=9007199254740991 (whole numbers)`);
-  if ($('limit').value === '' || !Number.isInteger(t)) throw new Error(`t: "${$('limit').value}" is out of range 0..=100000 (whole numbers)`);
-  return { seed, t };
+function notice(text) {
+  $('notice').textContent = text;
 }
 
-/** Replaces the environment only when the new one builds; otherwise the old one keeps running. */
-function rebuild(make) {
-  try {
-    const next = make(settings());
-    env?.free();
-    env = next;
-    episodeReward = 0;
-    showError(null);
-  } catch (e) {
-    showError(e);
+/** The hash as settings: `#alpha=0.01&m=500` gives {alpha: '0.01', m: '500'}. */
+function readHash() {
+  return Object.fromEntries(new URLSearchParams(location.hash.slice(1)));
+}
+
+function writeHash() {
+  const hash = `#${new URLSearchParams(settings)}`;
+  if (location.hash !== hash) history.replaceState(null, '', hash);
+}
+
+const send = (msg) => worker.postMessage(msg);
+
+function views() {
+  const watching = speed !== 'max' && !document.hidden;
+  send({ type: 'views', camera: watching, heat: watching ? $('heat-kind').value : null });
+}
+
+function setPlaying(p) {
+  wantPlay = p;
+  send({ type: p && !document.hidden ? 'play' : 'pause' });
+}
+
+const label = (key) => params.find((p) => p.key === key)?.symbol ?? key;
+
+const handlers = {
+  ready(msg) {
+    params = msg.params;
+    controls = buildControls($('controls'), params, (key, value) => {
+      if (settings?.[key] !== value) send({ type: 'set', changes: { [key]: value } });
+    });
+    send({ type: 'start', settings: readHash() });
+    views();
+  },
+  started(msg) {
+    const first = settings === null;
+    settings = msg.settings;
+    controls.set(settings);
+    writeHash();
+    if (msg.errors.length) showError(`${msg.errors.join('; ')}. Using the default for ${msg.errors.length === 1 ? 'it' : 'them'}.`);
+    else if (!first) showError(null);
+    if (msg.mode === 'restart') {
+      charts.clear();
+      episodes = 0;
+      if (!first) notice(msg.changes ? `New run: ${Object.keys(msg.changes).map(label).join(', ')} changed` : 'Run reset');
+    } else if (msg.changes) {
+      const what = Object.entries(msg.changes).map(([k, v]) => `${label(k)}=${v}`).join(' ');
+      charts.mark(what);
+      notice(`Applied live: ${what}`);
+    }
+    if (first) setPlaying(wantPlay);
+  },
+  episodes({ list }) {
+    charts.push(list);
+    episodes += list.length;
+    for (const m of list) rate.decisions += m.decisions;
+  },
+  view(msg) {
+    lastView = msg.view;
+    if (msg.camera) {
+      drawRgba($('camera'), new Uint8Array(msg.camera), 84, 84);
+      drawRgba($('reconstruction'), new Uint8Array(msg.reconstruction), 84, 84);
+      drawRgba($('arena'), new Uint8Array(msg.top), 252, 252);
+    }
+    if (msg.heat) drawHeat($('heat'), new Float32Array(msg.heat), msg.n, new Uint32Array(msg.selected), $('heat-kind').value);
+    const v = msg.view;
+    drawProbs($('probs'), v.p, v.action);
+    $('entropy').textContent = `${v.entropy.toFixed(3)} bits`;
+    $('entropy-meter').value = v.entropy;
+    $('layer').textContent = v.layer === 'C' ? 'contextual (memory)' : v.layer === 'R' ? 'reactive (random walk)' : '–';
+    status();
+  },
+  state(msg) {
+    playing = msg.playing;
+    $('play').textContent = playing ? 'Pause' : 'Play';
+    document.body.dataset.playing = playing;
+  },
+  error(msg) {
+    showError(msg.message);
+    // A refused value: show the settings still in force.
+    if (settings && controls) controls.set(settings);
+  },
+};
+
+function status() {
+  const v = lastView;
+  if (!v) return;
+  const now = performance.now();
+  if (now - rate.t > 1000) {
+    rate.perSecond = (rate.decisions * 1000) / (now - rate.t);
+    rate.t = now;
+    rate.decisions = 0;
   }
-}
-
-function fromTask() {
-  rebuild(({ seed, t }) => new ArenaEnv($('task').value, seed, t));
-  try { $('description').textContent = taskDescription($('task').value); } catch { /* custom arena */ }
-}
-
-function draw() {
-  const n = frameSize();
-  drawRgba($('camera'), env.observation(), n, n);
-  drawRgba($('arena'), env.topDown(TOP), TOP, TOP);
-  const a = env.agent();
   drawStatus($('status'), [
-    ['task', env.taskName()], ['layout', a.layout], ['episode', a.episode], ['env step', `${a.steps} / ${a.t || '∞'}`],
-    ['x, z', `${a.x.toFixed(2)}, ${a.z.toFixed(2)}`], ['heading', `${a.heading.toFixed(0)}°`], ['speed', `${a.speed.toFixed(2)} m/s`],
-    ['episode reward', episodeReward.toFixed(3)], ['last episode', lastEpisode ?? '–'], ['', message],
+    ['episode', String(v.episode)],
+    ['env step', String(v.step)],
+    ['reward', v.episodeReward.toFixed(3)],
+    ['LTM', v.capacity ? `${v.ltm} / ${v.capacity}` : '–'],
+    ['decisions/s', rate.perSecond ? rate.perSecond.toFixed(0) : '–'],
   ]);
 }
 
-function tick(action) {
-  const r = env.step(action);
-  episodeReward += r.reward;
-  if (r.terminated || r.truncated) {
-    lastEpisode = `${episodeReward.toFixed(3)} (${r.goodGoal ? 'goal' : r.terminated ? 'ended' : 'time out'})`;
-    message = r.goodGoal ? 'Goal! Next layout.' : r.terminated ? 'Episode ended.' : 'Out of time.';
-    env.reset();
-    episodeReward = 0;
-  }
-}
+worker.onmessage = ({ data }) => handlers[data.type]?.(data);
+worker.onerror = (e) => showError(`The simulation worker failed: ${e.message}`);
 
-await init();
-for (const name of taskNames()) $('task').add(new Option(name, name));
-fromTask();
-const action = keyboard(() => fromTask());
-$('task').addEventListener('change', fromTask);
-$('reset').addEventListener('click', fromTask);
-$('seed').addEventListener('change', fromTask);
-$('limit').addEventListener('change', fromTask);
-$('yaml').addEventListener('change', async (e) => {
-  const file = e.target.files?.[0];
-  if (!file) return;
-  const text = await file.text();
-  rebuild(({ seed, t }) => ArenaEnv.fromYaml(file.name, text, seed, t));
-  $('description').textContent = `Custom arena ${file.name}`;
+runControls($, {
+  toggle: () => setPlaying(!wantPlay),
+  step: (what) => { wantPlay = false; send({ type: 'step', what }); },
+  reset: () => send({ type: 'reset' }),
+  preset: (name) => send({ type: 'preset', name }),
+  speed: (v) => { speed = v; send({ type: 'speed', value: v }); views(); },
+});
+send({ type: 'speed', value: speed });
+$('heat-kind').addEventListener('change', views);
+
+// Someone edits the link: apply what changed (validated by the core like any control).
+window.addEventListener('hashchange', () => {
+  if (!settings) return;
+  const next = readHash();
+  const changes = Object.fromEntries(Object.entries(next).filter(([k, v]) => settings[k] !== v));
+  if (Object.keys(changes).length) send({ type: 'set', changes });
 });
 
-let last = performance.now();
-let pending = 0;
-function frame(now) {
-  pending += now - last;
-  last = now;
-  // Catch up in real time, but never more than 10 steps per animation frame (background tabs).
-  let n = 0;
-  while (pending >= STEP_MS && n < 10) {
-    if (env) tick(action());
-    pending -= STEP_MS;
-    n++;
-  }
-  if (n === 10) pending = 0;
-  if (env) draw();
-  requestAnimationFrame(frame);
-}
-requestAnimationFrame(frame);
-window.secPlayground = { get env() { return env; } };
+// Pause while the tab is hidden; carry on when it is back.
+document.addEventListener('visibilitychange', () => {
+  send({ type: wantPlay && !document.hidden ? 'play' : 'pause' });
+  views();
+});
+
+// For tests and the curious: the page's state.
+window.secPlayground = {
+  get settings() { return settings; },
+  get episodes() { return episodes; },
+  get playing() { return playing; },
+  get marks() { return charts.marks; },
+  get points() { return charts.episodes.length; },
+  get view() { return lastView; },
+};

@@ -16,3 +16,77 @@ export function drawStatus(dl, entries) {
     return [dt, dd];
   }));
 }
+
+/** Viridis-like colour map, t in [0, 1]. */
+const STOPS = [[68, 1, 84], [59, 82, 139], [33, 145, 140], [94, 201, 98], [253, 231, 37]];
+function colour(t) {
+  const x = Math.min(Math.max(t, 0), 1) * (STOPS.length - 1);
+  const i = Math.min(Math.floor(x), STOPS.length - 2);
+  const f = x - i;
+  return STOPS[i].map((c, k) => Math.round(c + f * (STOPS[i + 1][k] - c)));
+}
+
+/** Display ranges: G near the 0.98 threshold, T from 1 up to its fixed point 1.2. */
+const HEAT_RANGE = { g: [0.9, 1.05], t: [1, 1.2] };
+/** Most LTM rows drawn (the newest); the rest are summarised in the caption. */
+const MAX_ROWS = 1000;
+
+/**
+ * The LTM as a heat map: `values` (Float32Array, rows x n, row-major) of G or T, with the
+ * selected couplets (flat indices) boxed in white. Returns the number of rows drawn.
+ */
+export function drawHeat(canvas, values, n, selected, kind) {
+  const ctx = canvas.getContext('2d');
+  ctx.fillStyle = '#222';
+  ctx.fillRect(0, 0, canvas.width, canvas.height);
+  const rows = n ? Math.floor(values.length / n) : 0;
+  if (!rows) return 0;
+  const first = Math.max(0, rows - MAX_ROWS);
+  const shown = rows - first;
+  const [lo, hi] = HEAT_RANGE[kind];
+  const img = new ImageData(n, shown);
+  for (let r = 0; r < shown; r++) {
+    for (let j = 0; j < n; j++) {
+      const [R, G, B] = colour((values[(first + r) * n + j] - lo) / (hi - lo));
+      const o = (r * n + j) * 4;
+      img.data[o] = R; img.data[o + 1] = G; img.data[o + 2] = B; img.data[o + 3] = 255;
+    }
+  }
+  const off = new OffscreenCanvas(n, shown);
+  off.getContext('2d').putImageData(img, 0, 0);
+  ctx.imageSmoothingEnabled = false;
+  ctx.drawImage(off, 0, 0, canvas.width, canvas.height);
+  const cw = canvas.width / n;
+  const ch = canvas.height / shown;
+  ctx.strokeStyle = '#fff';
+  ctx.lineWidth = 1.5;
+  for (const idx of selected) {
+    const r = Math.floor(idx / n) - first;
+    if (r < 0) continue;
+    ctx.strokeRect((idx % n) * cw, r * ch, Math.max(cw, 3), Math.max(ch, 3));
+  }
+  return shown;
+}
+
+/** The 3x3 action grid (rows a0: none, forward, backward; columns a1: none, right, left). */
+export function drawProbs(table, p, action) {
+  const body = table.tBodies[0];
+  if (!body.rows.length) {
+    for (const name of ['none', 'forward', 'back']) {
+      const tr = body.insertRow();
+      const th = document.createElement('th');
+      th.textContent = name;
+      tr.append(th);
+      for (let k = 0; k < 3; k++) tr.insertCell();
+    }
+  }
+  for (let a0 = 0; a0 < 3; a0++) {
+    for (let a1 = 0; a1 < 3; a1++) {
+      const cell = body.rows[a0].cells[a1 + 1];
+      const v = p ? p[3 * a0 + a1] : null;
+      cell.textContent = v == null ? '–' : v.toFixed(2);
+      cell.style.background = v == null ? '' : `rgba(29, 154, 214, ${v.toFixed(3)})`;
+      cell.classList.toggle('taken', action === 3 * a0 + a1);
+    }
+  }
+}

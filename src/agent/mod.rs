@@ -118,6 +118,15 @@ impl Agent {
         &self.cfg
     }
 
+    /// Applies new parameters to the running agent (see `Memory::reconfigure`); on error
+    /// nothing changes.
+    pub fn reconfigure(&mut self, cfg: AgentConfig) -> Result<(), ConfigError> {
+        cfg.validate()?;
+        self.memory.reconfigure(cfg.memory.clone())?;
+        self.cfg = cfg;
+        Ok(())
+    }
+
     /// Section 4: push the previous couplet (updating T), let both layers answer, arbitrate.
     /// `rec_mse` is the reconstruction gate's last measurement.
     pub fn decide(&mut self, e: &[f32; EMBEDDING], rec_mse: f32, rng: &mut ChaCha8Rng) -> Decision {

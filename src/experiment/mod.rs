@@ -1,12 +1,15 @@
-//! A run of SEC in a task (sec-algorithm.md section 3): the environment, the frozen encoder, the
-//! reconstruction gate and the agent, one env step at a time with a decision every 4, and the
-//! per-episode metrics the paper's tables count (section 8).
+//! A run of SEC, or of a baseline (MFEC, the reactive walk), in a task (sec-algorithm.md section
+//! 3): the environment, the frozen encoder, the reconstruction gate and the agent, one env step at
+//! a time with a decision every 4, and the per-episode metrics the paper's tables count (section
+//! 8), one JSON line per episode.
 
 use crate::agent::mfec::{Embedding, Mfec, MfecConfig, RandomProjection};
 use crate::agent::{Agent, AgentConfig, Decision, Layer, Reactive};
-use crate::arena::{Action, ConfigError, Env, EnvConfig, Task};
+use crate::arena::{Action, ConfigError, Env, EnvConfig, StepOutcome, Task};
 use crate::encoder::{bundled, Autoencoder, ReconstructionGate, Scratch, EMBEDDING, IMAGE};
+use crate::render::Frame;
 pub mod presets;
+pub mod settings;
 pub mod trace;
 
 use rand::SeedableRng;
@@ -43,6 +46,29 @@ impl Default for RunConfig {
             mfec: MfecConfig::default(),
             raw_embeddings: false,
         }
+    }
+}
+
+impl RunConfig {
+    /// Every field in its range, the error naming the parameter: what `Run::new` checks, without
+    /// building a run.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        if !(1..=100).contains(&self.decision_period) {
+            return Err(ConfigError::new(
+                "decisionPeriod",
+                format!("{} is out of range 1..=100", self.decision_period),
+            ));
+        }
+        EnvConfig { task: Task::preset(&self.task)?, t: self.t }.validate()?;
+        self.agent.validate()?;
+        self.mfec.validate()
+    }
+
+    /// Whether going from `self` to `next` needs a new run: everything but SEC's parameters
+    /// (and among them the STM length n) is fixed for a run.
+    pub fn needs_restart(&self, next: &RunConfig) -> bool {
+        let same_but_agent = RunConfig { agent: self.agent.clone(), ..next.clone() } == *self;
+        !same_but_agent || next.agent.memory.n != self.agent.memory.n
     }
 }
 
@@ -110,13 +136,13 @@ pub struct Run {
     events: Option<Vec<trace::Event>>,
     /// The agent's draws; the environment has its own stream of the same seed.
     rng: ChaCha8Rng,
+    /// The episode in progress (`None` between episodes).
+    current: Option<EpisodeState>,
 }
 
 impl Run {
     pub fn new(cfg: RunConfig, seed: u64) -> Result<Self, ConfigError> {
-        if !(1..=100).contains(&cfg.decision_period) {
-            return Err(ConfigError::new("decisionPeriod", format!("{} is out of range 1..=100", cfg.decision_period)));
-        }
+        cfg.validate()?;
         let task = Task::preset(&cfg.task)?;
         let mut encoder = bundled::autoencoder(&cfg.task)?;
         if cfg.raw_embeddings {
@@ -149,11 +175,28 @@ impl Run {
             projection,
             events: None,
             rng,
+            current: None,
         })
     }
 
     pub fn config(&self) -> &RunConfig {
         &self.cfg
+    }
+
+    /// Applies `cfg` mid-run (the page's live controls): SEC's parameters act from the next
+    /// decision (see `Memory::reconfigure`). Returns `Ok(false)` and changes nothing when the
+    /// change needs a new run (`RunConfig::needs_restart`); an invalid `cfg` is an error and
+    /// changes nothing either.
+    pub fn reconfigure(&mut self, cfg: RunConfig) -> Result<bool, ConfigError> {
+        cfg.validate()?;
+        if self.cfg.needs_restart(&cfg) {
+            return Ok(false);
+        }
+        if let Controller::Sec(agent) = &mut self.controller {
+            agent.reconfigure(cfg.agent.clone())?;
+        }
+        self.cfg = cfg;
+        Ok(true)
     }
 
     pub fn controller(&self) -> &Controller {
@@ -170,6 +213,48 @@ impl Run {
 
     pub fn env(&self) -> &Env {
         &self.env
+    }
+
+    /// What the agent sees now (rendered on demand; rendering changes nothing in the run).
+    pub fn observation(&mut self) -> &Frame {
+        self.env.observation()
+    }
+
+    /// The run's frozen autoencoder (with its embedding scale).
+    pub fn encoder(&self) -> &Autoencoder {
+        &self.encoder
+    }
+
+    /// Benchmark helper: fills SEC's LTM up to `rows` sequences (at most m) of real embeddings
+    /// from a random walk of a copy of the environment, with random rewards, as if that many
+    /// goals had been reached. This changes the run (its memory), so it is for measuring
+    /// decisions over a full LTM only; the env, the STM position and the run's own draws stay.
+    pub fn fill_ltm_for_benchmark(&mut self, rows: usize) {
+        use rand::Rng;
+        let Controller::Sec(agent) = &mut self.controller else { return };
+        let mut rng = ChaCha8Rng::seed_from_u64(0xBE7C);
+        let mut env = self.env.clone();
+        let (mut image, mut scratch) = (vec![0.0; IMAGE], Scratch::default());
+        let mut action = Action::NOOP;
+        while agent.memory.len() < rows.min(agent.memory.config().m) {
+            if env.is_over() {
+                env.reset(None);
+            }
+            env.advance(action, 4).expect("the episode is not over");
+            env.observation().to_rgb_f32(&mut image);
+            let mut e = [0.0; EMBEDDING];
+            self.encoder.encode(&image, &mut scratch, &mut e);
+            action = Action::new(rng.gen_range(0..9)).expect("actions are 0..9");
+            agent.memory.push(crate::memory::Couplet { embedding: e, action: action.index() as u8 });
+            if rng.gen_bool(0.2) {
+                agent.memory.store(rng.gen_range(0.5..3.0), &mut rng);
+            }
+        }
+    }
+
+    /// The reconstruction error the gate measured last.
+    pub fn gate_mse(&self) -> f32 {
+        self.gate.mse
     }
 
     /// Starts recording SEC's events (embeddings with the gate's MSE, goals, episode ends): fed
@@ -220,56 +305,88 @@ impl Run {
 
     /// Plays one episode to its end and starts the next.
     pub fn episode(&mut self) -> EpisodeMetrics {
-        let period = self.cfg.decision_period;
-        let episode = self.env.episode();
-        let layout = self.env.layout_name().to_string();
-        // As the authors' loop: the first observation comes from a no-op step after the reset.
-        let mut out = self.env.advance(Action::NOOP, 1).expect("a fresh episode takes a step");
-        let (mut r_ep, mut step, mut action) = (0.0, 0u32, Action::NOOP);
-        let (mut decisions, mut contextual, mut goal) = (0u32, 0u32, false);
-        let (mut entropy_sum, mut fresh_sum, mut fresh_n) = (0.0, 0.0, 0u32);
-        let is_sec = matches!(self.controller, Controller::Sec(_));
         loop {
-            r_ep += out.reward;
-            let decide = step % period == 0;
-            let reached = out.good_goal && r_ep > 0.0;
-            goal |= reached;
-            match &mut self.controller {
-                // Storage on the goal event with a positive episode reward, before this frame's
-                // decision, so the last decision's couplet is not in the sequence (D4, D12).
-                Controller::Sec(agent) if reached => {
-                    agent.goal(r_ep, &mut self.rng);
-                    if let Some(ev) = &mut self.events {
-                        ev.push(trace::Event::Goal { reward: r_ep });
-                    }
+            if let Some(m) = self.tick().finished {
+                return m;
+            }
+        }
+    }
+
+    /// Plays until the next decision (returned with the episode it ended, if any): the page's
+    /// "step one decision". The first tick of an episode decides, so this is at most `period` ticks.
+    pub fn decision(&mut self) -> Tick {
+        loop {
+            let t = self.tick();
+            if t.decision.is_some() || t.finished.is_some() {
+                return t;
+            }
+        }
+    }
+
+    /// The episode in progress, if one has started.
+    pub fn current(&self) -> Option<&EpisodeState> {
+        self.current.as_ref()
+    }
+
+    /// One env step of section 3's loop: the reward of the step just taken, storage on the goal
+    /// event, the gate, the decision every `decisionPeriod` steps; then the next env step, or the
+    /// episode's end (its metrics) and the reset for the next one. `episode` is built on this, so
+    /// stepping by ticks, decisions or episodes gives the same run.
+    pub fn tick(&mut self) -> Tick {
+        let mut ep = match self.current.take() {
+            Some(ep) => ep,
+            None => {
+                let (episode, layout) = (self.env.episode(), self.env.layout_name().to_string());
+                // As the authors' loop: the first observation comes from a no-op step after the reset.
+                let out = self.env.advance(Action::NOOP, 1).expect("a fresh episode takes a step");
+                EpisodeState::new(episode, layout, out)
+            }
+        };
+        let period = self.cfg.decision_period;
+        let is_sec = matches!(self.controller, Controller::Sec(_));
+        let out = ep.out;
+        ep.reward += out.reward;
+        let decide = ep.step % period == 0;
+        let reached = out.good_goal && ep.reward > 0.0;
+        ep.goal |= reached;
+        match &mut self.controller {
+            // Storage on the goal event with a positive episode reward, before this frame's
+            // decision, so the last decision's couplet is not in the sequence (D4, D12).
+            Controller::Sec(agent) if reached => {
+                agent.goal(ep.reward, &mut self.rng);
+                if let Some(ev) = &mut self.events {
+                    ev.push(trace::Event::Goal { reward: ep.reward });
                 }
-                Controller::Mfec(mfec) => mfec.frame(out.reward, r_ep, out.good_goal, decide),
-                _ => {}
             }
-            let needs_image = !matches!(self.controller, Controller::Reactive(_));
-            if needs_image && (decide || (is_sec && self.gate.due())) {
-                self.env.observation().to_rgb_f32(&mut self.image);
+            Controller::Mfec(mfec) => mfec.frame(out.reward, ep.reward, out.good_goal, decide),
+            _ => {}
+        }
+        let needs_image = !matches!(self.controller, Controller::Reactive(_));
+        if needs_image && (decide || (is_sec && self.gate.due())) {
+            self.env.observation().to_rgb_f32(&mut self.image);
+        }
+        if is_sec {
+            self.gate.advance(&self.encoder, &self.image, &mut self.scratch);
+        }
+        let mut decision = None;
+        if decide {
+            let d = self.decide();
+            ep.action = Action::new(d.action as u32).expect("actions are 0..9");
+            ep.decisions += 1;
+            ep.contextual += (d.layer == Layer::Contextual) as u32;
+            let h = self.entropy();
+            ep.entropy_sum += h;
+            if d.selected {
+                ep.fresh_sum += h;
+                ep.fresh_n += 1;
             }
-            if is_sec {
-                self.gate.advance(&self.encoder, &self.image, &mut self.scratch);
-            }
-            if decide {
-                let d = self.decide();
-                action = Action::new(d.action as u32).expect("actions are 0..9");
-                decisions += 1;
-                contextual += (d.layer == Layer::Contextual) as u32;
-                let h = self.entropy();
-                entropy_sum += h;
-                if d.selected {
-                    fresh_sum += h;
-                    fresh_n += 1;
-                }
-            }
-            if self.env.is_over() {
-                break;
-            }
-            out = self.env.advance(action, 1).expect("the episode is not over");
-            step += 1;
+            decision = Some(d);
+        }
+        if !self.env.is_over() {
+            ep.out = self.env.advance(ep.action, 1).expect("the episode is not over");
+            ep.step += 1;
+            self.current = Some(ep);
+            return Tick { decision, finished: None };
         }
         let ltm = match &mut self.controller {
             Controller::Sec(agent) => {
@@ -280,26 +397,75 @@ impl Run {
                 agent.memory.len()
             }
             Controller::Mfec(mfec) => {
-                mfec.episode_end(goal);
+                mfec.episode_end(ep.goal);
                 mfec.len()
             }
             Controller::Reactive(_) => 0,
         };
         let metrics = EpisodeMetrics {
-            episode,
-            layout,
-            reward: r_ep.max(0.0),
-            raw_reward: r_ep,
-            goal,
+            episode: ep.episode,
+            layout: ep.layout,
+            reward: ep.reward.max(0.0),
+            raw_reward: ep.reward,
+            goal: ep.goal,
             env_steps: self.env.steps(),
-            decisions,
-            entropy: entropy_sum / decisions.max(1) as f64,
-            entropy_fresh: (fresh_n > 0).then(|| fresh_sum / fresh_n as f64),
+            decisions: ep.decisions,
+            entropy: ep.entropy_sum / ep.decisions.max(1) as f64,
+            entropy_fresh: (ep.fresh_n > 0).then(|| ep.fresh_sum / ep.fresh_n as f64),
             ltm,
-            contextual_share: contextual as f64 / decisions.max(1) as f64,
+            contextual_share: ep.contextual as f64 / ep.decisions.max(1) as f64,
         };
         self.env.reset(None);
-        metrics
+        Tick { decision, finished: Some(metrics) }
+    }
+}
+
+/// What one `Run::tick` did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tick {
+    /// The decision taken at this env step, if one was due.
+    pub decision: Option<Decision>,
+    /// The metrics of the episode this tick ended.
+    pub finished: Option<EpisodeMetrics>,
+}
+
+/// The running totals of the episode in progress.
+#[derive(Clone, Debug)]
+pub struct EpisodeState {
+    pub episode: u64,
+    pub layout: String,
+    /// The env step taken but not yet processed by `tick`.
+    out: StepOutcome,
+    /// R_ep so far.
+    pub reward: f64,
+    /// Env steps processed (the first, the no-op after the reset, is step 0).
+    pub step: u32,
+    /// The action held until the next decision.
+    pub action: Action,
+    pub decisions: u32,
+    pub contextual: u32,
+    pub goal: bool,
+    entropy_sum: f64,
+    fresh_sum: f64,
+    fresh_n: u32,
+}
+
+impl EpisodeState {
+    fn new(episode: u64, layout: String, out: StepOutcome) -> Self {
+        EpisodeState {
+            episode,
+            layout,
+            out,
+            reward: 0.0,
+            step: 0,
+            action: Action::NOOP,
+            decisions: 0,
+            contextual: 0,
+            goal: false,
+            entropy_sum: 0.0,
+            fresh_sum: 0.0,
+            fresh_n: 0,
+        }
     }
 }
 

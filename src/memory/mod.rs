@@ -148,6 +148,12 @@ impl Default for MemoryConfig {
 /// Allowed ranges, also shown by the page's controls.
 pub const N_RANGE: (usize, usize) = (1, 1000);
 pub const M_RANGE: (usize, usize) = (1, 100_000);
+pub const THETA_ABS_RANGE: (f64, f64) = (0.0, 2.0);
+pub const THETA_PROP_RANGE: (f64, f64) = (0.0, 1.0);
+pub const ALPHA_RANGE: (f64, f64) = (0.0, 1.0);
+pub const BETA_RANGE: (f64, f64) = (0.0, 1.0);
+/// Open below: tau = 0 would divide by zero.
+pub const TAU_RANGE: (f64, f64) = (0.0, 100.0);
 
 fn check_f(name: &str, v: f64, lo: f64, hi: f64, lo_open: bool) -> Result<(), ConfigError> {
     let ok = v.is_finite() && v <= hi && if lo_open { v > lo } else { v >= lo };
@@ -168,11 +174,11 @@ impl MemoryConfig {
         if !(M_RANGE.0..=M_RANGE.1).contains(&self.m) {
             return Err(ConfigError::new("m", format!("{} is out of range {}..={}", self.m, M_RANGE.0, M_RANGE.1)));
         }
-        check_f("thetaAbs", self.theta_abs, 0.0, 2.0, false)?;
-        check_f("thetaProp", self.theta_prop, 0.0, 1.0, false)?;
-        check_f("alpha", self.alpha, 0.0, 1.0, false)?;
-        check_f("beta", self.beta, 0.0, 1.0, false)?;
-        check_f("tau", self.tau, 0.0, 100.0, true)?;
+        check_f("thetaAbs", self.theta_abs, THETA_ABS_RANGE.0, THETA_ABS_RANGE.1, false)?;
+        check_f("thetaProp", self.theta_prop, THETA_PROP_RANGE.0, THETA_PROP_RANGE.1, false)?;
+        check_f("alpha", self.alpha, ALPHA_RANGE.0, ALPHA_RANGE.1, false)?;
+        check_f("beta", self.beta, BETA_RANGE.0, BETA_RANGE.1, false)?;
+        check_f("tau", self.tau, TAU_RANGE.0, TAU_RANGE.1, true)?;
         Ok(())
     }
 }
@@ -457,6 +463,41 @@ impl Memory {
     /// End of episode: T back to 1 everywhere. The STM and the masks stay (section 3).
     pub fn refresh(&mut self) {
         self.t.fill(1.0);
+    }
+
+    /// Applies new parameters to the running memory (the page's live controls). Thresholds,
+    /// alpha, beta, tau, the value function and the forgetting mode act from the next decision; a
+    /// smaller capacity m forgets the oldest sequences down to m; switching the bias off or on
+    /// restarts T at 1. The STM length n is fixed for a run. On error nothing changes.
+    pub fn reconfigure(&mut self, cfg: MemoryConfig) -> Result<(), ConfigError> {
+        cfg.validate()?;
+        if cfg.n != self.cfg.n {
+            return Err(ConfigError::new(
+                "n",
+                format!("{} differs from the run's {}: the STM length needs a new run", cfg.n, self.cfg.n),
+            ));
+        }
+        if cfg.sequential_bias != self.cfg.sequential_bias {
+            self.refresh();
+        }
+        while self.len() > cfg.m {
+            self.remove(0);
+        }
+        // Room for the new capacity now, so that decisions still allocate nothing.
+        let (n, free) = (cfg.n, cfg.m.saturating_sub(self.len()));
+        self.ltm.reserve(free * n * EMBEDDING);
+        self.actions.reserve(free * n);
+        self.rewards.reserve(free);
+        for v in [&mut self.t, &mut self.g] {
+            v.reserve(free * n);
+        }
+        for v in [&mut self.sel, &mut self.sel_prev] {
+            v.reserve(free * n);
+        }
+        self.sim.reserve(free * n);
+        self.selected.reserve(free * n);
+        self.cfg = cfg;
+        Ok(())
     }
 
     /// Empties the STM (the `reset_stm_on_episode` deviation, D5).

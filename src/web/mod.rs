@@ -9,6 +9,9 @@ use serde::Serialize;
 use std::collections::VecDeque;
 use wasm_bindgen::prelude::*;
 
+mod run;
+pub use run::{apply_settings, parameters, parse_settings, preset_settings, SecRun};
+
 /// Positions kept for the top-down trail (about 30 s of simulated time).
 const TRAIL: usize = 500;
 /// Largest seed a JS number holds exactly.

@@ -23,7 +23,7 @@ before(async () => {
   page = await browser.newPage({ viewport: { width: 1000, height: 800 } });
   page.on('console', (m) => { if (m.type() === 'error') problems.push(m.text()); });
   page.on('pageerror', (e) => problems.push(String(e)));
-  await page.goto(base);
+  await page.goto(base + 'arena.html');
   await page.waitForFunction(() => window.secPlayground?.env);
 });
 

@@ -167,7 +167,15 @@ pub fn report(dir: &Path, description: &str) -> Result<String, String> {
             let h1 = mean(&c.span_means(0.9, 1.0, |m| m.entropy));
             let hf = c.fresh_entropy_late();
             let ltm = mean(&c.runs.iter().map(|r| r.last().map_or(0.0, |m| m.ltm as f64)).collect::<Vec<_>>());
-            let p = if std::ptr::eq(*c, reference) {
+            // One run has no spread and no test.
+            let spread = |m: f64, h: f64, digits: usize| {
+                if c.runs.len() < 2 {
+                    format!("{m:.digits$}")
+                } else {
+                    format!("{m:.digits$} ± {h:.digits$}")
+                }
+            };
+            let p = if std::ptr::eq(*c, reference) || c.runs.len() < 2 || reference.runs.len() < 2 {
                 None
             } else {
                 Some((mann_whitney(&totals, &reference.totals()).1 * bonferroni).min(1.0))
@@ -175,15 +183,13 @@ pub fn report(dir: &Path, description: &str) -> Result<String, String> {
             let paper = c.condition.paper_total;
             writeln!(
                 md,
-                "| {} | {} | {:.1} ± {:.1} | {:.3} | {} | {late:.3} | {:.3} ± {:.3} | {:.3} -> {:.3} ({}) | {:.0} | {} |",
+                "| {} | {} | {} | {:.3} | {} | {late:.3} | {} | {:.3} -> {:.3} ({}) | {:.0} | {} |",
                 c.model(),
                 c.runs.len(),
-                mean(&totals),
-                ci95(&totals),
+                spread(mean(&totals), ci95(&totals), 1),
                 mean(&totals) / n as f64,
                 paper.map_or("-".into(), |t| format!("{t:.1} ({:.3})", t / 5000.0)),
-                mean(&finals),
-                sd(&finals),
+                spread(mean(&finals), sd(&finals), 3),
                 h0,
                 h1,
                 if hf.is_nan() { "-".into() } else { format!("{hf:.3}") },
@@ -193,16 +199,17 @@ pub fn report(dir: &Path, description: &str) -> Result<String, String> {
             .unwrap();
             writeln!(
                 csv,
-                "{},{},{n},{},{},{},{},{},{late},{},{},{h0},{h1},{hf},{ltm},{}",
+                "{},{},{n},{},{},{},{},{},{late},{},{},{h0},{h1},{},{ltm},{}",
                 c.condition.name,
                 c.runs.len(),
                 mean(&totals),
-                ci95(&totals),
+                num(ci95(&totals)),
                 mean(&totals) / n as f64,
                 paper.map_or(String::new(), |t| t.to_string()),
                 paper.map_or(String::new(), |t| (t / 5000.0).to_string()),
                 mean(&finals),
-                sd(&finals),
+                num(sd(&finals)),
+                num(hf),
                 p.map_or(String::new(), |p| p.to_string()),
             )
             .unwrap();
@@ -266,4 +273,13 @@ fn memory_ratios(conds: &[ConditionRuns]) -> String {
         md += "\n";
     }
     md
+}
+
+/// A CSV number; empty where there is none (one run has no interval).
+fn num(x: f64) -> String {
+    if x.is_nan() {
+        String::new()
+    } else {
+        x.to_string()
+    }
 }

@@ -108,3 +108,19 @@ fn bad_input_is_refused_by_name() {
     assert!(e.contains("tau"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn runs_of_parts_of_an_experiment_add_up_in_its_report() {
+    let dir = temp("only");
+    let out = dir.to_str().unwrap();
+    for only in ["object-permanence/SEC", "object-permanence/NSEC"] {
+        let (ok, _, err) = cli(&["run", "smoke", "--only", only, "--seeds", "1", "--episodes", "2", "--out", out]);
+        assert!(ok && err.contains("1 runs made"), "{err}");
+    }
+    let (ok, md, err) = cli(&["report", "smoke", "--out", out]);
+    assert!(ok, "{err}");
+    assert!(md.contains("| SEC | 1 |") && md.contains("| NSEC | 1 |") && !md.contains("| reactive |"), "{md}");
+    let (ok, _, err) = cli(&["run", "smoke", "--only", "cylinder/", "--out", out]);
+    assert!(!ok && err.contains("--only: 'cylinder/' matches no condition of smoke"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,0 +1,221 @@
+//! The page's settings: the flat keys of the URL hash and the controls (`alpha=0.01&m=500&...`),
+//! each with its symbol, a one-line explanation and its range, and their mapping onto a
+//! `RunConfig` and a seed. The page builds its controls from `params()`, so the ranges shown are
+//! the ranges checked here.
+
+use super::{AgentKind, RunConfig};
+use crate::agent::mfec::Embedding;
+use crate::agent::AgentConfig;
+use crate::arena::{ConfigError, DEFAULT_T, MAX_T, TASK_NAMES};
+use crate::memory::{
+    Forgetting, ValueFn, ALPHA_RANGE, BETA_RANGE, M_RANGE, N_RANGE, TAU_RANGE, THETA_ABS_RANGE, THETA_PROP_RANGE,
+};
+use std::collections::BTreeMap;
+
+/// Flat settings, key to value, as the URL hash holds them.
+pub type Settings = BTreeMap<String, String>;
+
+/// Largest seed a JS number holds exactly.
+pub const MAX_SEED: u64 = 9_007_199_254_740_991;
+
+/// What values a setting takes.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[serde(tag = "type", rename_all = "camelCase")]
+pub enum Kind {
+    /// A real number in [min, max] (or (min, max] when `min_open`).
+    #[serde(rename_all = "camelCase")]
+    Number { min: f64, max: f64, min_open: bool, step: f64 },
+    /// A whole number in min..=max.
+    Integer { min: u64, max: u64 },
+    /// One of the options.
+    Choice { options: Vec<String> },
+    /// On ("1") or off ("0").
+    Switch,
+}
+
+/// One setting as the page shows it.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Param {
+    pub key: &'static str,
+    /// The paper's symbol (Greek letters as Unicode), or a short label.
+    pub symbol: &'static str,
+    pub help: &'static str,
+    pub kind: Kind,
+    /// Applies to the running agent; otherwise a change starts a new run.
+    pub live: bool,
+}
+
+fn number(key: &'static str, symbol: &'static str, help: &'static str, r: (f64, f64), open: bool, step: f64) -> Param {
+    Param { key, symbol, help, kind: Kind::Number { min: r.0, max: r.1, min_open: open, step }, live: true }
+}
+
+fn choice(key: &'static str, symbol: &'static str, help: &'static str, options: &[&str], live: bool) -> Param {
+    Param { key, symbol, help, kind: Kind::Choice { options: options.iter().map(|s| s.to_string()).collect() }, live }
+}
+
+/// The agent choices of the page.
+pub const AGENTS: [&str; 4] = ["sec", "mfec-ae", "mfec-rp", "reactive"];
+
+fn names<T>(table: &[(&'static str, T)]) -> Vec<&'static str> {
+    table.iter().map(|(n, _)| *n).collect()
+}
+
+/// Every setting, in the order the page shows them.
+pub fn params() -> Vec<Param> {
+    vec![
+        choice("task", "task", "The arena the agent learns in (a new run).", &TASK_NAMES, false),
+        choice("agent", "agent", "SEC, MFEC on the autoencoder's or a random projection's embedding, or the reactive walk alone (a new run).", &AGENTS, false),
+        Param { key: "bias", symbol: "T", help: "Sequential bias: on is SEC, off is NSEC (T restarts at 1).", kind: Kind::Switch, live: true },
+        number("alpha", "α", "How much T rises for the successor of a selected couplet.", ALPHA_RANGE, false, 0.001),
+        number("beta", "β", "How fast T decays back towards 1 at every decision.", BETA_RANGE, false, 0.001),
+        number("tau", "τ", "Distance discount exp(-d/τ): lower favours couplets near the goal.", TAU_RANGE, true, 0.01),
+        number("thetaAbs", "θ_abs", "A couplet is selected only if its biased similarity G exceeds this...", THETA_ABS_RANGE, false, 0.001),
+        number("thetaProp", "θ_prop", "...and G / Gmax exceeds this.", THETA_PROP_RANGE, false, 0.001),
+        Param { key: "n", symbol: "n", help: "STM length: couplets per stored sequence (a new run).", kind: Kind::Integer { min: N_RANGE.0 as u64, max: N_RANGE.1 as u64 }, live: false },
+        Param { key: "m", symbol: "m", help: "LTM capacity in sequences; a smaller m forgets the oldest now.", kind: Kind::Integer { min: M_RANGE.0 as u64, max: M_RANGE.1 as u64 }, live: true },
+        choice("forgetting", "forget", "What a full LTM does: nothing, drop the oldest, the lowest reward, the 10% lowest, or one drawn by low reward.", &names(&Forgetting::ALL), true),
+        choice("value", "value", "How a couplet's similarity g, relative reward rr and distance d make its value.", &names(&ValueFn::ALL), true),
+        Param { key: "t", symbol: "t", help: "Episode limit in env steps; every step costs 1/t (a new run).", kind: Kind::Integer { min: 0, max: MAX_T as u64 }, live: false },
+        Param { key: "seed", symbol: "seed", help: "The run is a pure function of its settings and this seed (a new run).", kind: Kind::Integer { min: 0, max: MAX_SEED }, live: false },
+    ]
+}
+
+fn range_error(key: &str, value: &str, kind: &Kind) -> ConfigError {
+    let range = match kind {
+        Kind::Number { min, max, min_open: true, .. } => format!("({min}, {max}]"),
+        Kind::Number { min, max, .. } => format!("[{min}, {max}]"),
+        Kind::Integer { min, max } => format!("{min}..={max} (whole numbers)"),
+        Kind::Choice { options } => format!("one of {}", options.join(", ")),
+        Kind::Switch => "0 or 1".into(),
+    };
+    ConfigError::new(key, format!("'{value}' is out of range {range}"))
+}
+
+/// The setting's value parsed and range-checked, as a number (choices: their index).
+fn parse(p: &Param, value: &str) -> Result<f64, ConfigError> {
+    let bad = || range_error(p.key, value, &p.kind);
+    match &p.kind {
+        Kind::Number { min, max, min_open, .. } => {
+            let v: f64 = value.trim().parse().map_err(|_| bad())?;
+            let above = if *min_open { v > *min } else { v >= *min };
+            (v.is_finite() && above && v <= *max).then_some(v).ok_or_else(bad)
+        }
+        Kind::Integer { min, max } => {
+            let digits = !value.is_empty() && value.bytes().all(|b| b.is_ascii_digit());
+            let v: u64 = if digits { value.parse().map_err(|_| bad())? } else { return Err(bad()) };
+            (*min..=*max).contains(&v).then_some(v as f64).ok_or_else(bad)
+        }
+        Kind::Choice { options } => options.iter().position(|o| o == value).map(|i| i as f64).ok_or_else(bad),
+        Kind::Switch => match value {
+            "1" | "on" | "true" => Ok(1.0),
+            "0" | "off" | "false" => Ok(0.0),
+            _ => Err(bad()),
+        },
+    }
+}
+
+/// Sets one setting on `cfg` and `seed`; an unknown key or a bad value is an error that names
+/// the key and its range, and changes nothing.
+pub fn apply(cfg: &mut RunConfig, seed: &mut u64, key: &str, value: &str) -> Result<(), ConfigError> {
+    let all = params();
+    let p = all.iter().find(|p| p.key == key).ok_or_else(|| {
+        let keys: Vec<&str> = all.iter().map(|p| p.key).collect();
+        ConfigError::new(key, format!("is not a setting (settings: {})", keys.join(", ")))
+    })?;
+    let v = parse(p, value)?;
+    let mem = &mut cfg.agent.memory;
+    match key {
+        "task" => cfg.task = value.to_string(),
+        "agent" => {
+            cfg.kind = match value {
+                "sec" => AgentKind::Sec,
+                "reactive" => AgentKind::Reactive,
+                _ => AgentKind::Mfec,
+            };
+            cfg.mfec.embedding = if value == "mfec-rp" { Embedding::RandomProjection } else { Embedding::Autoencoder };
+        }
+        "bias" => mem.sequential_bias = v == 1.0,
+        "alpha" => mem.alpha = v,
+        "beta" => mem.beta = v,
+        "tau" => mem.tau = v,
+        "thetaAbs" => mem.theta_abs = v,
+        "thetaProp" => mem.theta_prop = v,
+        "n" => mem.n = v as usize,
+        "m" => mem.m = v as usize,
+        "forgetting" => mem.forgetting = Forgetting::ALL[v as usize].1,
+        "value" => mem.value_function = ValueFn::ALL[v as usize].1,
+        "t" => cfg.t = Some(v as u32),
+        "seed" => *seed = v as u64,
+        _ => unreachable!("every key of params() is handled"),
+    }
+    Ok(())
+}
+
+/// The settings that describe `cfg` and `seed` (what the URL hash shows).
+pub fn to_settings(cfg: &RunConfig, seed: u64) -> Settings {
+    let mem = &cfg.agent.memory;
+    let agent = match (cfg.kind, cfg.mfec.embedding) {
+        (AgentKind::Sec, _) => "sec",
+        (AgentKind::Reactive, _) => "reactive",
+        (AgentKind::Mfec, Embedding::Autoencoder) => "mfec-ae",
+        (AgentKind::Mfec, Embedding::RandomProjection) => "mfec-rp",
+    };
+    let forgetting = Forgetting::ALL.iter().position(|(_, f)| *f == mem.forgetting).expect("listed");
+    let value = ValueFn::ALL.iter().position(|(_, f)| *f == mem.value_function).expect("listed");
+    [
+        ("task", cfg.task.clone()),
+        ("agent", agent.into()),
+        ("bias", (mem.sequential_bias as u8).to_string()),
+        ("alpha", mem.alpha.to_string()),
+        ("beta", mem.beta.to_string()),
+        ("tau", mem.tau.to_string()),
+        ("thetaAbs", mem.theta_abs.to_string()),
+        ("thetaProp", mem.theta_prop.to_string()),
+        ("n", mem.n.to_string()),
+        ("m", mem.m.to_string()),
+        ("forgetting", Forgetting::ALL[forgetting].0.to_string()),
+        ("value", ValueFn::ALL[value].0.to_string()),
+        ("t", cfg.t.unwrap_or(DEFAULT_T).to_string()),
+        ("seed", seed.to_string()),
+    ]
+    .into_iter()
+    .map(|(k, v)| (k.to_string(), v))
+    .collect()
+}
+
+/// The page's default run: double T-maze, SEC, the code preset, seed 1. The episode limit is
+/// explicit (the tasks' 1000), so that configurations made from settings compare equal.
+pub fn defaults() -> (RunConfig, u64) {
+    (RunConfig { t: Some(DEFAULT_T), ..RunConfig::default() }, 1)
+}
+
+/// The run that `settings` describe, starting from the defaults. A bad key or value keeps its
+/// default and is reported; if the values are each fine but not together (`RunConfig::validate`,
+/// e.g. m below the 5 sequences SEC needs to act), every default is kept and that is reported.
+pub fn from_settings(settings: &Settings) -> (RunConfig, u64, Vec<ConfigError>) {
+    let (mut cfg, mut seed) = defaults();
+    let mut errors = Vec::new();
+    for (k, v) in settings {
+        if let Err(e) = apply(&mut cfg, &mut seed, k, v) {
+            errors.push(e);
+        }
+    }
+    if let Err(e) = cfg.validate() {
+        errors.push(e);
+        (cfg, seed) = defaults();
+    }
+    (cfg, seed, errors)
+}
+
+/// The settings of the presets "code" (the authors' code, the default) and "paper" (the paper's
+/// text, D2 and D3): only the keys they set.
+pub fn preset(name: &str) -> Result<Settings, ConfigError> {
+    let agent = match name {
+        "code" => AgentConfig::code(),
+        "paper" => AgentConfig::paper(),
+        _ => return Err(ConfigError::new("preset", format!("'{name}' is not one of code, paper"))),
+    };
+    let cfg = RunConfig { agent, ..RunConfig::default() };
+    let all = to_settings(&cfg, 1);
+    Ok(["alpha", "beta", "tau", "thetaAbs", "thetaProp"].iter().map(|k| (k.to_string(), all[*k].clone())).collect())
+}

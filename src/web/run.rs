@@ -1,0 +1,441 @@
+//! `SecRun`: a whole run (SEC, MFEC or the reactive walk in a task) for the page's worker. The
+//! configuration comes in and the metrics go out through serde-wasm-bindgen; the images are
+//! typed-array views into wasm memory, valid until the next call into wasm (copy them, as the
+//! worker does when it posts them). Every error names the parameter and its range, and a refused
+//! value leaves the run as it was.
+
+use super::{js_err, seed_from_js};
+use crate::encoder::{reconstruction_to_rgba, Scratch, EMBEDDING, IMAGE};
+use crate::experiment::settings::{self, Settings};
+use crate::experiment::{Controller, EpisodeMetrics, Run, RunConfig};
+use crate::memory::ACTIONS;
+use crate::render::render_top_down;
+use glam::Vec2;
+use serde::Serialize;
+use std::collections::{BTreeMap, VecDeque};
+use wasm_bindgen::prelude::*;
+
+/// Positions kept for the top-down trail (about 30 s of simulated time).
+const TRAIL: usize = 500;
+/// Most decisions one `advance` call may run (keeps a time slice bounded).
+const MAX_BATCH: u32 = 100_000;
+
+#[wasm_bindgen(typescript_custom_section)]
+const TS_TYPES: &str = r#"
+/** A run's configuration (every field optional; defaults are the authors' code). */
+export interface RunConfig {
+  task?: string;
+  /** Episode limit in env steps (null: the task's, 1000). */
+  t?: number | null;
+  decisionPeriod?: number;
+  kind?: "sec" | "mfec" | "reactive";
+  agent?: {
+    memory?: {
+      n?: number; m?: number; thetaAbs?: number; thetaProp?: number;
+      alpha?: number; beta?: number; tau?: number; sequentialBias?: boolean;
+      valueFunction?: "default" | "noGi" | "noDist" | "noRR" | "soloGi" | "soloDist" | "soloRR";
+      forgetting?: "none" | "fifo" | "rwd" | "rwd-prop" | "prior";
+    };
+    minSequences?: number; gate?: number | null; storeLastCouplet?: boolean; resetStmOnEpisode?: boolean;
+  };
+  mfec?: {
+    embedding?: "autoencoder" | "random-projection"; k?: number; capacity?: number; gamma?: number;
+    epsilon?: number; warmupDecisions?: number; warmupRewardedEpisodes?: number; sumRewards?: boolean;
+  };
+  rawEmbeddings?: boolean;
+}
+/** One finished episode, as the paper's tables count it. */
+export interface EpisodeMetrics {
+  episode: number; layout: string; reward: number; rawReward: number; goal: boolean;
+  envSteps: number; decisions: number; entropy: number; entropyFresh: number | null;
+  ltm: number; contextualShare: number;
+}
+/** One of the page's settings, with its range. */
+export interface Param {
+  key: string; symbol: string; help: string; live: boolean;
+  kind: { type: "number"; min: number; max: number; minOpen: boolean; step: number }
+    | { type: "integer"; min: number; max: number }
+    | { type: "choice"; options: string[] }
+    | { type: "switch" };
+}
+/** Settings (URL hash keys to values) with the run they describe. */
+export interface ParsedSettings {
+  config: RunConfig; seed: number; settings: Record<string, string>; errors: string[];
+}
+/** The last decision and the state the page's views show. */
+export interface DecisionView {
+  action: number | null; layer: "R" | "C" | null; selected: number; entropy: number;
+  p: number[] | null; gateMse: number; ltm: number; capacity: number;
+  episode: number; step: number; episodeReward: number; x: number; z: number; heading: number;
+}
+"#;
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct DecisionView {
+    action: Option<u8>,
+    layer: Option<crate::agent::Layer>,
+    /// Couplets the contextual layer selected at the last decision.
+    selected: usize,
+    entropy: f64,
+    p: Option<[f64; ACTIONS]>,
+    gate_mse: f32,
+    ltm: usize,
+    capacity: usize,
+    episode: f64,
+    step: u32,
+    episode_reward: f64,
+    x: f32,
+    z: f32,
+    heading: f32,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct StepResult {
+    decided: bool,
+    finished: Option<EpisodeMetrics>,
+}
+
+/// A run of SEC (or a baseline) in a task, stepped by the page's worker.
+#[wasm_bindgen]
+pub struct SecRun {
+    run: Run,
+    seed: u64,
+    last: Option<crate::agent::Decision>,
+    trail: VecDeque<Vec2>,
+    top: Vec<u8>,
+    image: Vec<f32>,
+    scratch: Scratch,
+    rec: Vec<f32>,
+    rec_rgba: Vec<u8>,
+    heat: Vec<f32>,
+    marks: Vec<u32>,
+}
+
+fn config_from_js(config: JsValue) -> Result<RunConfig, JsError> {
+    if config.is_undefined() || config.is_null() {
+        return Ok(RunConfig::default());
+    }
+    // Through a JSON value: serde-wasm-bindgen reads only the fields a struct names, so a
+    // misspelt key would pass silently; serde_json's value sees every key.
+    let value: serde_json::Value =
+        serde_wasm_bindgen::from_value(config).map_err(|e| JsError::new(&format!("config: {e}")))?;
+    if !value.is_object() {
+        return Err(JsError::new(&format!("config: {value} is not an object (a RunConfig)")));
+    }
+    let cfg: RunConfig = serde_path_to_error::deserialize(value).map_err(|e| {
+        let path = e.path().to_string();
+        let what = if path == "." { "config".to_string() } else { path };
+        JsError::new(&format!("{what}: {}", e.inner()))
+    })?;
+    cfg.validate().map_err(js_err)?;
+    Ok(cfg)
+}
+
+#[wasm_bindgen]
+impl SecRun {
+    /// A run of `config` (a `RunConfig`; missing fields take the defaults) with `seed`.
+    #[wasm_bindgen(constructor)]
+    pub fn new(
+        #[wasm_bindgen(unchecked_param_type = "RunConfig")] config: JsValue,
+        seed: f64,
+    ) -> Result<SecRun, JsError> {
+        let cfg = config_from_js(config)?;
+        let seed = seed_from_js(seed)?;
+        Self::build(cfg, seed)
+    }
+
+    fn build(cfg: RunConfig, seed: u64) -> Result<SecRun, JsError> {
+        let run = Run::new(cfg, seed).map_err(js_err)?;
+        let mut me = SecRun {
+            run,
+            seed,
+            last: None,
+            trail: VecDeque::with_capacity(TRAIL),
+            top: Vec::new(),
+            image: vec![0.0; IMAGE],
+            scratch: Scratch::default(),
+            rec: Vec::new(),
+            rec_rgba: vec![0; IMAGE / 3 * 4],
+            heat: Vec::new(),
+            marks: Vec::new(),
+        };
+        me.note_position();
+        Ok(me)
+    }
+
+    fn note_position(&mut self) {
+        if self.trail.len() == TRAIL {
+            self.trail.pop_front();
+        }
+        self.trail.push_back(self.run.env().world().agent.pos);
+    }
+
+    fn tick(&mut self) -> crate::experiment::Tick {
+        let t = self.run.tick();
+        if t.decision.is_some() {
+            self.last = t.decision;
+        }
+        if t.finished.is_some() {
+            self.trail.clear();
+        }
+        self.note_position();
+        t
+    }
+
+    /// The configuration in force (a `RunConfig` with every field).
+    #[wasm_bindgen(unchecked_return_type = "RunConfig")]
+    pub fn config(&self) -> Result<JsValue, JsError> {
+        Ok(self.run.config().serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
+    }
+
+    #[wasm_bindgen(getter)]
+    pub fn seed(&self) -> f64 {
+        self.seed as f64
+    }
+
+    /// Applies a new configuration. SEC's parameters (thresholds, alpha, beta, tau, m, the value
+    /// function, forgetting, the bias, the gate) change live and this returns "live"; anything
+    /// else (task, t, n, the agent...) restarts the run with the same seed and returns "restart".
+    /// A bad configuration throws and changes nothing.
+    pub fn configure(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "RunConfig")] config: JsValue,
+    ) -> Result<String, JsError> {
+        let cfg = config_from_js(config)?;
+        if self.run.reconfigure(cfg.clone()).map_err(js_err)? {
+            return Ok("live".into());
+        }
+        *self = Self::build(cfg, self.seed)?;
+        Ok("restart".into())
+    }
+
+    /// Restarts the run from scratch, with `seed` or the run's own.
+    pub fn reset(&mut self, seed: Option<f64>) -> Result<(), JsError> {
+        let seed = seed.map(seed_from_js).transpose()?.unwrap_or(self.seed);
+        *self = Self::build(self.run.config().clone(), seed)?;
+        Ok(())
+    }
+
+    /// Runs `decisions` decisions (1..=100000); returns the episodes they finished
+    /// (`EpisodeMetrics[]`).
+    #[wasm_bindgen(unchecked_return_type = "EpisodeMetrics[]")]
+    pub fn advance(&mut self, decisions: u32) -> Result<JsValue, JsError> {
+        if !(1..=MAX_BATCH).contains(&decisions) {
+            return Err(JsError::new(&format!("decisions: {decisions} is out of range 1..={MAX_BATCH}")));
+        }
+        let mut done = Vec::new();
+        let mut left = decisions;
+        while left > 0 {
+            let t = self.tick();
+            left -= t.decision.is_some() as u32;
+            done.extend(t.finished);
+        }
+        Ok(done.serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
+    }
+
+    /// Plays to the next decision: `{decided, finished}` (`finished` is the episode it ended, if
+    /// any).
+    #[wasm_bindgen(js_name = stepDecision)]
+    pub fn step_decision(&mut self) -> Result<JsValue, JsError> {
+        let t = loop {
+            let t = self.tick();
+            if t.decision.is_some() || t.finished.is_some() {
+                break t;
+            }
+        };
+        let out = StepResult { decided: t.decision.is_some(), finished: t.finished };
+        Ok(out.serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
+    }
+
+    /// Plays the current episode to its end; returns its `EpisodeMetrics`.
+    #[wasm_bindgen(js_name = stepEpisode, unchecked_return_type = "EpisodeMetrics")]
+    pub fn step_episode(&mut self) -> Result<JsValue, JsError> {
+        let m = loop {
+            if let Some(m) = self.tick().finished {
+                break m;
+            }
+        };
+        Ok(m.serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
+    }
+
+    /// The last decision and the run's state (`DecisionView`).
+    #[wasm_bindgen(unchecked_return_type = "DecisionView")]
+    pub fn view(&self) -> Result<JsValue, JsError> {
+        let (entropy, p, selected, ltm, capacity) = match self.run.controller() {
+            Controller::Sec(a) => {
+                let m = &a.memory;
+                let p = (m.entropy() > 0.0 || !m.selected().is_empty()).then(|| *m.p());
+                (m.entropy(), p, m.selected().len(), m.len(), m.config().m)
+            }
+            Controller::Mfec(f) => (f.entropy(), None, 0, f.len(), f.config().capacity * ACTIONS),
+            Controller::Reactive(_) => (0.0, None, 0, 0, 0),
+        };
+        let a = &self.run.env().world().agent;
+        let cur = self.run.current();
+        let out = DecisionView {
+            action: self.last.map(|d| d.action),
+            layer: self.last.map(|d| d.layer),
+            selected,
+            entropy,
+            p,
+            gate_mse: self.run.gate_mse(),
+            ltm,
+            capacity,
+            episode: self.run.env().episode() as f64,
+            step: self.run.env().steps(),
+            episode_reward: cur.map_or(0.0, |c| c.reward),
+            x: a.pos.x,
+            z: a.pos.y,
+            heading: a.heading,
+        };
+        Ok(out.serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
+    }
+
+    /// The agent's 84x84 camera as RGBA bytes (a view: copy before the next call).
+    pub fn observation(&mut self) -> js_sys::Uint8Array {
+        let rgba = &self.run.observation().rgba;
+        // SAFETY: the view is into wasm memory and is documented as valid until the next call.
+        unsafe { js_sys::Uint8Array::view(rgba) }
+    }
+
+    /// The autoencoder's reconstruction of the current camera image, RGBA (a view).
+    pub fn reconstruction(&mut self) -> js_sys::Uint8Array {
+        self.run.observation().to_rgb_f32(&mut self.image);
+        let mut e = [0.0; EMBEDDING];
+        let ae = self.run.encoder();
+        ae.encode(&self.image, &mut self.scratch, &mut e);
+        ae.decode(&e, &mut self.scratch, &mut self.rec);
+        reconstruction_to_rgba(&self.rec, &mut self.rec_rgba);
+        // SAFETY: as `observation`.
+        unsafe { js_sys::Uint8Array::view(&self.rec_rgba) }
+    }
+
+    /// The top-down view with the agent's trail, `size` x `size` RGBA (size 32..=2048; a view).
+    #[wasm_bindgen(js_name = topDown)]
+    pub fn top_down(&mut self, size: u32) -> Result<js_sys::Uint8Array, JsError> {
+        if !(32..=2048).contains(&size) {
+            return Err(JsError::new(&format!("size: {size} is out of range 32..=2048")));
+        }
+        let n = size as usize;
+        self.top.resize(n * n * 4, 0);
+        let trail: Vec<Vec2> = self.trail.iter().copied().collect();
+        render_top_down(self.run.env().world(), &trail, n, &mut self.top);
+        // SAFETY: as `observation`.
+        Ok(unsafe { js_sys::Uint8Array::view(&self.top) })
+    }
+
+    /// The LTM as a heat map, sequences x STM positions, row-major: `which` "g" (the last
+    /// decision's biased similarity G) or "t" (the bias T). Empty for a run without SEC.
+    #[wasm_bindgen(js_name = memoryMap)]
+    pub fn memory_map(&mut self, which: &str) -> Result<js_sys::Float32Array, JsError> {
+        self.heat.clear();
+        if let Controller::Sec(a) = self.run.controller() {
+            let m = &a.memory;
+            let cells = m.len() * m.config().n;
+            match which {
+                "g" => {
+                    let g = m.similarity();
+                    self.heat.extend((0..cells).map(|i| g.get(i).copied().unwrap_or(0.0) as f32));
+                }
+                "t" => self.heat.extend(m.bias().iter().map(|&t| t as f32)),
+                _ => return Err(JsError::new(&format!("which: '{which}' is not one of g, t"))),
+            }
+        }
+        // SAFETY: as `observation`.
+        Ok(unsafe { js_sys::Float32Array::view(&self.heat) })
+    }
+
+    /// Flat indices (row * n + column) of the couplets selected at the last decision (a view).
+    #[wasm_bindgen(js_name = selectedCouplets)]
+    pub fn selected_couplets(&mut self) -> js_sys::Uint32Array {
+        self.marks.clear();
+        if let Controller::Sec(a) = self.run.controller() {
+            let n = a.memory.config().n as u32;
+            self.marks.extend(a.memory.selected().iter().map(|s| s.row * n + s.col));
+        }
+        // SAFETY: as `observation`.
+        unsafe { js_sys::Uint32Array::view(&self.marks) }
+    }
+
+    /// Benchmark helper: fills the LTM with `rows` sequences of real embeddings (see
+    /// `Run::fill_ltm_for_benchmark`), so decisions can be timed over a full memory.
+    #[wasm_bindgen(js_name = benchFillMemory)]
+    pub fn bench_fill_memory(&mut self, rows: u32) {
+        self.run.fill_ltm_for_benchmark(rows as usize);
+    }
+
+    /// STM length n: the heat map's row length.
+    #[wasm_bindgen(getter, js_name = stmLength)]
+    pub fn stm_length(&self) -> u32 {
+        self.run.config().agent.memory.n as u32
+    }
+}
+
+/// Settings from JS: an object whose values are strings, numbers or booleans.
+fn settings_from_js(value: JsValue, what: &str) -> Result<Settings, JsError> {
+    let map: BTreeMap<String, serde_json::Value> =
+        serde_wasm_bindgen::from_value(value).map_err(|e| JsError::new(&format!("{what}: {e}")))?;
+    map.into_iter()
+        .map(|(k, v)| {
+            let s = match v {
+                serde_json::Value::String(s) => s,
+                serde_json::Value::Bool(b) => (b as u8).to_string(),
+                serde_json::Value::Number(n) => n.to_string(),
+                other => return Err(JsError::new(&format!("{k}: {other} is not a string, number or boolean"))),
+            };
+            Ok((k, s))
+        })
+        .collect()
+}
+
+#[derive(Serialize)]
+struct ParsedSettings {
+    config: RunConfig,
+    seed: f64,
+    settings: Settings,
+    errors: Vec<String>,
+}
+
+fn parsed(config: RunConfig, seed: u64, errors: Vec<String>) -> Result<JsValue, JsError> {
+    let settings = settings::to_settings(&config, seed);
+    let out = ParsedSettings { config, seed: seed as f64, settings, errors };
+    Ok(out.serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
+}
+
+/// The page's settings (`Param[]`): key, symbol, help, kind with range or options, live or not.
+#[wasm_bindgen(unchecked_return_type = "Param[]")]
+pub fn parameters() -> Result<JsValue, JsError> {
+    Ok(settings::params().serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
+}
+
+/// Settings as the URL hash holds them (`{alpha: "0.01", ...}`) to `{config, seed, settings,
+/// errors}`: a bad key or value keeps its default and adds an error message naming it.
+#[wasm_bindgen(js_name = parseSettings, unchecked_return_type = "ParsedSettings")]
+pub fn parse_settings(settings: JsValue) -> Result<JsValue, JsError> {
+    let s = settings_from_js(settings, "settings")?;
+    let (cfg, seed, errors) = settings::from_settings(&s);
+    parsed(cfg, seed, errors.iter().map(|e| e.to_string()).collect())
+}
+
+/// `current` settings with `changes` applied, as `{config, seed, settings, errors: []}`; a bad
+/// change throws an Error naming the key and its range.
+#[wasm_bindgen(js_name = applySettings, unchecked_return_type = "ParsedSettings")]
+pub fn apply_settings(current: JsValue, changes: JsValue) -> Result<JsValue, JsError> {
+    let (mut cfg, mut seed, errors) = settings::from_settings(&settings_from_js(current, "current")?);
+    if let Some(e) = errors.first() {
+        return Err(JsError::new(&e.to_string()));
+    }
+    for (k, v) in settings_from_js(changes, "changes")? {
+        settings::apply(&mut cfg, &mut seed, &k, &v).map_err(js_err)?;
+    }
+    cfg.validate().map_err(js_err)?;
+    parsed(cfg, seed, Vec::new())
+}
+
+/// The settings a preset ("code" or "paper") sets.
+#[wasm_bindgen(js_name = presetSettings, unchecked_return_type = "Record<string, string>")]
+pub fn preset_settings(name: &str) -> Result<JsValue, JsError> {
+    Ok(settings::preset(name).map_err(js_err)?.serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
+}

@@ -1,0 +1,161 @@
+// The playground page in a real Chromium (Debian's, driven by playwright-core): it loads without
+// console errors and starts playing, draws the camera and the arena, the charts fill, a control
+// change goes into the hash and onto the charts, bad values show an error and keep what was in
+// force, and pause stops the run. Screenshots go to test-artifacts/.
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { mkdirSync } from 'node:fs';
+import { chromium } from 'playwright-core';
+import { serve } from '../../scripts/serve.mjs';
+
+const ARTIFACTS = new URL('../../test-artifacts/', import.meta.url);
+let server, browser, base;
+const problems = [];
+
+before(async () => {
+  mkdirSync(ARTIFACTS, { recursive: true });
+  server = await serve(0);
+  base = `http://127.0.0.1:${server.address().port}/`;
+  browser = await chromium.launch({
+    executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
+    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
+      '--disable-component-update', '--disable-sync'],
+  });
+});
+
+after(async () => {
+  await browser?.close();
+  server?.close();
+});
+
+async function open(hash = '') {
+  const page = await browser.newPage({ viewport: { width: 1300, height: 1000 } });
+  page.on('console', (m) => { if (m.type() === 'error') problems.push(m.text()); });
+  page.on('pageerror', (e) => problems.push(String(e)));
+  await page.goto(base + hash);
+  await page.waitForFunction(() => window.secPlayground?.settings && window.secPlayground.view);
+  return page;
+}
+
+/** Distinct colours on a canvas: a blank canvas has one. */
+async function colours(page, selector) {
+  return page.evaluate((selector) => {
+    const c = document.querySelector(selector);
+    const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+    const seen = new Set();
+    for (let i = 0; i < d.length; i += 4) seen.add((d[i] << 16) | (d[i + 1] << 8) | d[i + 2]);
+    return seen.size;
+  }, selector);
+}
+
+/** Pixels of the marker colour (#b3261e) on a chart's canvas. */
+async function markerPixels(page, chart) {
+  return page.evaluate((chart) => {
+    const c = document.querySelector(`.chart[data-chart="${chart}"] canvas`);
+    const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+    let n = 0;
+    for (let i = 0; i < d.length; i += 4) {
+      if (Math.abs(d[i] - 179) < 8 && Math.abs(d[i + 1] - 38) < 8 && Math.abs(d[i + 2] - 30) < 8) n++;
+    }
+    return n;
+  }, chart);
+}
+
+const hashOf = (page) => page.evaluate(() => Object.fromEntries(new URLSearchParams(location.hash.slice(1))));
+
+test('the page loads, plays, draws its views and fills the reward chart', async () => {
+  const page = await open();
+  // The default run starts playing on load.
+  await page.waitForFunction(() => window.secPlayground.playing, null, { timeout: 5000 });
+  // The agent may start facing a wall (one colour): wait until it sees more.
+  await page.waitForFunction(() => {
+    const d = document.getElementById('camera').getContext('2d').getImageData(0, 0, 84, 84).data;
+    return d.some((v, i) => i % 4 !== 3 && v !== d[i % 4]);
+  }, null, { timeout: 15000 });
+  assert.ok(await colours(page, '#arena') >= 8, 'arena canvas is blank');
+  assert.ok(await colours(page, '#reconstruction') >= 8, 'reconstruction canvas is blank');
+  // The whole configuration is in the hash from the start.
+  const hash = await hashOf(page);
+  assert.equal(hash.task, 'double-t-maze');
+  assert.equal(hash.alpha, '0.01');
+  // Episodes of the double T-maze take up to 250 decisions: give it a few seconds.
+  await page.waitForFunction(() => window.secPlayground.points >= 2, null, { timeout: 30000 });
+  const view = await page.evaluate(() => window.secPlayground.view);
+  assert.ok(view.step > 0 && view.capacity === 500, JSON.stringify(view));
+  assert.deepEqual(problems, []);
+  await page.screenshot({ path: new URL('playground.png', ARTIFACTS).pathname, fullPage: true });
+  await page.close();
+});
+
+test('moving the alpha control changes the hash and marks the charts', async () => {
+  const page = await open();
+  await page.waitForFunction(() => window.secPlayground.points >= 1, null, { timeout: 30000 });
+  assert.equal(await markerPixels(page, 'reward'), 0);
+  const slider = page.locator('.param[data-key="alpha"] input[type=range]');
+  // As a drag ends: the value, with its input and change events.
+  await slider.fill('0.2');
+  await page.waitForFunction(() => location.hash.includes('alpha=0.2'));
+  assert.equal((await hashOf(page)).alpha, '0.2');
+  assert.equal(await page.inputValue('#p-alpha'), '0.2');
+  await page.waitForFunction(() => window.secPlayground.marks.length === 1);
+  assert.match(await page.textContent('#notice'), /Applied live: α=0\.2/);
+  // The chart redraws within 100 ms and shows the mark.
+  await page.waitForTimeout(300);
+  assert.ok(await markerPixels(page, 'reward') > 20, 'the change is drawn on the reward chart');
+  // A live change keeps the run: no reset of the episode count.
+  assert.ok(await page.evaluate(() => window.secPlayground.points) >= 1);
+  // A change that needs a new run says so and restarts it.
+  await page.selectOption('#p-task', 'detour');
+  await page.waitForFunction(() => location.hash.includes('task=detour'));
+  assert.match(await page.textContent('#notice'), /New run: task changed/);
+  assert.equal(await page.evaluate(() => window.secPlayground.marks.length), 0);
+  assert.deepEqual(problems, []);
+  await page.close();
+});
+
+test('a bad value in the hash shows an error and keeps the default', async () => {
+  const page = await open('#alpha=5&m=250&tau=abc');
+  const error = await page.textContent('#error');
+  assert.match(error, /alpha: '5' is out of range \[0, 1\]/);
+  assert.match(error, /tau: 'abc' is out of range \(0, 100\]/);
+  const s = await page.evaluate(() => window.secPlayground.settings);
+  assert.deepEqual([s.alpha, s.tau, s.m], ['0.01', '0.9', '250'], 'bad keys keep their defaults, good ones apply');
+  assert.equal((await hashOf(page)).alpha, '0.01', 'the hash shows what runs');
+  assert.equal(await page.inputValue('#p-alpha'), '0.01');
+  await page.close();
+});
+
+test('a bad control value is refused by name and the run goes on', async () => {
+  const page = await open();
+  await page.fill('#p-beta', '7');
+  await page.press('#p-beta', 'Enter');
+  await page.waitForFunction(() => !document.getElementById('error').hidden);
+  assert.match(await page.textContent('#error'), /beta: '7' is out of range \[0, 1\]/);
+  await page.waitForFunction(() => document.getElementById('p-beta').value === '0.05');
+  assert.equal((await hashOf(page)).beta, '0.05');
+  const step = await page.evaluate(() => window.secPlayground.view.step);
+  await page.waitForFunction((s) => window.secPlayground.view.step !== s, step);
+  await page.close();
+});
+
+test('pause stops the run and step advances it by one decision', async () => {
+  const page = await open('#task=object-permanence');
+  await page.waitForFunction(() => window.secPlayground.points >= 1, null, { timeout: 30000 });
+  await page.click('#play');
+  await page.waitForFunction(() => !window.secPlayground.playing);
+  await page.waitForTimeout(200);
+  const before = await page.evaluate(() => [window.secPlayground.points, window.secPlayground.view.step]);
+  await page.waitForTimeout(1500);
+  const after = await page.evaluate(() => [window.secPlayground.points, window.secPlayground.view.step]);
+  assert.deepEqual(after, before, 'paused: no episode, no step');
+  assert.equal(await page.textContent('#play'), 'Play');
+  // One decision is 4 env steps (or the episode's end).
+  await page.click('#step-decision');
+  await page.waitForFunction((s) => window.secPlayground.view.step !== s, before[1]);
+  const step = await page.evaluate(() => window.secPlayground.view.step);
+  assert.ok(step === before[1] + 4 || step < before[1], `${before[1]} -> ${step}`);
+  // Space plays again.
+  await page.keyboard.press(' ');
+  await page.waitForFunction(() => window.secPlayground.playing);
+  await page.close();
+});

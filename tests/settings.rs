@@ -1,0 +1,105 @@
+//! The page's flat settings (URL hash keys) and their mapping onto a run configuration.
+
+use sec_playground::experiment::settings::{
+    apply, defaults, from_settings, params, preset, to_settings, Kind, Settings,
+};
+use sec_playground::experiment::AgentKind;
+
+fn settings(pairs: &[(&str, &str)]) -> Settings {
+    pairs.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect()
+}
+
+#[test]
+fn settings_round_trip_and_cover_every_parameter() {
+    let (cfg, seed) = defaults();
+    let s = to_settings(&cfg, seed);
+    assert_eq!(s.len(), params().len(), "one hash key per control");
+    let (back, seed2, errors) = from_settings(&s);
+    assert!(errors.is_empty(), "{errors:?}");
+    assert_eq!((to_settings(&back, seed2), &back), (s, &cfg));
+    // Settings made from the same values give equal configurations: no needless restart.
+    let (again, _, _) = from_settings(&Default::default());
+    assert!(!back.needs_restart(&again));
+    let odd = settings(&[
+        ("task", "detour"),
+        ("agent", "mfec-rp"),
+        ("bias", "0"),
+        ("alpha", "0.25"),
+        ("tau", "3"),
+        ("m", "125"),
+        ("forgetting", "rwd-prop"),
+        ("value", "soloRR"),
+        ("t", "400"),
+        ("seed", "9007199254740991"),
+    ]);
+    let (cfg, seed, errors) = from_settings(&odd);
+    assert!(errors.is_empty(), "{errors:?}");
+    assert_eq!((cfg.kind, cfg.t, seed), (AgentKind::Mfec, Some(400), 9007199254740991));
+    let again = to_settings(&cfg, seed);
+    for (k, v) in &odd {
+        assert_eq!(&again[k], v, "{k}");
+    }
+}
+
+#[test]
+fn every_range_is_checked_at_both_ends_and_named() {
+    for p in params() {
+        let (mut cfg, mut seed) = defaults();
+        let (ok, bad): (Vec<String>, Vec<String>) = match &p.kind {
+            Kind::Number { min, max, min_open, .. } => {
+                let lo = if *min_open { vec![] } else { vec![min.to_string()] };
+                let ok = [lo, vec![max.to_string()]].concat();
+                let below = if *min_open { min.to_string() } else { (min - 1e-9).to_string() };
+                (ok, vec![below, (max + 1e-9).to_string(), "NaN".into(), "inf".into(), "".into(), "x".into()])
+            }
+            Kind::Integer { min, max } => {
+                let mut bad = vec![(max + 1).to_string(), "1.5".into(), "-1".into(), "".into(), "1e3".into()];
+                if *min > 0 {
+                    bad.push((min - 1).to_string());
+                }
+                (vec![min.to_string(), max.to_string()], bad)
+            }
+            Kind::Choice { options } => (options.clone(), vec!["nope".into(), "".into()]),
+            Kind::Switch => (vec!["0".into(), "1".into()], vec!["2".into(), "yes".into()]),
+        };
+        for v in &ok {
+            apply(&mut cfg, &mut seed, p.key, v).unwrap_or_else(|e| panic!("{} = {v}: {e}", p.key));
+        }
+        let before = (cfg.clone(), seed);
+        for v in &bad {
+            let e = apply(&mut cfg, &mut seed, p.key, v).expect_err(&format!("{} = {v:?} accepted", p.key));
+            assert_eq!(e.field, p.key);
+            assert!(e.message.contains("out of range"), "{e}");
+            assert_eq!((cfg.clone(), seed), before, "a refused value changes nothing");
+        }
+    }
+}
+
+#[test]
+fn bad_settings_keep_their_defaults_and_are_reported() {
+    let (cfg, seed, errors) = from_settings(&settings(&[("alpha", "5"), ("beta", "0.2"), ("colour", "red")]));
+    let named: Vec<&str> = errors.iter().map(|e| e.field.as_str()).collect();
+    assert_eq!(named, ["alpha", "colour"]);
+    assert!(errors[0].to_string().contains("alpha: '5' is out of range [0, 1]"), "{}", errors[0]);
+    assert_eq!((cfg.agent.memory.alpha, cfg.agent.memory.beta, seed), (0.01, 0.2, 1));
+    // Fine one by one, not together: SEC needs 5 sequences to act, so m = 3 cannot run.
+    let (cfg, _, errors) = from_settings(&settings(&[("m", "3"), ("alpha", "0.5")]));
+    assert_eq!(errors.len(), 1);
+    assert_eq!(errors[0].field, "minSequences");
+    assert_eq!(cfg, defaults().0, "every default kept");
+}
+
+#[test]
+fn presets_set_the_code_and_the_paper_values() {
+    let paper = preset("paper").unwrap();
+    assert_eq!(
+        (paper["thetaAbs"].as_str(), paper["thetaProp"].as_str(), paper["alpha"].as_str()),
+        ("0.995", "0.98", "0.1")
+    );
+    let code = preset("code").unwrap();
+    assert_eq!(
+        (code["thetaAbs"].as_str(), code["thetaProp"].as_str(), code["alpha"].as_str()),
+        ("0.98", "0.995", "0.01")
+    );
+    assert_eq!(preset("book").unwrap_err().field, "preset");
+}

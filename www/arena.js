@@ -1,0 +1,105 @@
+// The arena page: builds an environment, steps it in real time with the keyboard's action and
+// draws the camera and the top-down view. Errors show on the page and keep the last good run.
+import init, { ArenaEnv, taskNames, taskDescription, frameSize } from '../pkg/sec_playground.js';
+import { drawRgba, drawStatus } from './views.js';
+import { keyboard } from './keys.js';
+
+const $ = (id) => document.getElementById(id);
+const STEP_MS = 60; // one env step is 3 physics frames of 20 ms
+const TOP = 336;
+
+let env = null;
+let episodeReward = 0;
+let lastEpisode = null;
+let message = '';
+
+function showError(e) {
+  const el = $('error');
+  el.textContent = e ? String(e.message ?? e) : '';
+  el.hidden = !e;
+}
+
+/** Reads seed and t; a bad value throws with the parameter named. */
+function settings() {
+  const seed = Number($('seed').value);
+  const t = Number($('limit').value);
+  if ($('seed').value === '' || !Number.isInteger(seed) || seed < 0) throw new Error(`seed: "${$('seed').value}" is out of range 0..=9007199254740991 (whole numbers)`);
+  if ($('limit').value === '' || !Number.isInteger(t)) throw new Error(`t: "${$('limit').value}" is out of range 0..=100000 (whole numbers)`);
+  return { seed, t };
+}
+
+/** Replaces the environment only when the new one builds; otherwise the old one keeps running. */
+function rebuild(make) {
+  try {
+    const next = make(settings());
+    env?.free();
+    env = next;
+    episodeReward = 0;
+    showError(null);
+  } catch (e) {
+    showError(e);
+  }
+}
+
+function fromTask() {
+  rebuild(({ seed, t }) => new ArenaEnv($('task').value, seed, t));
+  try { $('description').textContent = taskDescription($('task').value); } catch { /* custom arena */ }
+}
+
+function draw() {
+  const n = frameSize();
+  drawRgba($('camera'), env.observation(), n, n);
+  drawRgba($('arena'), env.topDown(TOP), TOP, TOP);
+  const a = env.agent();
+  drawStatus($('status'), [
+    ['task', env.taskName()], ['layout', a.layout], ['episode', a.episode], ['env step', `${a.steps} / ${a.t || '∞'}`],
+    ['x, z', `${a.x.toFixed(2)}, ${a.z.toFixed(2)}`], ['heading', `${a.heading.toFixed(0)}°`], ['speed', `${a.speed.toFixed(2)} m/s`],
+    ['episode reward', episodeReward.toFixed(3)], ['last episode', lastEpisode ?? '–'], ['', message],
+  ]);
+}
+
+function tick(action) {
+  const r = env.step(action);
+  episodeReward += r.reward;
+  if (r.terminated || r.truncated) {
+    lastEpisode = `${episodeReward.toFixed(3)} (${r.goodGoal ? 'goal' : r.terminated ? 'ended' : 'time out'})`;
+    message = r.goodGoal ? 'Goal! Next layout.' : r.terminated ? 'Episode ended.' : 'Out of time.';
+    env.reset();
+    episodeReward = 0;
+  }
+}
+
+await init();
+for (const name of taskNames()) $('task').add(new Option(name, name));
+fromTask();
+const action = keyboard(() => fromTask());
+$('task').addEventListener('change', fromTask);
+$('reset').addEventListener('click', fromTask);
+$('seed').addEventListener('change', fromTask);
+$('limit').addEventListener('change', fromTask);
+$('yaml').addEventListener('change', async (e) => {
+  const file = e.target.files?.[0];
+  if (!file) return;
+  const text = await file.text();
+  rebuild(({ seed, t }) => ArenaEnv.fromYaml(file.name, text, seed, t));
+  $('description').textContent = `Custom arena ${file.name}`;
+});
+
+let last = performance.now();
+let pending = 0;
+function frame(now) {
+  pending += now - last;
+  last = now;
+  // Catch up in real time, but never more than 10 steps per animation frame (background tabs).
+  let n = 0;
+  while (pending >= STEP_MS && n < 10) {
+    if (env) tick(action());
+    pending -= STEP_MS;
+    n++;
+  }
+  if (n === 10) pending = 0;
+  if (env) draw();
+  requestAnimationFrame(frame);
+}
+requestAnimationFrame(frame);
+window.secPlayground = { get env() { return env; } };

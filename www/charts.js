@@ -1,0 +1,131 @@
+// Live learning curves with uPlot: reward per episode with the paper's 20-episode window, policy
+// entropy, decisions per episode, LTM fill and the share of contextual actions. Redrawn at most
+// 10 times a second whatever the simulation speed; every parameter change is marked on the x axis.
+import uPlot from './vendor/uPlot.esm.js';
+
+/** The paper's sliding window (episodes). */
+export const WINDOW = 20;
+const REDRAW_MS = 100;
+const MARK = '#b3261e';
+
+/** What each chart shows: a per-episode value, and whether to add its 20-episode mean. */
+const CHARTS = [
+  { id: 'reward', title: 'Reward per episode', value: (m) => m.reward, mean: true },
+  { id: 'entropy', title: 'Policy entropy (bits, mean per episode)', value: (m) => m.entropy, mean: true },
+  { id: 'decisions', title: 'Decisions per episode', value: (m) => m.decisions, mean: true },
+  { id: 'ltm', title: 'LTM fill (sequences stored)', value: (m) => m.ltm, mean: false },
+  { id: 'contextual', title: 'Share of contextual actions', value: (m) => m.contextualShare, mean: true },
+];
+
+/** A uPlot plugin drawing the parameter changes as dashed lines with a label at the x axis. */
+function markPlugin(marks) {
+  return {
+    hooks: {
+      draw: [(u) => {
+        const { ctx, bbox } = u;
+        const px = devicePixelRatio || 1;
+        ctx.save();
+        ctx.strokeStyle = MARK;
+        ctx.fillStyle = MARK;
+        ctx.font = `${10 * px}px system-ui, sans-serif`;
+        ctx.setLineDash([4 * px, 3 * px]);
+        for (const m of marks) {
+          const x = u.valToPos(m.episode, 'x', true);
+          if (!(x >= bbox.left && x <= bbox.left + bbox.width)) continue;
+          ctx.beginPath();
+          ctx.moveTo(x, bbox.top);
+          ctx.lineTo(x, bbox.top + bbox.height);
+          ctx.stroke();
+          // A triangle on the x axis and the change's label.
+          ctx.beginPath();
+          ctx.moveTo(x, bbox.top + bbox.height);
+          ctx.lineTo(x - 4 * px, bbox.top + bbox.height + 6 * px);
+          ctx.lineTo(x + 4 * px, bbox.top + bbox.height + 6 * px);
+          ctx.fill();
+          ctx.fillText(m.label, x + 3 * px, bbox.top + 11 * px);
+        }
+        ctx.restore();
+      }],
+    },
+  };
+}
+
+/** The learning-curve panel in `root`. */
+export class Charts {
+  constructor(root) {
+    this.marks = [];
+    this.episodes = [];
+    this.columns = CHARTS.map(() => ({ values: [], means: [], sum: 0 }));
+    this.dirty = false;
+    const width = Math.max(300, Math.min(560, Math.floor((root.clientWidth || 900) / 2) - 16));
+    this.plots = CHARTS.map((c) => {
+      const box = document.createElement('figure');
+      box.className = 'chart';
+      box.dataset.chart = c.id;
+      root.append(box);
+      const series = [
+        { label: 'episode' },
+        { label: c.mean ? 'per episode' : c.title, stroke: c.mean ? 'rgba(29,154,214,0.35)' : '#1d9ad6', width: 1,
+          points: { show: false } },
+      ];
+      if (c.mean) series.push({ label: `mean of ${WINDOW}`, stroke: '#1d4ed8', width: 2, points: { show: false } });
+      return new uPlot({
+        title: c.title,
+        width,
+        height: 170,
+        scales: { x: { time: false } },
+        axes: [{ label: 'episode', size: 36 }, {}],
+        legend: { live: false },
+        series,
+        plugins: [markPlugin(this.marks)],
+      }, this.data(0), box);
+    });
+    this.timer = setInterval(() => this.redraw(), REDRAW_MS);
+  }
+
+  data(k) {
+    const col = this.columns[k];
+    return CHARTS[k].mean ? [this.episodes, col.values, col.means] : [this.episodes, col.values];
+  }
+
+  /** Adds finished episodes (`EpisodeMetrics[]`). */
+  push(list) {
+    for (const m of list) {
+      this.episodes.push(m.episode);
+      CHARTS.forEach((c, k) => {
+        const col = this.columns[k];
+        const v = c.value(m);
+        col.values.push(v);
+        col.sum += v;
+        if (col.values.length > WINDOW) col.sum -= col.values[col.values.length - 1 - WINDOW];
+        col.means.push(col.sum / Math.min(col.values.length, WINDOW));
+      });
+    }
+    this.dirty ||= list.length > 0;
+  }
+
+  /** Marks a parameter change at the current episode. */
+  mark(label) {
+    const episode = this.episodes.length ? this.episodes[this.episodes.length - 1] + 0.5 : 0;
+    this.marks.push({ episode, label });
+    this.dirty = true;
+  }
+
+  /** Forgets everything (a new run). */
+  clear() {
+    this.episodes.length = 0;
+    this.marks.length = 0;
+    for (const col of this.columns) {
+      col.values.length = 0;
+      col.means.length = 0;
+      col.sum = 0;
+    }
+    this.dirty = true;
+  }
+
+  redraw() {
+    if (!this.dirty) return;
+    this.dirty = false;
+    this.plots.forEach((u, k) => u.setData(this.data(k)));
+  }
+}

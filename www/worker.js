@@ -1,0 +1,201 @@
+// The simulation's Web Worker: owns the wasm run, steps it in time slices so that the page stays
+// smooth at any speed, and posts what the page draws. No SharedArrayBuffer: images are copied
+// out of wasm memory and transferred.
+//
+// Messages in:  {type: 'start', settings}, {type: 'set', changes}, {type: 'play'}, {type: 'pause'},
+//               {type: 'speed', value}, {type: 'step', what: 'decision' | 'episode'},
+//               {type: 'reset'}, {type: 'views', camera, heat}
+// Messages out: {type: 'ready', params, defaults}, {type: 'started', settings, errors, mode},
+//               {type: 'episodes', list}, {type: 'view', ...}, {type: 'state', playing},
+//               {type: 'error', message, fatal}
+import init, { SecRun, parameters, parseSettings, applySettings, presetSettings } from '../pkg/sec_playground.js';
+
+/** Longest time slice of simulation before yielding to messages (ms). */
+const SLICE_MS = 12;
+/** Most view posts per second. */
+const VIEW_HZ = 30;
+
+let run = null;
+let settings = null;
+let playing = false;
+let speed = Infinity; // decisions per second; Infinity is "max"
+let want = { camera: true, heat: 'g' };
+let batch = 8; // decisions per advance() call at max speed, adapted to the slice
+let lastView = 0;
+let owed = 0; // decisions owed at a watch speed
+let lastTick = 0;
+let dead = false; // the wasm instance trapped: only a new start can help
+
+const post = (msg, transfer) => self.postMessage(msg, transfer ?? []);
+
+function fail(e, fatal = false) {
+  post({ type: 'error', message: String(e?.message ?? e), fatal });
+}
+
+/** Copies a view into wasm memory into a transferable buffer. */
+const copy = (view) => view.slice().buffer;
+
+function postView(force = false) {
+  const now = performance.now();
+  if (!run || (!force && now - lastView < 1000 / VIEW_HZ)) return;
+  lastView = now;
+  const msg = { type: 'view', view: run.view(), n: run.stmLength };
+  const transfer = [];
+  if (want.camera) {
+    msg.camera = copy(run.observation());
+    msg.reconstruction = copy(run.reconstruction());
+    msg.top = copy(run.topDown(252));
+    transfer.push(msg.camera, msg.reconstruction, msg.top);
+  }
+  if (want.heat) {
+    msg.heat = copy(run.memoryMap(want.heat));
+    msg.selected = copy(run.selectedCouplets());
+    transfer.push(msg.heat, msg.selected);
+  }
+  post(msg, transfer);
+}
+
+function episodes(list) {
+  if (list.length) post({ type: 'episodes', list });
+}
+
+/** Runs until a slice is used up; guards every wasm call so a trap shows instead of freezing. */
+function loop() {
+  if (!playing || !run || dead) return;
+  try {
+    const t0 = performance.now();
+    if (speed === Infinity) {
+      const done = [];
+      while (performance.now() - t0 < SLICE_MS) {
+        const s0 = performance.now();
+        done.push(...run.advance(batch));
+        const took = performance.now() - s0;
+        // Aim each call at a quarter of the slice.
+        batch = Math.max(1, Math.min(10000, Math.round(batch * (SLICE_MS / 4 / Math.max(took, 0.05)))));
+      }
+      episodes(done);
+      postView();
+    } else {
+      owed += ((t0 - lastTick) / 1000) * speed;
+      lastTick = t0;
+      owed = Math.min(owed, speed); // never more than a second behind
+      const done = [];
+      while (owed >= 1 && performance.now() - t0 < SLICE_MS) {
+        const s = run.stepDecision();
+        if (s.finished) done.push(s.finished);
+        owed -= 1;
+      }
+      episodes(done);
+      postView(speed <= VIEW_HZ);
+    }
+  } catch (e) {
+    trapped(e);
+    return;
+  }
+  setTimeout(loop, speed === Infinity ? 0 : Math.max(0, Math.min(1000 / speed, 1000 / VIEW_HZ)));
+}
+
+function trapped(e) {
+  dead = true;
+  playing = false;
+  fail(`The simulation stopped: ${e?.message ?? e}. Reset to start again.`, true);
+  post({ type: 'state', playing });
+}
+
+function setPlaying(p) {
+  playing = p && !!run && !dead;
+  post({ type: 'state', playing });
+  if (!playing) postView(true); // what the run stopped at
+  if (playing) {
+    lastTick = performance.now();
+    owed = 0;
+    loop();
+  }
+}
+
+/** A new run of `s` (normalised settings); on failure the old run goes on. */
+function newRun(config, seed) {
+  const next = new SecRun(config, seed);
+  run?.free();
+  run = next;
+  dead = false;
+}
+
+const handlers = {
+  start({ settings: raw }) {
+    const parsed = parseSettings(raw ?? {});
+    newRun(parsed.config, parsed.seed);
+    settings = parsed.settings;
+    post({ type: 'started', settings, errors: parsed.errors, mode: 'restart' });
+    postView(true);
+  },
+  set({ changes }) {
+    // Throws (naming the key and range) before anything changes.
+    const next = applySettings(settings, changes);
+    const same = Object.keys(next.settings).every((k) => next.settings[k] === settings[k]);
+    if (same && run && !dead) return; // nothing to change (e.g. the same value twice)
+    let mode;
+    if (!run || dead || next.seed !== run.seed) {
+      newRun(next.config, next.seed);
+      mode = 'restart';
+    } else {
+      mode = run.configure(next.config);
+    }
+    settings = next.settings;
+    post({ type: 'started', settings, errors: [], mode, changes });
+    postView(true);
+  },
+  preset({ name }) {
+    handlers.set({ changes: presetSettings(name) });
+  },
+  play() { setPlaying(true); },
+  pause() { setPlaying(false); },
+  speed({ value }) {
+    speed = value === 'max' ? Infinity : Number(value);
+    if (!(speed > 0)) throw new Error(`speed: '${value}' is out of range (0, max]`);
+    lastTick = performance.now();
+    owed = 0;
+  },
+  step({ what }) {
+    setPlaying(false);
+    if (!run || dead) return;
+    if (what === 'decision') {
+      const s = run.stepDecision();
+      if (s.finished) episodes([s.finished]);
+    } else if (what === 'episode') {
+      episodes([run.stepEpisode()]);
+    } else {
+      throw new Error(`step: '${what}' is not one of decision, episode`);
+    }
+    postView(true);
+  },
+  reset() {
+    const parsed = parseSettings(settings);
+    newRun(parsed.config, parsed.seed);
+    post({ type: 'started', settings, errors: [], mode: 'restart' });
+    postView(true);
+  },
+  views({ camera, heat }) {
+    want = { camera: !!camera, heat: heat === 't' || heat === 'g' ? heat : null };
+    postView(true);
+  },
+};
+
+self.onmessage = ({ data }) => {
+  const h = handlers[data?.type];
+  if (!h) return fail(`unknown message '${data?.type}'`);
+  try {
+    h(data);
+  } catch (e) {
+    // A bad value: the message names it; the run is as it was. A trap: the run is gone.
+    if (e instanceof WebAssembly.RuntimeError) trapped(e);
+    else fail(e);
+  }
+};
+
+init()
+  .then(() => {
+    const parsed = parseSettings({});
+    post({ type: 'ready', params: parameters(), defaults: parsed.settings });
+  })
+  .catch((e) => fail(`The simulation could not load: ${e?.message ?? e}`, true));
