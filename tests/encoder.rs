@@ -193,13 +193,29 @@ fn the_gate_starts_closed_and_measures_every_16th_step() {
     let mut s = Scratch::default();
     let mut gate = ReconstructionGate::new();
     for _ in 0..15 {
-        gate.advance(&ae, &img, &mut s);
-        assert_eq!(gate.mse, 100.0);
-        assert!(!gate.open(0.01));
+        gate.advance(&img);
+        assert_eq!(gate.mse(&ae, &mut s), 100.0);
+        assert!(!gate.open(0.01, &ae, &mut s));
     }
-    gate.advance(&ae, &img, &mut s);
-    assert_eq!(gate.mse, ae.reconstruction_mse(&img, &mut s));
-    assert!(gate.mse < 100.0 && gate.mse > 0.0);
+    gate.advance(&img);
+    assert_eq!(gate.last_mse(), 100.0, "measured lazily");
+    let mse = ae.reconstruction_mse(&img, &mut s);
+    assert_eq!(gate.mse(&ae, &mut s), mse);
+    assert!(mse < 100.0 && mse > 0.0);
+    // Later frames do not change the value until the next 16th step, which measures its own.
+    let other = frame("cylinder");
+    for _ in 0..15 {
+        gate.advance(&other);
+    }
+    assert_eq!(gate.mse(&ae, &mut s), mse);
+    gate.advance(&other);
+    // With the frame's embedding shared, the same value without a second encoder pass.
+    let mut e = [0.0; EMBEDDING];
+    ae.encode(&other, &mut s, &mut e);
+    assert!(gate.measured_now());
+    gate.share_embedding(&e);
+    assert_eq!(gate.mse(&ae, &mut s), ae.reconstruction_mse(&other, &mut s));
+    assert!(!gate.measured_now());
 }
 
 /// The embedding of the T-maze's first frame under the bundled T-maze model, as raw bits, and a

@@ -167,15 +167,15 @@ fn live_changes_and_restarts_through_the_js_api() {
     for _ in 0..8 {
         run.step_episode().unwrap();
     }
-    let ltm = |run: &SecRun| {
+    let ltm = |run: &mut SecRun| {
         let v: serde_json::Value = serde_wasm_bindgen::from_value(run.view().unwrap()).unwrap();
         v["ltm"].as_u64().unwrap()
     };
-    let stored = ltm(&run);
+    let stored = ltm(&mut run);
     assert!(stored >= 2, "object permanence stores early: {stored}");
     let live = r#"{"task": "object-permanence", "agent": {"memory": {"alpha": 0.2, "thetaAbs": 0.9, "tau": 2}}}"#;
     assert_eq!(run.configure(js(live)).unwrap(), "live");
-    assert_eq!(ltm(&run), stored, "a live change keeps the memory");
+    assert_eq!(ltm(&mut run), stored, "a live change keeps the memory");
     let cfg: serde_json::Value = serde_wasm_bindgen::from_value(run.config().unwrap()).unwrap();
     assert_eq!(cfg["agent"]["memory"]["alpha"], 0.2);
     // The views: the camera, the reconstruction, the top-down map, the LTM heat map.
@@ -183,8 +183,9 @@ fn live_changes_and_restarts_through_the_js_api() {
     assert_eq!(run.reconstruction().length(), 84 * 84 * 4);
     assert_eq!(run.top_down(64).unwrap().length(), 64 * 64 * 4);
     run.step_decision().unwrap();
-    assert_eq!(run.memory_map("t").unwrap().length() as u64, ltm(&run) * run.stm_length() as u64);
+    let rows = ltm(&mut run);
+    assert_eq!(run.memory_map("t").unwrap().length() as u64, rows * run.stm_length() as u64);
     let restart = r#"{"task": "detour", "agent": {"memory": {"n": 20}}}"#;
     assert_eq!(run.configure(js(restart)).unwrap(), "restart");
-    assert_eq!((ltm(&run), run.stm_length(), run.seed()), (0, 20, 7.0), "a new run with the same seed");
+    assert_eq!((ltm(&mut run), run.stm_length(), run.seed()), (0, 20, 7.0), "a new run with the same seed");
 }

@@ -130,6 +130,18 @@ impl Agent {
     /// Section 4: push the previous couplet (updating T), let both layers answer, arbitrate.
     /// `rec_mse` is the reconstruction gate's last measurement.
     pub fn decide(&mut self, e: &[f32; EMBEDDING], rec_mse: f32, rng: &mut ChaCha8Rng) -> Decision {
+        self.decide_with(e, || rec_mse, rng)
+    }
+
+    /// `decide`, reading the gate's measurement only if the arbitration needs it (the contextual
+    /// layer selected something and the LTM holds enough sequences): the gate can then skip the
+    /// autoencoder pass.
+    pub fn decide_with(
+        &mut self,
+        e: &[f32; EMBEDDING],
+        rec_mse: impl FnOnce() -> f32,
+        rng: &mut ChaCha8Rng,
+    ) -> Decision {
         if !self.previous_pushed {
             self.memory.push(self.previous);
         }
@@ -137,9 +149,11 @@ impl Agent {
         self.previous_pushed = false;
         let reactive = self.reactive.step(rng);
         let contextual = self.memory.advance(e, rng);
-        let gate_open = self.cfg.gate.is_none_or(|g| rec_mse < g);
+        let gate = self.cfg.gate;
         let (action, layer) = match contextual {
-            Some(a) if gate_open && self.memory.len() >= self.cfg.min_sequences => (a, Layer::Contextual),
+            Some(a) if self.memory.len() >= self.cfg.min_sequences && gate.is_none_or(|g| rec_mse() < g) => {
+                (a, Layer::Contextual)
+            }
             _ => (reactive, Layer::Reactive),
         };
         self.previous = Couplet { embedding: *e, action };

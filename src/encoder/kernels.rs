@@ -97,7 +97,7 @@ fn conv3x3_relu_any<const CI: usize, const CO: usize>(
             }
             let o = &mut out[(oy * ow + ox) * CO..][..CO];
             for co in 0..CO {
-                o[co] = acc[co].max(0.0);
+                o[co] = relu(acc[co]);
             }
             ox += 1;
         }
@@ -146,7 +146,7 @@ fn conv_block<const CI: usize, const CO: usize>(
     }
     for (p, a) in acc.iter().enumerate() {
         for co in 0..CO {
-            out[p * CO + co] = a[co].max(0.0);
+            out[p * CO + co] = relu(a[co]);
         }
     }
 }
@@ -218,6 +218,23 @@ mod simd {
     }
 }
 
+/// `b` if `a < b`, else `a`: wasm's `f32x4.pmax`, and a compare and select everywhere. `f32::max`
+/// would be IEEE maxNum, which wasm has no instruction for: it became a call per element there.
+#[inline(always)]
+pub fn pmax(a: f32, b: f32) -> f32 {
+    if a < b {
+        b
+    } else {
+        a
+    }
+}
+
+/// ReLU as the simd128 blocks compute it (`pmax(0, x)`: +0 for zeros of either sign).
+#[inline(always)]
+pub fn relu(x: f32) -> f32 {
+    pmax(0.0, x)
+}
+
 /// 2x2 max pooling, stride 2, TensorFlow `same` padding: an odd side gets one extra output that
 /// pools over the remaining row or column only (21 -> 11).
 pub fn maxpool2(input: &[f32], h: usize, w: usize, c: usize, out: &mut Vec<f32>) -> (usize, usize) {
@@ -231,7 +248,7 @@ pub fn maxpool2(input: &[f32], h: usize, w: usize, c: usize, out: &mut Vec<f32>)
                 for ix in 2 * ox..(2 * ox + 2).min(w) {
                     let p = &input[(iy * w + ix) * c..][..c];
                     for k in 0..c {
-                        o[k] = o[k].max(p[k]);
+                        o[k] = pmax(o[k], p[k]);
                     }
                 }
             }
@@ -334,7 +351,7 @@ fn conv3x3_relu_planar_any<const CI: usize, const CO: usize>(
                 }
                 for l in 0..LANES {
                     for co in 0..CO {
-                        out[(y * w + x + l) * CO + co] = acc[co][l].max(0.0);
+                        out[(y * w + x + l) * CO + co] = relu(acc[co][l]);
                     }
                 }
                 x += LANES;
@@ -349,7 +366,7 @@ fn conv3x3_relu_planar_any<const CI: usize, const CO: usize>(
                             }
                         }
                     }
-                    out[(y * w + x) * CO + co] = a.max(0.0);
+                    out[(y * w + x) * CO + co] = relu(a);
                 }
                 x += 1;
             }
@@ -383,7 +400,7 @@ pub fn dense(x: &[f32], weights: &[f32], bias: &[f32], relu: bool, out: &mut [f3
     }
     if relu {
         for o in out.iter_mut() {
-            *o = o.max(0.0);
+            *o = self::relu(*o);
         }
     }
 }

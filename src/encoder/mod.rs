@@ -13,11 +13,21 @@ pub use weights::{DType, Weights};
 /// The gate of sec-algorithm.md section 4: the reconstruction MSE of the current frame,
 /// re-measured on every 16th env step, starting at 100 so the contextual layer stays off until
 /// the first measurement.
+///
+/// The measurement is lazy: on a measuring step the gate keeps a copy of the frame, and the
+/// autoencoder runs only when someone reads the value before the next measuring step (the
+/// arbitration reads it only when the contextual layer selected something). When the step's
+/// embedding is already known (a decision on the same frame), the encoder is not run twice. The
+/// value read is the same, bit for bit, as measuring eagerly.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReconstructionGate {
-    /// The last measured MSE (100 before the first).
-    pub mse: f32,
+    /// The last computed MSE (100 before the first measurement).
+    mse: f32,
     steps: u64,
+    /// A measurement taken but not yet computed: its frame, and its embedding if known.
+    pending: bool,
+    image: Vec<f32>,
+    embedding: Option<[f32; EMBEDDING]>,
 }
 
 impl Default for ReconstructionGate {
@@ -31,14 +41,16 @@ impl ReconstructionGate {
     pub const PERIOD: u64 = 16;
 
     pub fn new() -> Self {
-        ReconstructionGate { mse: Self::INITIAL, steps: 0 }
+        ReconstructionGate { mse: Self::INITIAL, steps: 0, pending: false, image: vec![0.0; IMAGE], embedding: None }
     }
 
-    /// Called once per env step with the current image; re-measures on every 16th call.
-    pub fn advance(&mut self, ae: &Autoencoder, image: &[f32], scratch: &mut Scratch) {
+    /// Called once per env step with the current image; measures on every 16th call.
+    pub fn advance(&mut self, image: &[f32]) {
         self.steps += 1;
         if self.steps % Self::PERIOD == 0 {
-            self.mse = ae.reconstruction_mse(image, scratch);
+            self.image.copy_from_slice(image);
+            self.pending = true;
+            self.embedding = None;
         }
     }
 
@@ -47,9 +59,40 @@ impl ReconstructionGate {
         (self.steps + 1) % Self::PERIOD == 0
     }
 
+    /// Whether the last `advance` measured: then `share_embedding` may pass that frame's
+    /// embedding.
+    pub fn measured_now(&self) -> bool {
+        self.pending && self.steps % Self::PERIOD == 0
+    }
+
+    /// The embedding `ae.encode` gave for the frame of the measuring step just taken, which
+    /// saves the encoder pass when the value is read.
+    pub fn share_embedding(&mut self, e: &[f32; EMBEDDING]) {
+        if self.measured_now() {
+            self.embedding = Some(*e);
+        }
+    }
+
+    /// The gate's value: the MSE of the last measured frame (computed now if it was not yet).
+    pub fn mse(&mut self, ae: &Autoencoder, scratch: &mut Scratch) -> f32 {
+        if self.pending {
+            self.mse = match self.embedding {
+                Some(e) => ae.reconstruction_mse_of(&self.image, &e, scratch),
+                None => ae.reconstruction_mse(&self.image, scratch),
+            };
+            self.pending = false;
+        }
+        self.mse
+    }
+
+    /// The last computed value, without computing a pending one (for display).
+    pub fn last_mse(&self) -> f32 {
+        self.mse
+    }
+
     /// Whether the contextual layer may act: MSE strictly below the threshold (0.01 by default).
-    pub fn open(&self, threshold: f32) -> bool {
-        self.mse < threshold
+    pub fn open(&mut self, threshold: f32, ae: &Autoencoder, scratch: &mut Scratch) -> bool {
+        self.mse(ae, scratch) < threshold
     }
 }
 

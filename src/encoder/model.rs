@@ -148,8 +148,13 @@ impl Autoencoder {
     pub fn reconstruction_mse(&self, image: &[f32], s: &mut Scratch) -> f32 {
         let mut e = [0.0; EMBEDDING];
         self.encode(image, s, &mut e);
+        self.reconstruction_mse_of(image, &e, s)
+    }
+
+    /// `reconstruction_mse` when the image's embedding (as `encode` gave it) is already known.
+    pub fn reconstruction_mse_of(&self, image: &[f32], e: &[f32; EMBEDDING], s: &mut Scratch) -> f32 {
         let mut rec = std::mem::take(&mut s.rec);
-        self.decode(&e, s, &mut rec);
+        self.decode(e, s, &mut rec);
         let sum: f32 = image.iter().zip(&rec).map(|(a, b)| (a - b) * (a - b)).sum();
         s.rec = rec;
         sum / IMAGE as f32

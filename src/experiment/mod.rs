@@ -253,8 +253,8 @@ impl Run {
     }
 
     /// The reconstruction error the gate measured last.
-    pub fn gate_mse(&self) -> f32 {
-        self.gate.mse
+    pub fn gate_mse(&mut self) -> f32 {
+        self.gate.mse(&self.encoder, &mut self.scratch)
     }
 
     /// Starts recording SEC's events (embeddings with the gate's MSE, goals, episode ends): fed
@@ -275,16 +275,18 @@ impl Run {
         match &self.projection {
             Some(p) => p.project(&self.image, &mut e),
             None if !matches!(self.controller, Controller::Reactive(_)) => {
-                self.encoder.encode(&self.image, &mut self.scratch, &mut e)
+                self.encoder.encode(&self.image, &mut self.scratch, &mut e);
+                self.gate.share_embedding(&e);
             }
             None => {}
         }
         match &mut self.controller {
             Controller::Sec(agent) => {
+                let (gate, encoder, scratch) = (&mut self.gate, &self.encoder, &mut self.scratch);
                 if let Some(ev) = &mut self.events {
-                    ev.push(trace::Event::Decision { embedding: e.to_vec(), rec_mse: self.gate.mse });
+                    ev.push(trace::Event::Decision { embedding: e.to_vec(), rec_mse: gate.mse(encoder, scratch) });
                 }
-                agent.decide(&e, self.gate.mse, &mut self.rng)
+                agent.decide_with(&e, || gate.mse(encoder, scratch), &mut self.rng)
             }
             Controller::Mfec(mfec) => mfec.decide(&e, self.env.is_over(), &mut self.rng),
             Controller::Reactive(r) => {
@@ -366,7 +368,7 @@ impl Run {
             self.env.observation().to_rgb_f32(&mut self.image);
         }
         if is_sec {
-            self.gate.advance(&self.encoder, &self.image, &mut self.scratch);
+            self.gate.advance(&self.image);
         }
         let mut decision = None;
         if decide {

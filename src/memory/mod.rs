@@ -337,7 +337,9 @@ impl Memory {
         }
         let (beta, alpha, n) = (self.cfg.beta, self.cfg.alpha, self.cfg.n);
         for t in self.t.iter_mut() {
-            *t = (*t * (1.0 - beta) + beta).max(1.0);
+            // max(v, 1) as a compare and select: `f64::max` is a call per element in wasm.
+            let v = *t * (1.0 - beta) + beta;
+            *t = if v < 1.0 { 1.0 } else { v };
         }
         for (t, &s) in self.t.iter_mut().zip(&self.sel_prev) {
             if s {

@@ -262,7 +262,8 @@ impl SecRun {
 
     /// The last decision and the run's state (`DecisionView`).
     #[wasm_bindgen(unchecked_return_type = "DecisionView")]
-    pub fn view(&self) -> Result<JsValue, JsError> {
+    pub fn view(&mut self) -> Result<JsValue, JsError> {
+        let gate_mse = self.run.gate_mse();
         let (entropy, p, selected, ltm, capacity) = match self.run.controller() {
             Controller::Sec(a) => {
                 let m = &a.memory;
@@ -280,7 +281,7 @@ impl SecRun {
             selected,
             entropy,
             p,
-            gate_mse: self.run.gate_mse(),
+            gate_mse,
             ltm,
             capacity,
             episode: self.run.env().episode() as f64,

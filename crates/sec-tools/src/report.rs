@@ -127,21 +127,24 @@ pub fn report(dir: &Path, description: &str) -> Result<String, String> {
     }
     let mut md = String::new();
     let mut csv = String::from(
-        "condition,runs,episodes,total_mean,total_ci95,per_episode,paper_total,paper_per_episode,last10_per_episode,final_mean,final_sd,entropy_first10,entropy_last10,entropy_fresh_last10,ltm_end,p_vs_reference\n",
+        "condition,runs,episodes,total_mean,total_ci95,per_episode,paper_total,paper_per_episode,last10_per_episode,final_mean,final_sd,entropy_first10,entropy_last10,entropy_fresh_last10,ltm_end,p_vs_reference,p_uncorrected\n",
     );
     writeln!(md, "# {}: {description}\n", manifest.experiment).unwrap();
-    let episodes = conds.iter().map(|c| c.runs[0].len()).min().unwrap_or(0);
+    let fewest = conds.iter().map(|c| c.runs[0].len()).min().unwrap_or(0);
+    let most = conds.iter().map(|c| c.runs[0].len()).max().unwrap_or(0);
+    let episodes = if fewest == most { fewest.to_string() } else { format!("{fewest}-{most}") };
     writeln!(
         md,
         "Runs per condition: up to {} (seeds {:?}); episodes per run: {episodes} (the paper: 20 x 5000). \
          Reward is R_ep when positive, else 0; totals are summed over the run's episodes and the paper's are \
          over 5000, so compare the per-episode columns; the paper's final-episode reward (section 9) is for episode 5000. Entropy (bits) is the authors' stale-inclusive mean \
          per episode, averaged over the first and last 10% of the run; p is a two-sided Mann-Whitney U test \
-         of the run totals against the group's first model, Bonferroni-corrected over the experiment's {} \
-         comparisons. Curves: {WINDOW}-episode window, mean and standard error across runs.\n",
+         of the run totals against the group's first model (shown when both have at least 2 runs), \
+         Bonferroni-corrected over the comparisons within the group (a group is one figure or table of \
+         the paper: a task, a memory size); summary.csv also has it uncorrected. Curves: {WINDOW}-episode \
+         window, mean and standard error across runs.\n",
         manifest.seeds.len(),
         manifest.seeds,
-        comparisons(&conds),
     )
     .unwrap();
     let groups: Vec<String> = conds.iter().fold(Vec::new(), |mut g, c| {
@@ -150,11 +153,11 @@ pub fn report(dir: &Path, description: &str) -> Result<String, String> {
         }
         g
     });
-    let bonferroni = comparisons(&conds).max(1) as f64;
     fs::create_dir_all(dir.join("plots")).map_err(|e| format!("{}: {e}", dir.display()))?;
     for group in &groups {
         let members: Vec<&ConditionRuns> = conds.iter().filter(|c| c.group() == group).collect();
         let reference = members[0];
+        let bonferroni = (members.len() - 1).max(1) as f64;
         writeln!(md, "## {group}\n").unwrap();
         writeln!(md, "| model | runs | total reward (95% CI) | per episode | paper: total (per episode) | last 10% per episode | final episode (sd) | entropy first 10% -> last 10% (fresh) | LTM at end | p vs {} |", reference.model()).unwrap();
         writeln!(md, "|---|---|---|---|---|---|---|---|---|---|").unwrap();
@@ -175,11 +178,12 @@ pub fn report(dir: &Path, description: &str) -> Result<String, String> {
                     format!("{m:.digits$} ± {h:.digits$}")
                 }
             };
-            let p = if std::ptr::eq(*c, reference) || c.runs.len() < 2 || reference.runs.len() < 2 {
+            let raw = if std::ptr::eq(*c, reference) || c.runs.len() < 2 || reference.runs.len() < 2 {
                 None
             } else {
-                Some((mann_whitney(&totals, &reference.totals()).1 * bonferroni).min(1.0))
+                Some(mann_whitney(&totals, &reference.totals()).1)
             };
+            let p = raw.map(|p| (p * bonferroni).min(1.0));
             let paper = c.condition.paper_total;
             writeln!(
                 md,
@@ -199,7 +203,7 @@ pub fn report(dir: &Path, description: &str) -> Result<String, String> {
             .unwrap();
             writeln!(
                 csv,
-                "{},{},{n},{},{},{},{},{},{late},{},{},{h0},{h1},{},{ltm},{}",
+                "{},{},{n},{},{},{},{},{},{late},{},{},{h0},{h1},{},{ltm},{},{}",
                 c.condition.name,
                 c.runs.len(),
                 mean(&totals),
@@ -211,6 +215,7 @@ pub fn report(dir: &Path, description: &str) -> Result<String, String> {
                 num(sd(&finals)),
                 num(hf),
                 p.map_or(String::new(), |p| p.to_string()),
+                raw.map_or(String::new(), |p| p.to_string()),
             )
             .unwrap();
         }
@@ -246,11 +251,6 @@ fn series(c: &ConditionRuns, f: impl Fn(&EpisodeMetrics) -> f64) -> Series {
 }
 
 /// Tests in the report: every model against its group's first.
-fn comparisons(conds: &[ConditionRuns]) -> usize {
-    let mut groups: Vec<&str> = conds.iter().map(ConditionRuns::group).collect();
-    groups.dedup();
-    conds.len() - groups.len()
-}
 
 /// Figure 6: SEC's total at each capacity over NSEC's at each capacity.
 fn memory_ratios(conds: &[ConditionRuns]) -> String {

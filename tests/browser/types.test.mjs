@@ -1,0 +1,44 @@
+// The TypeScript declarations of pkg/ (written by hand in src/web/run.rs) name every field the
+// wasm API really returns: a field added in Rust but not declared fails here.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { readFileSync } from 'node:fs';
+import { fileURLToPath } from 'node:url';
+
+const root = fileURLToPath(new URL('../../', import.meta.url));
+const dts = readFileSync(`${root}pkg/sec_playground.d.ts`, 'utf8');
+const wasm = await import(`${root}pkg/sec_playground.js`);
+wasm.initSync({ module: readFileSync(`${root}pkg/sec_playground_bg.wasm`) });
+
+/** The text of `export interface name { ... }` (balanced braces). */
+function block(name) {
+  const start = dts.indexOf(`export interface ${name} {`);
+  assert.ok(start >= 0, `${name} is declared`);
+  let depth = 0;
+  for (let i = dts.indexOf('{', start); i < dts.length; i++) {
+    if (dts[i] === '{') depth++;
+    if (dts[i] === '}' && --depth === 0) return dts.slice(start, i + 1);
+  }
+  throw new Error(`${name} is not closed`);
+}
+
+/** Every key of `value`, nested objects included ("agent.memory.alpha" checks "alpha"). */
+function keys(value) {
+  return Object.entries(value).flatMap(([k, v]) => (v && typeof v === 'object' && !Array.isArray(v) ? [k, ...keys(v)] : [k]));
+}
+
+function declares(name, value, deep = true) {
+  const text = block(name);
+  for (const k of deep ? keys(value) : Object.keys(value)) assert.match(text, new RegExp(`\\b${k}\\??:`), `${name} declares ${k}`);
+}
+
+test('RunConfig, EpisodeMetrics, DecisionView, Param and ParsedSettings match what the API returns', () => {
+  const run = new wasm.SecRun({ task: 'object-permanence' }, 3);
+  declares('RunConfig', run.config());
+  declares('EpisodeMetrics', run.stepEpisode());
+  declares('DecisionView', run.view());
+  for (const p of wasm.parameters()) declares('Param', p);
+  // Its config is a RunConfig and its settings a Record: the top level only.
+  declares('ParsedSettings', wasm.parseSettings({}), false);
+  run.free();
+});
