@@ -6,7 +6,8 @@ import { Charts } from './charts.js';
 import { drawRgba, drawHeat, drawProbs, drawStatus } from './views.js';
 
 const $ = (id) => document.getElementById(id);
-const worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
+let worker = null;
+let fatal = false; // the simulation trapped: a reset starts a fresh worker
 
 let params = [];
 let settings = null;
@@ -41,6 +42,15 @@ function writeHash() {
 
 const send = (msg) => worker.postMessage(msg);
 
+/** A fresh simulation worker; with `settings` it carries on with them (after a fatal error). */
+function startWorker() {
+  worker?.terminate();
+  fatal = false;
+  worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
+  worker.onmessage = ({ data }) => handlers[data.type]?.(data);
+  worker.onerror = (e) => showError(`The simulation worker failed: ${e.message}`);
+}
+
 function views() {
   const watching = speed !== 'max' && !document.hidden;
   send({ type: 'views', camera: watching, heat: watching ? $('heat-kind').value : null });
@@ -56,10 +66,11 @@ const label = (key) => params.find((p) => p.key === key)?.symbol ?? key;
 const handlers = {
   ready(msg) {
     params = msg.params;
-    controls = buildControls($('controls'), params, (key, value) => {
+    controls ??= buildControls($('controls'), params, (key, value) => {
       if (settings?.[key] !== value) send({ type: 'set', changes: { [key]: value } });
     });
-    send({ type: 'start', settings: readHash() });
+    send({ type: 'speed', value: speed });
+    send({ type: 'start', settings: settings ?? readHash() });
     views();
   },
   started(msg) {
@@ -78,7 +89,7 @@ const handlers = {
       charts.mark(what);
       notice(`Applied live: ${what}`);
     }
-    if (first) setPlaying(wantPlay);
+    if (first || msg.fresh) setPlaying(wantPlay);
   },
   episodes({ list }) {
     charts.push(list);
@@ -107,6 +118,7 @@ const handlers = {
   },
   error(msg) {
     showError(msg.message);
+    fatal ||= msg.fatal;
     // A refused value: show the settings still in force.
     if (settings && controls) controls.set(settings);
   },
@@ -130,17 +142,15 @@ function status() {
   ]);
 }
 
-worker.onmessage = ({ data }) => handlers[data.type]?.(data);
-worker.onerror = (e) => showError(`The simulation worker failed: ${e.message}`);
+startWorker();
 
 runControls($, {
   toggle: () => setPlaying(!wantPlay),
   step: (what) => { wantPlay = false; send({ type: 'step', what }); },
-  reset: () => send({ type: 'reset' }),
+  reset: () => (fatal ? startWorker() : send({ type: 'reset' })),
   preset: (name) => send({ type: 'preset', name }),
   speed: (v) => { speed = v; send({ type: 'speed', value: v }); views(); },
 });
-send({ type: 'speed', value: speed });
 $('heat-kind').addEventListener('change', views);
 
 // Someone edits the link: apply what changed (validated by the core like any control).
@@ -165,4 +175,6 @@ window.secPlayground = {
   get marks() { return charts.marks; },
   get points() { return charts.episodes.length; },
   get view() { return lastView; },
+  /** Test hook: makes the simulation panic. */
+  crash() { send({ type: 'crash' }); },
 };

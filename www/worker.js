@@ -4,11 +4,11 @@
 //
 // Messages in:  {type: 'start', settings}, {type: 'set', changes}, {type: 'play'}, {type: 'pause'},
 //               {type: 'speed', value}, {type: 'step', what: 'decision' | 'episode'},
-//               {type: 'reset'}, {type: 'views', camera, heat}
+//               {type: 'reset'}, {type: 'views', camera, heat}, {type: 'crash'} (a test hook)
 // Messages out: {type: 'ready', params, defaults}, {type: 'started', settings, errors, mode},
 //               {type: 'episodes', list}, {type: 'view', ...}, {type: 'state', playing},
 //               {type: 'error', message, fatal}
-import init, { SecRun, parameters, parseSettings, applySettings, presetSettings } from '../pkg/sec_playground.js';
+import init, { SecRun, parameters, parseSettings, applySettings, presetSettings, panicForTest } from '../pkg/sec_playground.js';
 
 /** Longest time slice of simulation before yielding to messages (ms). */
 const SLICE_MS = 12;
@@ -126,7 +126,7 @@ const handlers = {
     const parsed = parseSettings(raw ?? {});
     newRun(parsed.config, parsed.seed);
     settings = parsed.settings;
-    post({ type: 'started', settings, errors: parsed.errors, mode: 'restart' });
+    post({ type: 'started', settings, errors: parsed.errors, mode: 'restart', fresh: true });
     postView(true);
   },
   set({ changes }) {
@@ -175,6 +175,8 @@ const handlers = {
     post({ type: 'started', settings, errors: [], mode: 'restart' });
     postView(true);
   },
+  /** Test hook: a panic in the simulation, as a bug would cause. */
+  crash() { panicForTest(); },
   views({ camera, heat }) {
     want = { camera: !!camera, heat: heat === 't' || heat === 'g' ? heat : null };
     postView(true);

@@ -304,3 +304,9 @@ pub fn bench_autoencoder(n: u32, decode: bool) -> Result<f32, JsError> {
     }
     Ok(acc)
 }
+
+/// Test hook for the page's error path: panics, which traps the wasm instance like a bug would.
+#[wasm_bindgen(js_name = panicForTest)]
+pub fn panic_for_test() {
+    panic!("panicForTest: testing the page's error path")
+}

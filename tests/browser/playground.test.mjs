@@ -138,7 +138,7 @@ test('a bad control value is refused by name and the run goes on', async () => {
   await page.close();
 });
 
-test('pause stops the run and step advances it by one decision', async () => {
+test('pause stops the run, step advances it by one decision, a hidden tab pauses', async () => {
   const page = await open('#task=object-permanence');
   await page.waitForFunction(() => window.secPlayground.points >= 1, null, { timeout: 30000 });
   await page.click('#play');
@@ -157,5 +157,34 @@ test('pause stops the run and step advances it by one decision', async () => {
   // Space plays again.
   await page.keyboard.press(' ');
   await page.waitForFunction(() => window.secPlayground.playing);
+  // A hidden tab pauses the run, and it plays again when the tab is back.
+  const visibility = (hidden) => page.evaluate((hidden) => {
+    Object.defineProperty(document, 'hidden', { value: hidden, configurable: true });
+    document.dispatchEvent(new Event('visibilitychange'));
+  }, hidden);
+  await visibility(true);
+  await page.waitForFunction(() => !window.secPlayground.playing);
+  await visibility(false);
+  await page.waitForFunction(() => window.secPlayground.playing);
+  await page.close();
+});
+
+test('a panic in the simulation shows an error, and reset starts a fresh run', async () => {
+  const page = await open('#task=object-permanence&alpha=0.02');
+  await page.waitForFunction(() => window.secPlayground.playing);
+  const count = problems.length;
+  await page.evaluate(() => window.secPlayground.crash());
+  await page.waitForFunction(() => !document.getElementById('error').hidden);
+  assert.match(await page.textContent('#error'), /The simulation stopped: .*Reset to start again/);
+  await page.waitForFunction(() => !window.secPlayground.playing);
+  // The page is not frozen: reset brings a new worker with the same settings, playing.
+  await page.click('#reset');
+  await page.waitForFunction(() => window.secPlayground.playing && document.getElementById('error').hidden);
+  assert.equal((await hashOf(page)).alpha, '0.02');
+  const step = await page.evaluate(() => window.secPlayground.view.step);
+  await page.waitForFunction((s) => window.secPlayground.view.step !== s, step);
+  // The panic's own console message is expected here; nothing else.
+  assert.ok(problems.slice(count).every((p) => /panicForTest|unreachable/.test(p)), problems.slice(count).join('\n'));
+  problems.length = count;
   await page.close();
 });

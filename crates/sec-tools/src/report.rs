@@ -250,8 +250,6 @@ fn series(c: &ConditionRuns, f: impl Fn(&EpisodeMetrics) -> f64) -> Series {
     Series { label: c.model().to_string(), mean, se }
 }
 
-/// Tests in the report: every model against its group's first.
-
 /// Figure 6: SEC's total at each capacity over NSEC's at each capacity.
 fn memory_ratios(conds: &[ConditionRuns]) -> String {
     let pick = |model: &str| -> Vec<(&str, f64)> {
