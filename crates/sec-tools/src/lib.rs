@@ -10,6 +10,8 @@ pub fn write_png(path: &Path, width: usize, height: usize, rgba: &[u8]) -> Resul
     let mut enc = png::Encoder::new(BufWriter::new(file), width as u32, height as u32);
     enc.set_color(png::ColorType::Rgba);
     enc.set_depth(png::BitDepth::Eight);
+    enc.set_compression(png::Compression::Best);
+    enc.set_adaptive_filter(png::AdaptiveFilterType::Adaptive);
     let mut w = enc.write_header().map_err(|e| format!("{}: {e}", path.display()))?;
     w.write_image_data(rgba).map_err(|e| format!("{}: {e}", path.display()))
 }
