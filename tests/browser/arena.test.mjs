@@ -3,23 +3,13 @@
 // error while the run goes on. Screenshots go to test-artifacts/.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { mkdirSync } from 'node:fs';
-import { chromium } from 'playwright-core';
-import { serve } from '../../scripts/serve.mjs';
+import { ARTIFACTS, launch, colours as coloursOf } from './harness.mjs';
 
-const ARTIFACTS = new URL('../../test-artifacts/', import.meta.url);
 let server, browser, page, base;
 const problems = [];
 
 before(async () => {
-  mkdirSync(ARTIFACTS, { recursive: true });
-  server = await serve(0);
-  base = `http://127.0.0.1:${server.address().port}/`;
-  browser = await chromium.launch({
-    executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
-    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
-      '--disable-component-update', '--disable-sync'],
-  });
+  ({ server, browser, base } = await launch());
   page = await browser.newPage({ viewport: { width: 1000, height: 800 } });
   page.on('console', (m) => { if (m.type() === 'error') problems.push(m.text()); });
   page.on('pageerror', (e) => problems.push(String(e)));
@@ -32,16 +22,7 @@ after(async () => {
   server?.close();
 });
 
-/** Distinct colours on a canvas: a blank canvas has one. */
-async function colours(id) {
-  return page.evaluate((id) => {
-    const c = document.getElementById(id);
-    const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
-    const seen = new Set();
-    for (let i = 0; i < d.length; i += 4) seen.add((d[i] << 16) | (d[i + 1] << 8) | d[i + 2]);
-    return seen.size;
-  }, id);
-}
+const colours = (id) => coloursOf(page, `#${id}`);
 
 test('the page loads without console errors and draws both views', async () => {
   await page.waitForTimeout(300);

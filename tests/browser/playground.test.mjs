@@ -4,23 +4,13 @@
 // force, and pause stops the run. Screenshots go to test-artifacts/.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { mkdirSync } from 'node:fs';
-import { chromium } from 'playwright-core';
-import { serve } from '../../scripts/serve.mjs';
+import { ARTIFACTS, launch, colours } from './harness.mjs';
 
-const ARTIFACTS = new URL('../../test-artifacts/', import.meta.url);
 let server, browser, base;
 const problems = [];
 
 before(async () => {
-  mkdirSync(ARTIFACTS, { recursive: true });
-  server = await serve(0);
-  base = `http://127.0.0.1:${server.address().port}/`;
-  browser = await chromium.launch({
-    executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
-    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
-      '--disable-component-update', '--disable-sync'],
-  });
+  ({ server, browser, base } = await launch());
 });
 
 after(async () => {
@@ -35,17 +25,6 @@ async function open(hash = '') {
   await page.goto(base + hash);
   await page.waitForFunction(() => window.secPlayground?.settings && window.secPlayground.view);
   return page;
-}
-
-/** Distinct colours on a canvas: a blank canvas has one. */
-async function colours(page, selector) {
-  return page.evaluate((selector) => {
-    const c = document.querySelector(selector);
-    const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
-    const seen = new Set();
-    for (let i = 0; i < d.length; i += 4) seen.add((d[i] << 16) | (d[i + 1] << 8) | d[i + 2]);
-    return seen.size;
-  }, selector);
 }
 
 /** Pixels of the marker colour (#b3261e) on a chart's canvas. */
