@@ -174,12 +174,16 @@ mod simd {
         x0: usize,
         out: &mut [f32],
     ) {
-        assert!(out.len() >= P * CO && weights.len() == 9 * CI * CO);
+        assert!(out.len() >= P * CO && weights.len() == 9 * CI * CO && CO % (4 * NV) == 0);
         let load = |s: &[f32], i: usize| -> v128 {
             let q = &s[i..i + 4];
             // SAFETY: `q` holds 4 f32s; v128_load has no alignment requirement.
             unsafe { v128_load(q.as_ptr() as *const v128) }
         };
+        // The hot loop reads weights without a bounds check per load: every index below is
+        // (ky * 3 + kx) * CI * CO + ci * CO + g0 + 4 * j + 3 < 9 * CI * CO = weights.len(),
+        // asserted above.
+        let wp = weights.as_ptr();
         for g0 in (0..CO).step_by(4 * NV) {
             let mut acc = [[f32x4_splat(0.0); NV]; P];
             for a in acc.iter_mut() {
@@ -194,9 +198,11 @@ mod simd {
                 }
                 let row = &input[(iy as usize * w + x0) * CI..][..(P + 2) * CI];
                 for kx in 0..3 {
-                    let wk = &weights[(ky * 3 + kx) * CI * CO..][..CI * CO];
+                    let base = (ky * 3 + kx) * CI * CO + g0;
                     for ci in 0..CI {
-                        let wr: [v128; NV] = std::array::from_fn(|j| load(wk, ci * CO + g0 + 4 * j));
+                        // SAFETY: in bounds, see `wp`; v128_load has no alignment requirement.
+                        let wr: [v128; NV] =
+                            std::array::from_fn(|j| unsafe { v128_load(wp.add(base + ci * CO + 4 * j) as *const v128) });
                         for (p, a) in acc.iter_mut().enumerate() {
                             let v = f32x4_splat(row[(p + kx) * CI + ci]);
                             for j in 0..NV {
