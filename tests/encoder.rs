@@ -240,10 +240,6 @@ fn a_fixed_frame_gives_the_golden_embedding() {
 
 /// The issue's bound on held-out reconstruction MSE (inputs in [0, 1]).
 const BOUND: f64 = 0.003;
-/// Models that do not meet the bound yet, with the held-out MSE they reach (first 400 frames).
-/// Issue 3 stays open while this list is not empty; the test fails when one of them meets the
-/// bound, so the list can only shrink.
-const NOT_YET: [(&str, f64); 1] = [("double-t-maze", 0.0035)];
 
 /// Every task has a bundled model that names its task, carries a usable scale, and reconstructs
 /// the first 400 of its held-out frames (the set `sec-train` reports, seed 1001) within the bound.
@@ -265,13 +261,7 @@ fn every_bundled_model_reconstructs_its_held_out_frames() {
             sum += ae.reconstruction_mse(&img, &mut s) as f64;
         }
         let mse = sum / 400.0;
-        match NOT_YET.iter().find(|(t, _)| *t == task) {
-            None => assert!(mse <= BOUND, "{task}: held-out reconstruction MSE {mse:.5} > {BOUND}"),
-            Some((_, limit)) => {
-                assert!(mse > BOUND, "{task} now meets the bound ({mse:.5}): take it off NOT_YET");
-                assert!(mse <= *limit, "{task}: held-out MSE {mse:.5} is worse than its recorded {limit}");
-            }
-        }
+        assert!(mse <= BOUND, "{task}: held-out reconstruction MSE {mse:.5} > {BOUND}");
     }
     let e = bundled::autoencoder("maze").unwrap_err().to_string();
     assert!(e.contains("task") && e.contains("double-t-maze"), "{e}");

@@ -201,8 +201,9 @@ mod simd {
                     let base = (ky * 3 + kx) * CI * CO + g0;
                     for ci in 0..CI {
                         // SAFETY: in bounds, see `wp`; v128_load has no alignment requirement.
-                        let wr: [v128; NV] =
-                            std::array::from_fn(|j| unsafe { v128_load(wp.add(base + ci * CO + 4 * j) as *const v128) });
+                        let wr: [v128; NV] = std::array::from_fn(|j| unsafe {
+                            v128_load(wp.add(base + ci * CO + 4 * j) as *const v128)
+                        });
                         for (p, a) in acc.iter_mut().enumerate() {
                             let v = f32x4_splat(row[(p + kx) * CI + ci]);
                             for j in 0..NV {

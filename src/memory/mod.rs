@@ -336,21 +336,17 @@ impl Memory {
             return;
         }
         let (beta, alpha, n) = (self.cfg.beta, self.cfg.alpha, self.cfg.n);
-        for t in self.t.iter_mut() {
-            // max(v, 1) as a compare and select: `f64::max` is a call per element in wasm.
-            let v = *t * (1.0 - beta) + beta;
-            *t = if v < 1.0 { 1.0 } else { v };
-        }
+        // Decay, clamp at 1 and reset the selected in one pass (the same values as three), with
+        // compare and select: `f64::max` is a call per element in wasm.
         for (t, &s) in self.t.iter_mut().zip(&self.sel_prev) {
-            if s {
-                *t = 1.0;
-            }
+            let v = *t * (1.0 - beta) + beta;
+            *t = if s || v < 1.0 { 1.0 } else { v };
         }
+        // Then the successors' boost. Adding 0 leaves T (>= 1) unchanged, so no branch is needed
+        // and the loop vectorises.
         for (t_row, s_row) in self.t.chunks_exact_mut(n).zip(self.sel_prev.chunks_exact(n)) {
             for j in 0..n - 1 {
-                if s_row[j] {
-                    t_row[j + 1] += alpha;
-                }
+                t_row[j + 1] += if s_row[j] { alpha } else { 0.0 };
             }
         }
     }

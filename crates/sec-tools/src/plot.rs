@@ -27,7 +27,9 @@ const COLOURS: [RGBColor; 8] = [
     RGBColor(0, 0, 0),
 ];
 
-fn register_font() {
+/// Registers the bundled DejaVu Sans as "sans-serif": plotters has no font of its own, and the
+/// machine's fonts are not searched (no `ttf` feature), so every chart needs this first.
+pub fn register_font() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
         plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())

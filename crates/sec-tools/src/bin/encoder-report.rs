@@ -329,6 +329,7 @@ fn plot_similarity(reports: &[TaskReport], path: &Path) -> Result<(), Box<dyn st
 
 fn run() -> Result<(), String> {
     let args = parse_args()?;
+    sec_tools::plot::register_font();
     std::fs::create_dir_all(&args.results).map_err(|e| e.to_string())?;
     std::fs::create_dir_all(&args.docs).map_err(|e| e.to_string())?;
     let mut reports = Vec::new();
