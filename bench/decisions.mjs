@@ -29,6 +29,7 @@ function measure(wasm, decisions, now) {
 
 const wasm = await import(`${root}pkg/sec_playground.js`);
 wasm.initSync({ module: readFileSync(`${root}pkg/sec_playground_bg.wasm`) });
+wasm.registerModel(readFileSync(`${root}assets/encoders/double-t-maze.secae`));
 const node = measure(wasm, DECISIONS, () => performance.now());
 console.log(`node ${process.version}: ${node.decisionsPerSec} decisions/s (LTM ${node.ltm} sequences)`);
 
@@ -41,9 +42,10 @@ const browser = await chromium.launch({
 try {
   const page = await browser.newPage({ viewport: { width: 1300, height: 1000 } });
   await page.goto(`${base}arena.html`);
-  const chrome = await page.evaluate(async ({ src, decisions }) => {
+  const chrome = await page.evaluate(async ({ src, model, decisions }) => {
     const wasm = await import(src);
     await wasm.default();
+    wasm.registerModel(new Uint8Array(await (await fetch(model)).arrayBuffer()));
     const run = new wasm.SecRun({}, 1);
     run.benchFillMemory(500);
     run.advance(200);
@@ -54,7 +56,7 @@ try {
       best = Math.min(best, performance.now() - t0);
     }
     return { decisionsPerSec: Math.round((decisions * 1000) / best), ltm: run.view().ltm };
-  }, { src: `${base}pkg/sec_playground.js`, decisions: DECISIONS });
+  }, { src: `${base}pkg/sec_playground.js`, model: `${base}assets/encoders/double-t-maze.secae`, decisions: DECISIONS });
   console.log(`chromium ${browser.version()}: ${chrome.decisionsPerSec} decisions/s (LTM ${chrome.ltm} sequences)`);
 
   // The page at max speed: count animation frames on the main thread for 5 s.

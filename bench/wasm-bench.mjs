@@ -8,6 +8,7 @@ import { performance } from 'node:perf_hooks';
 const root = fileURLToPath(new URL('..', import.meta.url));
 const wasm = await import(`${root}pkg/sec_playground.js`);
 wasm.initSync({ module: readFileSync(`${root}pkg/sec_playground_bg.wasm`) });
+wasm.registerModel(readFileSync(`${root}assets/encoders/double-t-maze.secae`));
 
 /** Best of `repeats` timings of fn(), in seconds. */
 function best(fn, repeats = 5) {

@@ -9,15 +9,16 @@ const root = resolve(fileURLToPath(new URL('..', import.meta.url)));
 const TYPES = {
   '.html': 'text/html; charset=utf-8', '.js': 'text/javascript; charset=utf-8', '.mjs': 'text/javascript; charset=utf-8',
   '.css': 'text/css; charset=utf-8', '.wasm': 'application/wasm', '.json': 'application/json', '.png': 'image/png',
-  '.svg': 'image/svg+xml', '.yml': 'text/yaml', '.yaml': 'text/yaml', '.ts': 'text/plain; charset=utf-8',
+  '.svg': 'image/svg+xml', '.secae': 'application/octet-stream', '.yml': 'text/yaml', '.yaml': 'text/yaml', '.ts': 'text/plain; charset=utf-8',
 };
 
-export function serve(port = 8080, host = '127.0.0.1') {
+/** Serves `dir` (default: the repository) on `port` (0: any free one); resolves to the server. */
+export function serve(port = 8080, host = '127.0.0.1', dir = root) {
   const server = createServer(async (req, res) => {
     try {
       const path = decodeURIComponent(new URL(req.url, 'http://x').pathname);
-      let file = normalize(join(root, path));
-      if (!file.startsWith(root)) { res.writeHead(403).end(); return; }
+      let file = normalize(join(dir, path));
+      if (!file.startsWith(dir)) { res.writeHead(403).end(); return; }
       if ((await stat(file)).isDirectory()) file = join(file, 'index.html');
       const body = await readFile(file);
       res.writeHead(200, { 'content-type': TYPES[extname(file)] ?? 'application/octet-stream', 'cache-control': 'no-cache' });

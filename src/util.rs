@@ -9,3 +9,46 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
     }
     h
 }
+
+/// Reads a little-endian binary file front to back; running past its end is a "truncated"
+/// error naming `what` (the parameter the file stands for: "weights", "memory").
+pub(crate) struct ByteReader<'a> {
+    pub b: &'a [u8],
+    pub at: usize,
+    pub what: &'static str,
+}
+
+impl<'a> ByteReader<'a> {
+    pub fn take(&mut self, n: usize) -> Result<&'a [u8], crate::arena::ConfigError> {
+        let end = self.at.checked_add(n).filter(|&e| e <= self.b.len());
+        let end = end.ok_or_else(|| crate::arena::ConfigError::new(self.what, "file is truncated"))?;
+        let s = &self.b[self.at..end];
+        self.at = end;
+        Ok(s)
+    }
+    pub fn u32(&mut self) -> Result<u32, crate::arena::ConfigError> {
+        Ok(u32::from_le_bytes(self.take(4)?.try_into().unwrap()))
+    }
+    pub fn u64(&mut self) -> Result<u64, crate::arena::ConfigError> {
+        Ok(u64::from_le_bytes(self.take(8)?.try_into().unwrap()))
+    }
+    pub fn f32(&mut self) -> Result<f32, crate::arena::ConfigError> {
+        Ok(f32::from_le_bytes(self.take(4)?.try_into().unwrap()))
+    }
+    pub fn f64(&mut self) -> Result<f64, crate::arena::ConfigError> {
+        Ok(f64::from_le_bytes(self.take(8)?.try_into().unwrap()))
+    }
+    /// A u16 length and that many bytes of UTF-8.
+    pub fn string(&mut self) -> Result<String, crate::arena::ConfigError> {
+        let n = u16::from_le_bytes(self.take(2)?.try_into().unwrap()) as usize;
+        let what = self.what;
+        String::from_utf8(self.take(n)?.to_vec())
+            .map_err(|_| crate::arena::ConfigError::new(what, "a name is not UTF-8"))
+    }
+}
+
+/// Writes `s` as `ByteReader::string` reads it.
+pub(crate) fn put_str(b: &mut Vec<u8>, s: &str) {
+    b.extend_from_slice(&(s.len() as u16).to_le_bytes());
+    b.extend_from_slice(s.as_bytes());
+}

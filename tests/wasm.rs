@@ -9,8 +9,28 @@ use wasm_bindgen_test::*;
 
 const GOLDEN: &str = include_str!("golden/trace.txt");
 
+/// The wasm build holds no model: register the six as the page does with the files it fetches.
+fn models() {
+    macro_rules! file {
+        ($t:literal) => {
+            ($t, include_bytes!(concat!("../assets/encoders/", $t, ".secae")) as &[u8])
+        };
+    }
+    for (task, bytes) in [
+        file!("double-t-maze"),
+        file!("detour"),
+        file!("detour-transparent"),
+        file!("cylinder"),
+        file!("object-permanence"),
+        file!("object-permanence-pits"),
+    ] {
+        assert_eq!(sec_playground::web::register_model(bytes).unwrap(), task);
+    }
+}
+
 #[wasm_bindgen_test]
 fn wasm_matches_the_native_golden_trace() {
+    models();
     let log: String = TASK_NAMES.iter().map(|t| scripted_run(t, 7, 200).unwrap()).collect();
     for (i, (a, b)) in log.lines().zip(GOLDEN.lines()).enumerate() {
         assert_eq!(a, b, "trace line {} differs between wasm and native", i + 1);
@@ -25,6 +45,7 @@ fn message(e: wasm_bindgen::JsError) -> String {
 
 #[wasm_bindgen_test]
 fn the_js_api_validates_its_inputs() {
+    models();
     assert!(message(ArenaEnv::new("nope", 1.0, None).err().unwrap()).contains("task"));
     assert!(message(ArenaEnv::new("detour", -1.0, None).err().unwrap()).starts_with("seed:"));
     assert!(message(ArenaEnv::new("detour", 0.5, None).err().unwrap()).starts_with("seed:"));
@@ -42,6 +63,7 @@ fn the_js_api_validates_its_inputs() {
 
 #[wasm_bindgen_test]
 fn wasm_gives_the_native_golden_embedding() {
+    models();
     use sec_playground::arena::{Env, EnvConfig, Task};
     use sec_playground::encoder::{bundled, Scratch, EMBEDDING, IMAGE};
     let mut env = Env::new(EnvConfig::new(Task::preset("double-t-maze").unwrap()), 1).unwrap();
@@ -60,6 +82,7 @@ fn wasm_gives_the_native_golden_embedding() {
 
 #[wasm_bindgen_test]
 fn the_encoder_api_embeds_and_reconstructs_an_observation() {
+    models();
     use sec_playground::web::Encoder;
     assert!(message(Encoder::new("maze").err().unwrap()).contains("task"));
     let mut enc = Encoder::new("detour").unwrap();
@@ -79,6 +102,7 @@ fn the_encoder_api_embeds_and_reconstructs_an_observation() {
 
 #[wasm_bindgen_test]
 fn wasm_gives_the_native_golden_episode_log() {
+    models();
     let log = sec_playground::experiment::golden_run();
     for (i, (a, b)) in log.lines().zip(include_str!("golden/run.txt").lines()).enumerate() {
         assert_eq!(a, b, "episode {} differs between wasm and native", i);
@@ -96,6 +120,7 @@ fn metrics(v: wasm_bindgen::JsValue) -> sec_playground::experiment::EpisodeMetri
 
 #[wasm_bindgen_test]
 fn a_run_through_the_js_api_gives_the_native_golden_episode_log() {
+    models();
     use sec_playground::experiment::EpisodeMetrics;
     use sec_playground::web::SecRun;
     // The golden log's first 16 lines are SEC in object permanence with seed 7 (`golden_run`).
@@ -123,6 +148,7 @@ fn a_run_through_the_js_api_gives_the_native_golden_episode_log() {
 
 #[wasm_bindgen_test]
 fn the_run_api_refuses_bad_configurations_by_name_and_keeps_running() {
+    models();
     use sec_playground::web::SecRun;
     let bad = [
         (r#"{"agent": {"memory": {"alpha": 2}}}"#, "alpha"),
@@ -162,6 +188,7 @@ fn the_run_api_refuses_bad_configurations_by_name_and_keeps_running() {
 
 #[wasm_bindgen_test]
 fn live_changes_and_restarts_through_the_js_api() {
+    models();
     use sec_playground::web::SecRun;
     let mut run = SecRun::new(js(r#"{"task": "object-permanence"}"#), 7.0).unwrap();
     for _ in 0..8 {
@@ -188,4 +215,52 @@ fn live_changes_and_restarts_through_the_js_api() {
     let restart = r#"{"task": "detour", "agent": {"memory": {"n": 20}}}"#;
     assert_eq!(run.configure(js(restart)).unwrap(), "restart");
     assert_eq!((ltm(&mut run), run.stm_length(), run.seed()), (0, 20, 7.0), "a new run with the same seed");
+}
+
+#[wasm_bindgen_test]
+fn models_are_registered_and_checked() {
+    use sec_playground::web::{has_model, register_model};
+    models();
+    assert!(has_model("detour"));
+    let mut bad = include_bytes!("../assets/encoders/detour.secae").to_vec();
+    bad[1000] ^= 1;
+    let e = message(register_model(&bad).err().unwrap());
+    assert!(e.starts_with("weights:") && e.contains("checksum"), "{e}");
+    let e = message(register_model(b"SECMEMRY not weights").err().unwrap());
+    assert!(e.starts_with("weights:") && e.contains("magic"), "{e}");
+    assert!(has_model("detour"), "a refused file leaves the registered model");
+}
+
+#[wasm_bindgen_test]
+fn memory_files_and_driving_through_the_js_api() {
+    use sec_playground::web::SecRun;
+    models();
+    let mut a = SecRun::new(js(r#"{"task": "object-permanence"}"#), 7.0).unwrap();
+    while metrics(a.step_episode().unwrap()).ltm < 2 {}
+    let file = a.save_memory().unwrap();
+    let mut b = SecRun::new(js(r#"{"task": "object-permanence"}"#), 8.0).unwrap();
+    assert_eq!(b.load_memory(&file).unwrap(), metrics_ltm(&mut a));
+    assert_eq!(b.save_memory().unwrap(), file);
+    // Corrupt and foreign files: refused, the run unchanged and still running.
+    let mut corrupt = file.clone();
+    corrupt[file.len() - 30] ^= 4;
+    assert!(message(b.load_memory(&corrupt).err().unwrap()).contains("checksum"));
+    let mut c = SecRun::new(js(r#"{"task": "detour"}"#), 1.0).unwrap();
+    let e = message(c.load_memory(&file).err().unwrap());
+    assert!(e.starts_with("memory:") && e.contains("object-permanence"), "{e}");
+    assert_eq!(b.save_memory().unwrap(), file);
+    b.step_episode().unwrap();
+    // A person drives: actions are checked; the episode is marked.
+    assert!(message(b.set_driver(Some(9.0), true).err().unwrap()).contains("0..=8"));
+    assert!(message(b.set_driver(Some(1.5), true).err().unwrap()).contains("action"));
+    b.set_driver(Some(3.0), false).unwrap();
+    let m = metrics(b.step_episode().unwrap());
+    assert!(m.human);
+    b.set_driver(None, false).unwrap();
+    assert!(!metrics(b.step_episode().unwrap()).human);
+}
+
+fn metrics_ltm(run: &mut sec_playground::web::SecRun) -> u32 {
+    let v: serde_json::Value = serde_wasm_bindgen::from_value(run.view().unwrap()).unwrap();
+    v["ltm"].as_u64().unwrap() as u32
 }

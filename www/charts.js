@@ -128,4 +128,125 @@ export class Charts {
     this.dirty = false;
     this.plots.forEach((u, k) => u.setData(this.data(k)));
   }
+
+  destroy() {
+    clearInterval(this.timer);
+    for (const u of this.plots) u.destroy();
+  }
+}
+
+/** Colours of compared configurations (Okabe-Ito, readable by colour-blind viewers). */
+export const ARM_COLOURS = ['#0072b2', '#d55e00', '#009e73', '#cc79a7', '#e69f00', '#56b4e9', '#000000', '#f0e442'];
+
+/** `#rrggbb` at opacity `a`. */
+function rgba(hex, a) {
+  const n = parseInt(hex.slice(1), 16);
+  return `rgba(${n >> 16}, ${(n >> 8) & 255}, ${n & 255}, ${a})`;
+}
+
+/**
+ * Mean and standard error across seeds of the 20-episode sliding mean, per episode, over the
+ * episodes every seed has finished. `runs`: one array of per-episode values per seed.
+ */
+export function meanAndError(runs) {
+  const smooth = runs.map((v) => {
+    let sum = 0;
+    return v.map((x, i) => {
+      sum += x;
+      if (i >= WINDOW) sum -= v[i - WINDOW];
+      return sum / Math.min(i + 1, WINDOW);
+    });
+  });
+  const len = Math.min(...smooth.map((s) => s.length));
+  const mean = [];
+  const se = [];
+  for (let i = 0; i < len; i++) {
+    const xs = smooth.map((s) => s[i]);
+    const m = xs.reduce((a, b) => a + b, 0) / xs.length;
+    const v = xs.length > 1 ? xs.reduce((a, b) => a + (b - m) ** 2, 0) / (xs.length - 1) : 0;
+    mean.push(m);
+    se.push(Math.sqrt(v / xs.length));
+  }
+  return { mean, se };
+}
+
+/**
+ * The comparison chart: per configuration its mean curve, and with two or more seeds a band of
+ * ± one standard error. Redrawn at most 10 times a second.
+ */
+export class CompareChart {
+  constructor(root) {
+    this.root = root;
+    this.plot = null;
+    this.shape = '';
+    this.dirty = false;
+    this.drawn = { series: 0, bands: 0 };
+    this.source = () => ({ title: '', arms: [] });
+    this.timer = setInterval(() => this.redraw(), REDRAW_MS);
+  }
+
+  /** `source()` gives {title, arms: [{label, colour, runs: number[][]}]}. */
+  watch(source) {
+    this.source = source;
+    this.dirty = true;
+  }
+
+  touch() {
+    this.dirty = true;
+  }
+
+  redraw() {
+    if (!this.dirty) return;
+    this.dirty = false;
+    const { title, arms } = this.source();
+    if (!arms.length) {
+      this.plot?.destroy();
+      this.plot = null;
+      this.shape = '';
+      this.drawn = { series: 0, bands: 0, episodes: 0 };
+      return;
+    }
+    const stats = arms.map((a) => ({ ...a, banded: a.runs.length > 1, ...meanAndError(a.runs) }));
+    const len = Math.max(0, ...stats.map((s) => s.mean.length));
+    const x = Array.from({ length: len }, (_, i) => i);
+    const pad = (v) => x.map((i) => (i < v.length ? v[i] : null));
+    const data = [x];
+    const series = [{ label: 'episode' }];
+    const bands = [];
+    for (const s of stats) {
+      data.push(pad(s.mean));
+      series.push({ label: s.label, stroke: s.colour, width: 2, points: { show: false } });
+      if (s.banded) {
+        const hi = series.length;
+        data.push(pad(s.mean.map((m, i) => m + s.se[i])), pad(s.mean.map((m, i) => m - s.se[i])));
+        series.push({ label: `${s.label} +SE`, stroke: rgba(s.colour, 0.25), width: 1, points: { show: false } },
+          { label: `${s.label} −SE`, stroke: rgba(s.colour, 0.25), width: 1, points: { show: false } });
+        bands.push({ series: [hi, hi + 1], fill: rgba(s.colour, 0.18) });
+      }
+    }
+    const shape = `${title}|${series.map((s) => s.label).join('|')}`;
+    if (shape !== this.shape || !this.plot) {
+      this.plot?.destroy();
+      this.shape = shape;
+      const width = Math.max(320, Math.min(1100, (this.root.clientWidth || 900) - 8));
+      this.plot = new uPlot({
+        title,
+        width,
+        height: 260,
+        scales: { x: { time: false }, y: { range: (u, min, max) => [Math.min(0, min), max > 0 ? max * 1.1 : 1] } },
+        axes: [{ label: 'episode', size: 36 }, {}],
+        legend: { show: false },
+        series,
+        bands,
+      }, data, this.root);
+    } else {
+      this.plot.setData(data);
+    }
+    this.drawn = { series: stats.length, bands: bands.length, episodes: len };
+  }
+
+  destroy() {
+    clearInterval(this.timer);
+    this.plot?.destroy();
+  }
 }

@@ -1,6 +1,7 @@
 // The controls: one per setting of the core's `parameters()` (symbol, one-line explanation,
 // range), the run bar (play, step, reset, speed, presets) and the keyboard shortcuts. Values go
 // out as strings, exactly as the URL hash holds them; the core validates them.
+import { typing } from './typing.js';
 
 /** The speed slider's stops, in decisions per second; the last is "max". */
 export const SPEEDS = [1, 2, 5, 10, 25, 50, 100, 250, 1000, 'max'];
@@ -97,8 +98,11 @@ export function buildControls(root, params, onChange) {
   };
 }
 
-/** Wires the run bar and the keyboard shortcuts to `actions`. */
-export function runControls($, actions) {
+/**
+ * Wires the run bar and the keyboard shortcuts to `actions`; the shortcuts listen on `target`
+ * (the window for the page, the element itself for an embedded playground).
+ */
+export function runControls($, actions, { target = window } = {}) {
   $('play').addEventListener('click', actions.toggle);
   $('step-decision').addEventListener('click', () => actions.step('decision'));
   $('step-episode').addEventListener('click', () => actions.step('episode'));
@@ -113,9 +117,12 @@ export function runControls($, actions) {
   };
   speed.addEventListener('input', () => actions.speed(showSpeed()));
   showSpeed();
-  window.addEventListener('keydown', (e) => {
-    if (e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement || e.ctrlKey || e.metaKey || e.altKey) return;
-    const key = { ' ': actions.toggle, '.': () => actions.step('decision'), e: () => actions.step('episode'), r: actions.reset }[e.key];
+  target.addEventListener('keydown', (e) => {
+    if (typing(e) || e.ctrlKey || e.metaKey || e.altKey) return;
+    const key = {
+      ' ': actions.toggle, '.': () => actions.step('decision'), e: () => actions.step('episode'), r: actions.reset,
+      d: actions.drive,
+    }[e.key];
     if (key) {
       e.preventDefault();
       key();

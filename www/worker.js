@@ -4,11 +4,12 @@
 //
 // Messages in:  {type: 'start', settings}, {type: 'set', changes}, {type: 'play'}, {type: 'pause'},
 //               {type: 'speed', value}, {type: 'step', what: 'decision' | 'episode'},
-//               {type: 'reset'}, {type: 'views', camera, heat}, {type: 'crash'} (a test hook)
-// Messages out: {type: 'ready', params, defaults}, {type: 'started', settings, errors, mode},
+//               {type: 'reset'}, {type: 'views', camera, heat}, {type: 'drive', action, record},
+//               {type: 'saveMemory'}, {type: 'loadMemory', bytes}, {type: 'crash'} (a test hook)
+// Messages out: {type: 'ready', params, defaults, build}, {type: 'started', settings, errors, mode},
 //               {type: 'episodes', list}, {type: 'view', ...}, {type: 'state', playing},
-//               {type: 'error', message, fatal}
-import init, { SecRun, parameters, parseSettings, applySettings, presetSettings, panicForTest } from '../pkg/sec_playground.js';
+//               {type: 'memory', bytes}, {type: 'loaded', sequences}, {type: 'error', message, fatal}
+import init, { build, ensureModel, SecRun, parameters, parseSettings, applySettings, presetSettings, panicForTest } from './wasm.js';
 
 /** Longest time slice of simulation before yielding to messages (ms). */
 const SLICE_MS = 12;
@@ -25,6 +26,7 @@ let lastView = 0;
 let owed = 0; // decisions owed at a watch speed
 let lastTick = 0;
 let dead = false; // the wasm instance trapped: only a new start can help
+let driver = null; // {action, record} while a person drives; kept across new runs
 
 const post = (msg, transfer) => self.postMessage(msg, transfer ?? []);
 
@@ -113,32 +115,35 @@ function setPlaying(p) {
   }
 }
 
-/** A new run of `s` (normalised settings); on failure the old run goes on. */
-function newRun(config, seed) {
+/** A new run (its task's model fetched first); on failure the old run goes on. */
+async function newRun(config, seed) {
+  await ensureModel(config.task);
   const next = new SecRun(config, seed);
+  if (driver) next.setDriver(driver.action, driver.record);
   run?.free();
   run = next;
   dead = false;
 }
 
 const handlers = {
-  start({ settings: raw }) {
+  async start({ settings: raw }) {
     const parsed = parseSettings(raw ?? {});
-    newRun(parsed.config, parsed.seed);
+    await newRun(parsed.config, parsed.seed);
     settings = parsed.settings;
     post({ type: 'started', settings, errors: parsed.errors, mode: 'restart', fresh: true });
     postView(true);
   },
-  set({ changes }) {
+  async set({ changes }) {
     // Throws (naming the key and range) before anything changes.
     const next = applySettings(settings, changes);
     const same = Object.keys(next.settings).every((k) => next.settings[k] === settings[k]);
     if (same && run && !dead) return; // nothing to change (e.g. the same value twice)
     let mode;
     if (!run || dead || next.seed !== run.seed) {
-      newRun(next.config, next.seed);
+      await newRun(next.config, next.seed);
       mode = 'restart';
     } else {
+      if (next.config.task !== run.config().task) await ensureModel(next.config.task);
       mode = run.configure(next.config);
     }
     settings = next.settings;
@@ -146,7 +151,7 @@ const handlers = {
     postView(true);
   },
   preset({ name }) {
-    handlers.set({ changes: presetSettings(name) });
+    return handlers.set({ changes: presetSettings(name) });
   },
   play() { setPlaying(true); },
   pause() { setPlaying(false); },
@@ -169,10 +174,28 @@ const handlers = {
     }
     postView(true);
   },
-  reset() {
+  async reset() {
     const parsed = parseSettings(settings);
-    newRun(parsed.config, parsed.seed);
+    await newRun(parsed.config, parsed.seed);
     post({ type: 'started', settings, errors: [], mode: 'restart' });
+    postView(true);
+  },
+  /** A person drives (`action` 0..8) or gives the controls back (`action` null). */
+  drive({ action, record }) {
+    const next = action == null ? null : { action, record: !!record };
+    run?.setDriver(next?.action, !!next?.record); // throws on a bad action, before anything changes
+    driver = next;
+  },
+  config() {
+    post({ type: 'config', config: run.config(), seed: run.seed });
+  },
+  saveMemory() {
+    const bytes = run.saveMemory();
+    post({ type: 'memory', bytes: bytes.buffer }, [bytes.buffer]);
+  },
+  loadMemory({ bytes }) {
+    const sequences = run.loadMemory(new Uint8Array(bytes));
+    post({ type: 'loaded', sequences });
     postView(true);
   },
   /** Test hook: a panic in the simulation, as a bug would cause. */
@@ -183,21 +206,21 @@ const handlers = {
   },
 };
 
+// One message at a time, in order: a handler that fetches a model finishes before the next runs.
+let queue = Promise.resolve();
 self.onmessage = ({ data }) => {
   const h = handlers[data?.type];
   if (!h) return fail(`unknown message '${data?.type}'`);
-  try {
-    h(data);
-  } catch (e) {
+  queue = queue.then(() => h(data)).catch((e) => {
     // A bad value: the message names it; the run is as it was. A trap: the run is gone.
     if (e instanceof WebAssembly.RuntimeError) trapped(e);
     else fail(e);
-  }
+  });
 };
 
 init()
   .then(() => {
     const parsed = parseSettings({});
-    post({ type: 'ready', params: parameters(), defaults: parsed.settings });
+    post({ type: 'ready', params: parameters(), defaults: parsed.settings, build });
   })
   .catch((e) => fail(`The simulation could not load: ${e?.message ?? e}`, true));

@@ -268,6 +268,11 @@ impl Mfec {
 
     /// Episode end: discounted returns backwards, written into the action buffers in the
     /// episode's order.
+    /// Forgets the episode in progress without learning from it (a person drove it).
+    pub fn discard_episode(&mut self) {
+        self.episode.clear();
+    }
+
     pub fn episode_end(&mut self, rewarded: bool) {
         let mut g = 0.0;
         for t in self.episode.iter_mut().rev() {

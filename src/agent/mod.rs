@@ -18,6 +18,9 @@ pub enum Layer {
     Reactive,
     #[serde(rename = "C")]
     Contextual,
+    /// A person at the controls (the page's "drive it yourself").
+    #[serde(rename = "H")]
+    Human,
 }
 
 /// The agent's parameters beyond the memory's. Defaults follow the authors' code.
@@ -142,6 +145,23 @@ impl Agent {
         rec_mse: impl FnOnce() -> f32,
         rng: &mut ChaCha8Rng,
     ) -> Decision {
+        self.act(e, rec_mse, None, rng)
+    }
+
+    /// A person chose `action` at this decision (the page's "drive it yourself" with record on):
+    /// the memory goes through the same steps as for `decide`, but the couplet holds the
+    /// person's action, so a rewarded episode is stored like any other sequence.
+    pub fn follow(&mut self, e: &[f32; EMBEDDING], action: u8, rng: &mut ChaCha8Rng) -> Decision {
+        self.act(e, || f32::INFINITY, Some(action), rng)
+    }
+
+    fn act(
+        &mut self,
+        e: &[f32; EMBEDDING],
+        rec_mse: impl FnOnce() -> f32,
+        forced: Option<u8>,
+        rng: &mut ChaCha8Rng,
+    ) -> Decision {
         if !self.previous_pushed {
             self.memory.push(self.previous);
         }
@@ -150,8 +170,9 @@ impl Agent {
         let reactive = self.reactive.step(rng);
         let contextual = self.memory.advance(e, rng);
         let gate = self.cfg.gate;
-        let (action, layer) = match contextual {
-            Some(a) if self.memory.len() >= self.cfg.min_sequences && gate.is_none_or(|g| rec_mse() < g) => {
+        let (action, layer) = match (forced, contextual) {
+            (Some(a), _) => (a, Layer::Human),
+            (None, Some(a)) if self.memory.len() >= self.cfg.min_sequences && gate.is_none_or(|g| rec_mse() < g) => {
                 (a, Layer::Contextual)
             }
             _ => (reactive, Layer::Reactive),

@@ -1,10 +1,14 @@
-//! The trained models, one per task (sec-algorithm.md section 11), compiled into the binary so
-//! that the wasm build needs no extra download. `sec-train` writes them; `encoder-report`
-//! calibrates their embedding scale (docs/ENCODER.md).
+//! The trained models, one per task (sec-algorithm.md section 11). Native builds compile all six
+//! in (`sec-train` writes them; `encoder-report` calibrates their embedding scale,
+//! docs/ENCODER.md). The wasm build does not: the page fetches the one model its task needs
+//! (`assets/encoders/<task>.secae`, about 394 KB) and registers it, which keeps the download
+//! for the default page a sixth of what all six would be.
 
 use super::{Autoencoder, Weights};
 use crate::arena::{ConfigError, TASK_NAMES};
+use std::sync::Mutex;
 
+#[cfg(not(target_arch = "wasm32"))]
 macro_rules! model_file {
     ($name:literal) => {
         ($name, include_bytes!(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/encoders/", $name, ".secae")) as &[u8])
@@ -12,6 +16,7 @@ macro_rules! model_file {
 }
 
 /// (task, weights file) for every task preset.
+#[cfg(not(target_arch = "wasm32"))]
 pub const FILES: [(&str, &[u8]); 6] = [
     model_file!("double-t-maze"),
     model_file!("detour"),
@@ -20,12 +25,50 @@ pub const FILES: [(&str, &[u8]); 6] = [
     model_file!("object-permanence"),
     model_file!("object-permanence-pits"),
 ];
+#[cfg(target_arch = "wasm32")]
+pub const FILES: [(&str, &[u8]); 0] = [];
+
+/// Models registered at run time (the page's fetched weights), by task.
+static REGISTERED: Mutex<Vec<Autoencoder>> = Mutex::new(Vec::new());
+
+/// Checks a weights file and makes it the model of its task (replacing one registered before);
+/// returns the task. A corrupt file or one for an unknown task is refused.
+pub fn register(bytes: &[u8]) -> Result<String, ConfigError> {
+    let ae = Autoencoder::from_weights(&Weights::from_bytes(bytes)?)?;
+    if !TASK_NAMES.contains(&ae.task.as_str()) {
+        return Err(ConfigError::new(
+            "weights",
+            format!("the file holds a model of '{}', not one of {}", ae.task, TASK_NAMES.join(", ")),
+        ));
+    }
+    let task = ae.task.clone();
+    let mut reg = REGISTERED.lock().unwrap_or_else(|e| e.into_inner());
+    reg.retain(|m| m.task != task);
+    reg.push(ae);
+    Ok(task)
+}
+
+/// Whether `task`'s model is available (registered, or compiled in).
+pub fn has(task: &str) -> bool {
+    REGISTERED.lock().unwrap_or_else(|e| e.into_inner()).iter().any(|m| m.task == task)
+        || FILES.iter().any(|(name, _)| *name == task)
+}
 
 /// The trained autoencoder of a task preset. A file whose task differs from its name is refused.
 pub fn autoencoder(task: &str) -> Result<Autoencoder, ConfigError> {
-    let (_, bytes) = FILES.iter().find(|(name, _)| *name == task).ok_or_else(|| {
-        ConfigError::new("task", format!("no trained autoencoder for '{task}'; one of {}", TASK_NAMES.join(", ")))
-    })?;
+    if let Some(ae) = REGISTERED.lock().unwrap_or_else(|e| e.into_inner()).iter().find(|m| m.task == task) {
+        return Ok(ae.clone());
+    }
+    let Some((_, bytes)) = FILES.iter().find(|(name, _)| *name == task) else {
+        return Err(if TASK_NAMES.contains(&task) {
+            ConfigError::new(
+                "weights",
+                format!("the model of '{task}' is not loaded: register assets/encoders/{task}.secae first"),
+            )
+        } else {
+            ConfigError::new("task", format!("no trained autoencoder for '{task}'; one of {}", TASK_NAMES.join(", ")))
+        });
+    };
     let ae = Autoencoder::from_weights(&Weights::from_bytes(bytes)?)?;
     if ae.task != task {
         return Err(ConfigError::new("weights", format!("the file for '{task}' holds the model of '{}'", ae.task)));

@@ -64,7 +64,7 @@ fn conv3x3_relu_any<const CI: usize, const CO: usize>(
             let x0 = ox as isize - pad;
             if x0 >= 0 && x0 as usize + BLOCK + 2 <= w && ox + BLOCK <= ow {
                 let o = &mut out[(oy * ow + ox) * CO..][..BLOCK * CO];
-                #[cfg(target_arch = "wasm32")]
+                #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
                 if CO % (4 * simd::NV) == 0 {
                     simd::conv_block::<CI, CO>(input, h, w, weights, bias, oy as isize - pad, x0 as usize, o);
                     ox += BLOCK;
@@ -108,8 +108,9 @@ fn conv3x3_relu_any<const CI: usize, const CO: usize>(
 /// Output pixels convolved together in the interior.
 #[cfg(not(target_arch = "wasm32"))]
 const BLOCK: usize = 4;
+/// In wasm, the simd128 blocks' width (the scalar fallback build keeps it: same bits either way).
 #[cfg(target_arch = "wasm32")]
-const BLOCK: usize = simd::P;
+const BLOCK: usize = 2;
 
 /// BLOCK adjacent output pixels whose windows start at input row `y0` and column `x0`.
 #[inline(always)]
@@ -155,11 +156,11 @@ fn conv_block<const CI: usize, const CO: usize>(
 /// registers, so a block accumulates P pixels x NV vectors of 4 output channels at a time and
 /// walks the channel groups in turn. Each lane does what the portable loop does, in the same
 /// order (multiply, then add; ReLU as max with 0), so the bits are the same.
-#[cfg(target_arch = "wasm32")]
+#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
 mod simd {
     use core::arch::wasm32::*;
 
-    pub const P: usize = 2;
+    pub const P: usize = super::BLOCK;
     pub const NV: usize = 4;
 
     #[inline(always)]

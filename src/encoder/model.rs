@@ -102,6 +102,16 @@ impl Autoencoder {
         Weights { task: self.task.clone(), embedding_scale: self.embedding_scale, tensors }
     }
 
+    /// FNV-1a of every parameter's bits and the embedding scale: two models give the same
+    /// embeddings exactly when their fingerprints match, so a saved memory names the one it needs.
+    pub fn fingerprint(&self) -> u64 {
+        let mut bytes = Vec::with_capacity(4 * (self.parameter_count() + 1));
+        for v in self.params.iter().flatten().chain([&self.embedding_scale]) {
+            bytes.extend_from_slice(&v.to_bits().to_le_bytes());
+        }
+        crate::util::fnv1a(&bytes)
+    }
+
     pub fn parameter_count(&self) -> usize {
         self.params.iter().map(Vec::len).sum()
     }

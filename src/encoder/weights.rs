@@ -10,7 +10,7 @@
 //! - an FNV-1a 64 checksum (u64) of all the bytes before it.
 
 use crate::arena::ConfigError;
-use crate::util::fnv1a;
+use crate::util::{fnv1a, put_str, ByteReader};
 
 pub const MAGIC: [u8; 8] = *b"SECAEWTS";
 pub const VERSION: u32 = 1;
@@ -83,7 +83,7 @@ impl Weights {
         }
         let (body, tail) = bytes.split_at(bytes.len() - 8);
         let stored = u64::from_le_bytes(tail.try_into().unwrap());
-        let mut r = Reader { b: body, at: MAGIC.len() };
+        let mut r = ByteReader { b: body, at: MAGIC.len(), what: "weights" };
         let version = r.u32()?;
         if version != VERSION {
             return Err(err(format!("format version {version} is not supported (this build reads {VERSION})")));
@@ -133,31 +133,5 @@ impl Weights {
             return Err(err(format!("tensor {name} has shape {:?}, expected {shape:?}", t.shape)));
         }
         Ok(&t.data)
-    }
-}
-
-fn put_str(b: &mut Vec<u8>, s: &str) {
-    b.extend_from_slice(&(s.len() as u16).to_le_bytes());
-    b.extend_from_slice(s.as_bytes());
-}
-
-struct Reader<'a> {
-    b: &'a [u8],
-    at: usize,
-}
-
-impl Reader<'_> {
-    fn take(&mut self, n: usize) -> Result<&[u8], ConfigError> {
-        let end = self.at.checked_add(n).filter(|&e| e <= self.b.len()).ok_or_else(|| err("file is truncated"))?;
-        let s = &self.b[self.at..end];
-        self.at = end;
-        Ok(s)
-    }
-    fn u32(&mut self) -> Result<u32, ConfigError> {
-        Ok(u32::from_le_bytes(self.take(4)?.try_into().unwrap()))
-    }
-    fn string(&mut self) -> Result<String, ConfigError> {
-        let n = u16::from_le_bytes(self.take(2)?.try_into().unwrap()) as usize;
-        String::from_utf8(self.take(n)?.to_vec()).map_err(|_| err("a name is not UTF-8"))
     }
 }

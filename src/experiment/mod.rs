@@ -7,6 +7,7 @@ use crate::agent::mfec::{Embedding, Mfec, MfecConfig, RandomProjection};
 use crate::agent::{Agent, AgentConfig, Decision, Layer, Reactive};
 use crate::arena::{Action, ConfigError, Env, EnvConfig, StepOutcome, Task};
 use crate::encoder::{bundled, Autoencoder, ReconstructionGate, Scratch, EMBEDDING, IMAGE};
+use crate::memory::{self, ACTIONS};
 use crate::render::Frame;
 pub mod presets;
 pub mod settings;
@@ -112,6 +113,9 @@ pub struct EpisodeMetrics {
     pub ltm: usize,
     /// Share of decisions taken by the contextual layer.
     pub contextual_share: f64,
+    /// A person drove at least one decision of it (the page's "drive it yourself").
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub human: bool,
 }
 
 impl EpisodeMetrics {
@@ -138,6 +142,18 @@ pub struct Run {
     rng: ChaCha8Rng,
     /// The episode in progress (`None` between episodes).
     current: Option<EpisodeState>,
+    /// A person at the controls, if any.
+    driver: Option<Driver>,
+}
+
+/// A person driving the agent (the page's arrow keys): the action held from the next decision
+/// on. With `record` (SEC only) the decisions go through the agent's memory with the person's
+/// actions, so a rewarded episode is stored in the LTM like any other; without it the agent
+/// neither sees nor learns from them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Driver {
+    pub action: u8,
+    pub record: bool,
 }
 
 impl Run {
@@ -176,6 +192,7 @@ impl Run {
             events: None,
             rng,
             current: None,
+            driver: None,
         })
     }
 
@@ -257,6 +274,54 @@ impl Run {
         self.gate.mse(&self.encoder, &mut self.scratch)
     }
 
+    /// A person takes (`Some`) or gives back (`None`) the controls; see `Driver`. An action
+    /// outside 0..=8 is refused.
+    pub fn set_driver(&mut self, driver: Option<Driver>) -> Result<(), ConfigError> {
+        if let Some(d) = driver {
+            if d.action as usize >= ACTIONS {
+                return Err(ConfigError::new("action", format!("{} is out of range 0..={}", d.action, ACTIONS - 1)));
+            }
+        }
+        self.driver = driver;
+        Ok(())
+    }
+
+    pub fn driver(&self) -> Option<Driver> {
+        self.driver
+    }
+
+    /// Whether the controller sees this decision: always unless a person drives without
+    /// recording (or records for an agent without SEC's memory).
+    fn controller_sees(&self) -> bool {
+        match self.driver {
+            None => true,
+            Some(d) => d.record && matches!(self.controller, Controller::Sec(_)),
+        }
+    }
+
+    /// What this run's embeddings mean, for memory files.
+    fn identity(&self) -> memory::file::Identity {
+        memory::file::Identity { task: self.cfg.task.clone(), model: self.encoder.fingerprint() }
+    }
+
+    /// SEC's memory (STM and LTM) as a file (`memory::file`).
+    pub fn save_memory(&self) -> Result<Vec<u8>, ConfigError> {
+        match &self.controller {
+            Controller::Sec(agent) => Ok(agent.memory.to_file(&self.identity())),
+            _ => Err(ConfigError::new("agent", "only SEC has a memory to save (this run's agent is not SEC)")),
+        }
+    }
+
+    /// Replaces SEC's memory with a file's; a corrupt, foreign or mismatched file is refused and
+    /// the memory is left as it was. Returns the number of sequences loaded.
+    pub fn load_memory(&mut self, bytes: &[u8]) -> Result<usize, ConfigError> {
+        let id = self.identity();
+        match &mut self.controller {
+            Controller::Sec(agent) => agent.memory.load_file(bytes, &id),
+            _ => Err(ConfigError::new("agent", "only SEC can load a memory file (this run's agent is not SEC)")),
+        }
+    }
+
     /// Starts recording SEC's events (embeddings with the gate's MSE, goals, episode ends): fed
     /// to `trace::trace` with the run's seed they give the run's actions again.
     pub fn record_events(&mut self) {
@@ -271,6 +336,9 @@ impl Run {
     /// The current frame's embedding (the image is already in `self.image`), then the agent's
     /// decision.
     fn decide(&mut self) -> Decision {
+        if let Some(d) = self.driver.filter(|_| !self.controller_sees()) {
+            return Decision { action: d.action, layer: Layer::Human, selected: false };
+        }
         let mut e = [0.0; EMBEDDING];
         match &self.projection {
             Some(p) => p.project(&self.image, &mut e),
@@ -286,7 +354,10 @@ impl Run {
                 if let Some(ev) = &mut self.events {
                     ev.push(trace::Event::Decision { embedding: e.to_vec(), rec_mse: gate.mse(encoder, scratch) });
                 }
-                agent.decide_with(&e, || gate.mse(encoder, scratch), &mut self.rng)
+                match self.driver {
+                    Some(d) => agent.follow(&e, d.action, &mut self.rng),
+                    None => agent.decide_with(&e, || gate.mse(encoder, scratch), &mut self.rng),
+                }
             }
             Controller::Mfec(mfec) => mfec.decide(&e, self.env.is_over(), &mut self.rng),
             Controller::Reactive(r) => {
@@ -351,16 +422,17 @@ impl Run {
         let decide = ep.step % period == 0;
         let reached = out.good_goal && ep.reward > 0.0;
         ep.goal |= reached;
+        let sees = self.controller_sees();
         match &mut self.controller {
             // Storage on the goal event with a positive episode reward, before this frame's
             // decision, so the last decision's couplet is not in the sequence (D4, D12).
-            Controller::Sec(agent) if reached => {
+            Controller::Sec(agent) if reached && sees => {
                 agent.goal(ep.reward, &mut self.rng);
                 if let Some(ev) = &mut self.events {
                     ev.push(trace::Event::Goal { reward: ep.reward });
                 }
             }
-            Controller::Mfec(mfec) => mfec.frame(out.reward, ep.reward, out.good_goal, decide),
+            Controller::Mfec(mfec) if sees => mfec.frame(out.reward, ep.reward, out.good_goal, decide),
             _ => {}
         }
         let needs_image = !matches!(self.controller, Controller::Reactive(_));
@@ -376,6 +448,7 @@ impl Run {
             ep.action = Action::new(d.action as u32).expect("actions are 0..9");
             ep.decisions += 1;
             ep.contextual += (d.layer == Layer::Contextual) as u32;
+            ep.human += (d.layer == Layer::Human) as u32;
             let h = self.entropy();
             ep.entropy_sum += h;
             if d.selected {
@@ -399,7 +472,12 @@ impl Run {
                 agent.memory.len()
             }
             Controller::Mfec(mfec) => {
-                mfec.episode_end(ep.goal);
+                // An episode a person drove in part is not MFEC's experience.
+                if ep.human > 0 {
+                    mfec.discard_episode();
+                } else {
+                    mfec.episode_end(ep.goal);
+                }
                 mfec.len()
             }
             Controller::Reactive(_) => 0,
@@ -416,6 +494,7 @@ impl Run {
             entropy_fresh: (ep.fresh_n > 0).then(|| ep.fresh_sum / ep.fresh_n as f64),
             ltm,
             contextual_share: ep.contextual as f64 / ep.decisions.max(1) as f64,
+            human: ep.human > 0,
         };
         self.env.reset(None);
         Tick { decision, finished: Some(metrics) }
@@ -446,6 +525,8 @@ pub struct EpisodeState {
     pub action: Action,
     pub decisions: u32,
     pub contextual: u32,
+    /// Decisions a person took.
+    pub human: u32,
     pub goal: bool,
     entropy_sum: f64,
     fresh_sum: f64,
@@ -463,6 +544,7 @@ impl EpisodeState {
             action: Action::NOOP,
             decisions: 0,
             contextual: 0,
+            human: 0,
             goal: false,
             entropy_sum: 0.0,
             fresh_sum: 0.0,

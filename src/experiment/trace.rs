@@ -129,7 +129,12 @@ pub fn trace_line(agent: &Agent, decision: u64, action: u8, layer: Layer) -> Tra
     TraceLine {
         decision,
         action,
-        layer: if layer == Layer::Contextual { "C" } else { "R" }.into(),
+        layer: match layer {
+            Layer::Contextual => "C",
+            Layer::Reactive => "R",
+            Layer::Human => "H",
+        }
+        .into(),
         ltm: memory.len(),
         t,
         selected,

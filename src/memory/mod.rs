@@ -7,6 +7,8 @@
 //! couplets that vectorises, and each couplet still sums its 20 terms in component order on every
 //! target. Nothing is allocated per decision: every buffer is sized for the capacity m up front.
 
+pub mod file;
+
 use crate::arena::ConfigError;
 use crate::encoder::EMBEDDING;
 use rand::Rng;

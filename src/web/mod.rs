@@ -10,7 +10,7 @@ use std::collections::VecDeque;
 use wasm_bindgen::prelude::*;
 
 mod run;
-pub use run::{apply_settings, parameters, parse_settings, preset_settings, SecRun};
+pub use run::{apply_settings, has_model, parameters, parse_settings, preset_settings, register_model, SecRun};
 
 /// Positions kept for the top-down trail (about 30 s of simulated time).
 const TRAIL: usize = 500;

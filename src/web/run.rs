@@ -7,7 +7,7 @@
 use super::{js_err, seed_from_js};
 use crate::encoder::{reconstruction_to_rgba, Scratch, EMBEDDING, IMAGE};
 use crate::experiment::settings::{self, Settings};
-use crate::experiment::{Controller, EpisodeMetrics, Run, RunConfig};
+use crate::experiment::{Controller, Driver, EpisodeMetrics, Run, RunConfig};
 use crate::memory::ACTIONS;
 use crate::render::render_top_down;
 use glam::Vec2;
@@ -49,6 +49,8 @@ export interface EpisodeMetrics {
   episode: number; layout: string; reward: number; rawReward: number; goal: boolean;
   envSteps: number; decisions: number; entropy: number; entropyFresh: number | null;
   ltm: number; contextualShare: number;
+  /** Present and true when a person drove part of the episode. */
+  human?: boolean;
 }
 /** One of the page's settings, with its range. */
 export interface Param {
@@ -64,7 +66,7 @@ export interface ParsedSettings {
 }
 /** The last decision and the state the page's views show. */
 export interface DecisionView {
-  action: number | null; layer: "R" | "C" | null; selected: number; entropy: number;
+  action: number | null; layer: "R" | "C" | "H" | null; selected: number; entropy: number;
   p: number[] | null; gateMse: number; ltm: number; capacity: number;
   episode: number; step: number; episodeReward: number; x: number; z: number; heading: number;
 }
@@ -367,6 +369,38 @@ impl SecRun {
         self.run.fill_ltm_for_benchmark(rows as usize);
     }
 
+    /// A person takes the controls with `action` (0..=8: 3 x forward/back + turn right/left)
+    /// from the next decision on, or gives them back with `null`. With `record` (SEC only) the
+    /// decisions go into the agent's memory with the person's actions, so a rewarded episode is
+    /// stored in the LTM like any other; without it the agent learns nothing from them.
+    #[wasm_bindgen(js_name = setDriver)]
+    pub fn set_driver(&mut self, action: Option<f64>, record: bool) -> Result<(), JsError> {
+        let driver = match action {
+            None => None,
+            Some(a) if a.is_finite() && a.fract() == 0.0 && (0.0..ACTIONS as f64).contains(&a) => {
+                Some(Driver { action: a as u8, record })
+            }
+            Some(a) => {
+                return Err(JsError::new(&format!("action: {a} is out of range 0..={} (whole numbers)", ACTIONS - 1)))
+            }
+        };
+        self.run.set_driver(driver).map_err(js_err)
+    }
+
+    /// SEC's memory (STM and LTM) as a versioned file (`memory::file`): bytes to download.
+    #[wasm_bindgen(js_name = saveMemory)]
+    pub fn save_memory(&self) -> Result<Vec<u8>, JsError> {
+        self.run.save_memory().map_err(js_err)
+    }
+
+    /// Replaces SEC's memory with a saved file's; returns the sequences loaded. A corrupt,
+    /// foreign or mismatched file (another task, encoder, n, or more sequences than m) throws an
+    /// Error naming what is wrong, and the memory is left as it was.
+    #[wasm_bindgen(js_name = loadMemory)]
+    pub fn load_memory(&mut self, bytes: &[u8]) -> Result<u32, JsError> {
+        self.run.load_memory(bytes).map(|n| n as u32).map_err(js_err)
+    }
+
     /// STM length n: the heat map's row length.
     #[wasm_bindgen(getter, js_name = stmLength)]
     pub fn stm_length(&self) -> u32 {
@@ -433,6 +467,20 @@ pub fn apply_settings(current: JsValue, changes: JsValue) -> Result<JsValue, JsE
     }
     cfg.validate().map_err(js_err)?;
     parsed(cfg, seed, Vec::new())
+}
+
+/// Makes a weights file (`assets/encoders/<task>.secae`, as bytes) the model of its task; returns
+/// the task. The wasm build holds no model: register the task's before a run in it. A corrupt
+/// file or one of an unknown task throws.
+#[wasm_bindgen(js_name = registerModel)]
+pub fn register_model(bytes: &[u8]) -> Result<String, JsError> {
+    crate::encoder::bundled::register(bytes).map_err(js_err)
+}
+
+/// Whether the model of `task` is registered.
+#[wasm_bindgen(js_name = hasModel)]
+pub fn has_model(task: &str) -> bool {
+    crate::encoder::bundled::has(task)
 }
 
 /// The settings a preset ("code" or "paper") sets.

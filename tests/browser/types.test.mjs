@@ -9,6 +9,7 @@ const root = fileURLToPath(new URL('../../', import.meta.url));
 const dts = readFileSync(`${root}pkg/sec_playground.d.ts`, 'utf8');
 const wasm = await import(`${root}pkg/sec_playground.js`);
 wasm.initSync({ module: readFileSync(`${root}pkg/sec_playground_bg.wasm`) });
+wasm.registerModel(readFileSync(`${root}assets/encoders/object-permanence.secae`));
 
 /** The text of `export interface name { ... }` (balanced braces). */
 function block(name) {

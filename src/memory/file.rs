@@ -1,0 +1,173 @@
+//! The agent's memory as a file, so a learnt LTM can be kept, shared and loaded into another run
+//! of the same task and model. Versioned and checked like the weights file: a corrupt, foreign
+//! or mismatched file is a clear error and the memory it was meant for is left as it was.
+//!
+//! Layout, little-endian:
+//! - magic `SECMEMRY` (8 bytes), format version (u32, now 1);
+//! - what the embeddings mean: the task (u16 length + UTF-8), the encoder's fingerprint (u64,
+//!   `Autoencoder::fingerprint`, scale included) and the embedding size (u32, 20);
+//! - the STM length n (u32) and the number of LTM sequences (u32);
+//! - the STM, oldest couplet first: per couplet 20 f32 then its action (u8);
+//! - per sequence its reward (f64), then its n couplets as in the STM;
+//! - an FNV-1a 64 checksum (u64) of all the bytes before it.
+//!
+//! T and the selection masks are not kept: they restart at 1 and empty, as after an episode.
+
+use super::{Couplet, Memory};
+use crate::arena::ConfigError;
+use crate::encoder::EMBEDDING;
+use crate::memory::ACTIONS;
+use crate::util::{fnv1a, put_str, ByteReader};
+
+pub const MAGIC: [u8; 8] = *b"SECMEMRY";
+pub const VERSION: u32 = 1;
+
+/// What a memory's embeddings were made with: a file loads only into a run that agrees.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Identity {
+    pub task: String,
+    /// The encoder's fingerprint (`Autoencoder::fingerprint`).
+    pub model: u64,
+}
+
+fn err(message: impl Into<String>) -> ConfigError {
+    ConfigError::new("memory", message)
+}
+
+fn put_couplet(b: &mut Vec<u8>, c: &Couplet) {
+    for v in c.embedding {
+        b.extend_from_slice(&v.to_le_bytes());
+    }
+    b.push(c.action);
+}
+
+fn couplet(r: &mut ByteReader) -> Result<Couplet, ConfigError> {
+    let mut embedding = [0.0f32; EMBEDDING];
+    for v in &mut embedding {
+        *v = r.f32()?;
+        if !v.is_finite() {
+            return Err(err("an embedding value is not a finite number"));
+        }
+    }
+    let action = r.take(1)?[0];
+    if action as usize >= ACTIONS {
+        return Err(err(format!("action {action} is out of range 0..={}", ACTIONS - 1)));
+    }
+    Ok(Couplet { embedding, action })
+}
+
+impl Memory {
+    /// The STM and the LTM as a file (see the module's doc).
+    pub fn to_file(&self, id: &Identity) -> Vec<u8> {
+        let n = self.cfg.n;
+        let mut b = Vec::with_capacity(64 + (self.len() + 1) * (8 + n * (4 * EMBEDDING + 1)));
+        b.extend_from_slice(&MAGIC);
+        b.extend_from_slice(&VERSION.to_le_bytes());
+        put_str(&mut b, &id.task);
+        b.extend_from_slice(&id.model.to_le_bytes());
+        b.extend_from_slice(&(EMBEDDING as u32).to_le_bytes());
+        b.extend_from_slice(&(n as u32).to_le_bytes());
+        b.extend_from_slice(&(self.len() as u32).to_le_bytes());
+        for c in self.stm() {
+            put_couplet(&mut b, c);
+        }
+        for (i, r) in self.rewards.iter().enumerate() {
+            b.extend_from_slice(&r.to_le_bytes());
+            for j in 0..n {
+                put_couplet(&mut b, &Couplet { embedding: self.ltm_embedding(i, j), action: self.ltm_action(i, j) });
+            }
+        }
+        let sum = fnv1a(&b);
+        b.extend_from_slice(&sum.to_le_bytes());
+        b
+    }
+
+    /// Replaces the STM and the LTM with a file's, after checking all of it against `id` and
+    /// this memory's n and m; on error nothing changes. Returns the number of sequences loaded.
+    pub fn load_file(&mut self, bytes: &[u8], id: &Identity) -> Result<usize, ConfigError> {
+        if bytes.len() < MAGIC.len() || bytes[..MAGIC.len()] != MAGIC {
+            return Err(err("not a SEC memory file (bad magic number)"));
+        }
+        if bytes.len() < MAGIC.len() + 4 + 8 {
+            return Err(err("file is truncated"));
+        }
+        let (body, tail) = bytes.split_at(bytes.len() - 8);
+        let mut r = ByteReader { b: body, at: MAGIC.len(), what: "memory" };
+        let version = r.u32()?;
+        if version != VERSION {
+            return Err(err(format!("format version {version} is not supported (this build reads {VERSION})")));
+        }
+        if fnv1a(body) != u64::from_le_bytes(tail.try_into().unwrap()) {
+            return Err(err("checksum mismatch: the file is corrupt"));
+        }
+        let task = r.string()?;
+        if task != id.task {
+            return Err(err(format!("the file holds a memory of '{task}', this run is in '{}'", id.task)));
+        }
+        let model = r.u64()?;
+        if model != id.model {
+            return Err(err(format!(
+                "the file was made with another encoder of '{task}' (fingerprint {model:016x}, this run's {:016x}), \
+                 so its embeddings mean something else",
+                id.model
+            )));
+        }
+        let dim = r.u32()? as usize;
+        if dim != EMBEDDING {
+            return Err(err(format!("embedding size {dim}, this build's is {EMBEDDING}")));
+        }
+        let n = r.u32()? as usize;
+        if n != self.cfg.n {
+            return Err(ConfigError::new(
+                "n",
+                format!("the file's sequences have {n} couplets, this run's STM length n is {}", self.cfg.n),
+            ));
+        }
+        let rows = r.u32()? as usize;
+        if rows > self.cfg.m {
+            return Err(ConfigError::new(
+                "m",
+                format!("the file holds {rows} sequences, more than this run's LTM capacity m = {}", self.cfg.m),
+            ));
+        }
+        let expected = n * (4 * EMBEDDING + 1) * (rows + 1) + 8 * rows;
+        if body.len() - r.at != expected {
+            return Err(err(format!("{} bytes of couplets, expected {expected}", body.len() - r.at)));
+        }
+        let stm = (0..n).map(|_| couplet(&mut r)).collect::<Result<Vec<_>, _>>()?;
+        let mut seqs = Vec::with_capacity(rows);
+        for _ in 0..rows {
+            let reward = r.f64()?;
+            if !(reward.is_finite() && reward > 0.0) {
+                return Err(err(format!("a sequence's reward {reward} is not a positive number")));
+            }
+            seqs.push((reward, (0..n).map(|_| couplet(&mut r)).collect::<Result<Vec<_>, _>>()?));
+        }
+        // Checked: now replace.
+        self.stm.copy_from_slice(&stm);
+        self.stm_head = 0;
+        self.ltm.clear();
+        self.actions.clear();
+        self.rewards.clear();
+        for (reward, seq) in &seqs {
+            let row = self.ltm.len();
+            self.ltm.resize(row + EMBEDDING * n, 0.0);
+            for (j, c) in seq.iter().enumerate() {
+                for k in 0..EMBEDDING {
+                    self.ltm[row + k * n + j] = c.embedding[k];
+                }
+                self.actions.push(c.action);
+            }
+            self.rewards.push(*reward);
+        }
+        self.t.clear();
+        self.t.resize(rows * n, 1.0);
+        self.sel.clear();
+        self.sel.resize(rows * n, false);
+        self.sel_prev.clear();
+        self.sel_prev.resize(rows * n, false);
+        self.g.clear();
+        self.selected.clear();
+        Ok(rows)
+    }
+}

@@ -1,0 +1,295 @@
+// The playground for teaching, in real Chromium: compare mode and the paper's presets, driving
+// with the arrow keys and recording into the LTM, CSV export, memory files (a corrupt one is
+// refused and the run goes on), the <sec-playground> element twice on a course page, the iframe
+// page's height messages, the self-contained build from a plain static folder, and the scalar
+// fallback giving the SIMD build's episodes.
+import { test, before, after, afterEach } from 'node:test';
+import assert from 'node:assert/strict';
+import { cpSync, mkdtempSync, readFileSync, rmSync, writeFileSync, existsSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { ARTIFACTS, launch } from './harness.mjs';
+import { serve } from '../../scripts/serve.mjs';
+
+let server, browser, base;
+
+before(async () => {
+  ({ server, browser, base } = await launch());
+});
+
+after(async () => {
+  await browser?.close();
+  server?.close();
+});
+
+// A failed test must not leave its workers running under the next one.
+const pages = [];
+afterEach(async () => {
+  for (const p of pages.splice(0)) if (!p.isClosed()) await p.close();
+});
+
+async function newPage() {
+  const page = await browser.newPage({ viewport: { width: 1300, height: 1000 }, acceptDownloads: true });
+  pages.push(page);
+  return page;
+}
+
+async function open(path, problems = []) {
+  const page = await newPage();
+  page.on('console', (m) => { if (m.type() === 'error') problems.push(m.text()); });
+  page.on('pageerror', (e) => problems.push(String(e)));
+  await page.goto(base + path);
+  return page;
+}
+
+const ready = (page) => page.waitForFunction(() => window.secPlayground?.settings && window.secPlayground.view);
+
+/** Pixels of `hex` on the compare chart: opaque (lines) and translucent (bands). */
+function armPixels(page, hex) {
+  return page.evaluate((hex) => {
+    const n = parseInt(hex.slice(1), 16);
+    const [r, g, b] = [n >> 16, (n >> 8) & 255, n & 255];
+    const cv = document.querySelector('#compare-chart canvas');
+    const d = cv.getContext('2d').getImageData(0, 0, cv.width, cv.height).data;
+    const out = { line: 0, band: 0 };
+    for (let i = 0; i < d.length; i += 4) {
+      if (Math.abs(d[i] - r) + Math.abs(d[i + 1] - g) + Math.abs(d[i + 2] - b) > 30) continue;
+      if (d[i + 3] > 200) out.line++;
+      else if (d[i + 3] > 20 && d[i + 3] < 90) out.band++;
+    }
+    return out;
+  }, hex);
+}
+
+test('compare mode: a preset starts its runs; two configurations draw two series with bands', async () => {
+  const problems = [];
+  const page = await open('#task=object-permanence', problems);
+  try {
+    await ready(page);
+    await page.click('#compare-exp1');
+    const c = () => page.evaluate(() => ({ ...window.secPlayground.compare }));
+    assert.equal((await c()).arms, 3);
+    assert.ok((await c()).running);
+    assert.match((await c()).caption, /paper/i);
+    await page.waitForFunction(() => window.secPlayground.compare.drawn.series === 3, null, { timeout: 120000, polling: 500 });
+    // Two configurations of object permanence (goals come early) with two seeds each.
+    await page.click('#compare-clear');
+    await page.selectOption('#compare-seeds', '2');
+    await page.click('#compare-add');
+    await page.evaluate(() => { location.hash = 'task=object-permanence&bias=0'; });
+    await page.waitForFunction(() => window.secPlayground.settings.bias === '0');
+    await page.click('#compare-add');
+    await page.click('#compare-run');
+    await page.waitForFunction(() => {
+      const d = window.secPlayground.compare.drawn;
+      return d.series === 2 && d.bands === 2 && d.episodes >= 30;
+    }, null, { timeout: 120000, polling: 500 });
+    await page.waitForTimeout(300); // the next redraw
+    const first = await armPixels(page, '#0072b2');
+    const second = await armPixels(page, '#d55e00');
+    assert.ok(first.line > 30 && second.line > 30, `lines: ${first.line}, ${second.line}`);
+    assert.ok(first.band > 100 && second.band > 100, `bands: ${first.band}, ${second.band}`);
+    await page.locator('#compare').screenshot({ path: fileURLToPath(new URL('compare.png', ARTIFACTS)) });
+    assert.deepEqual(problems, []);
+  } finally {
+    await page.close();
+  }
+});
+
+/** Holds the arrow keys that steer the agent to (x, z), until `done()` or `ms` pass. */
+async function steer(page, x, z, done, ms) {
+  const held = new Set();
+  const want = async (keys) => {
+    for (const k of held) if (!keys.has(k)) { await page.keyboard.up(k); held.delete(k); }
+    for (const k of keys) if (!held.has(k)) { await page.keyboard.down(k); held.add(k); }
+  };
+  const t0 = Date.now();
+  while (Date.now() - t0 < ms) {
+    if (await done()) break;
+    const v = await page.evaluate(() => window.secPlayground.view);
+    const aim = (Math.atan2(x - v.x, z - v.z) * 180) / Math.PI;
+    const diff = ((aim - v.heading + 540) % 360) - 180;
+    await want(new Set(diff > 12 ? ['ArrowRight'] : diff < -12 ? ['ArrowLeft'] : ['ArrowUp']));
+    await page.waitForTimeout(40);
+  }
+  await want(new Set());
+}
+
+test('driving: arrow keys move the agent, and a recorded rewarded episode raises the LTM by one', async () => {
+  const problems = [];
+  const page = await open('#task=object-permanence&seed=3', problems);
+  await ready(page);
+  await page.click('#record');
+  await page.keyboard.press('d');
+  assert.ok(await page.evaluate(() => window.secPlayground.driving));
+  // A fresh run, driven from its start at (5, 5).
+  await page.keyboard.press('r');
+  await page.waitForFunction(() => window.secPlayground.episodes === 0 && window.secPlayground.view.step < 8);
+  const at = () => page.evaluate(() => ({ x: window.secPlayground.view.x, z: window.secPlayground.view.z }));
+  const p0 = await at();
+  await page.keyboard.down('ArrowUp');
+  await page.waitForTimeout(1200);
+  await page.keyboard.up('ArrowUp');
+  const p1 = await at();
+  assert.ok(Math.hypot(p1.x - p0.x, p1.z - p0.z) > 0.5, `the agent moved from ${JSON.stringify(p0)} to ${JSON.stringify(p1)}`);
+  assert.equal(await page.evaluate(() => window.secPlayground.view.layer), 'H');
+  // Steer to the small goal at (20, 25): the episode ends rewarded, driven, with one sequence stored.
+  const rewarded = () => page.evaluate(() => window.secPlayground.log.some((m) => m.human && m.goal));
+  await steer(page, 20, 25, rewarded, 60000);
+  const ep = await page.evaluate(() => window.secPlayground.log.find((m) => m.human && m.goal));
+  assert.ok(ep, 'the driven episode reached the goal');
+  assert.ok(ep.reward > 0.9, `reward ${ep.reward}`);
+  assert.equal(ep.ltm, 1, 'the LTM went from 0 to 1 sequence');
+  // Without record the next driven episode stores nothing.
+  await page.click('#record');
+  await steer(page, 20, 25, () => page.evaluate(() => window.secPlayground.log.filter((m) => m.human && m.goal).length >= 2), 60000);
+  const eps = await page.evaluate(() => window.secPlayground.log.filter((m) => m.human && m.goal));
+  assert.equal(eps.length, 2);
+  assert.equal(eps[1].ltm, 1, 'an unrecorded episode adds nothing');
+  assert.deepEqual(problems, []);
+  await page.close();
+});
+
+test('CSV export has a header and one row per episode; memory files save, load, and a corrupt one is refused', async () => {
+  const problems = [];
+  const page = await open('#task=object-permanence&seed=7', problems);
+  await ready(page);
+  await page.waitForFunction(() => window.secPlayground.view.ltm >= 2, null, { timeout: 60000 });
+  await page.keyboard.press(' ');
+  await page.waitForFunction(() => !window.secPlayground.playing);
+  const n = await page.evaluate(() => window.secPlayground.log.length);
+  const [csv] = await Promise.all([page.waitForEvent('download'), page.click('#export-csv')]);
+  const text = readFileSync(await csv.path(), 'utf8').trimEnd().split('\n');
+  assert.equal(text[0], 'run,seed,episode,layout,reward,rawReward,goal,envSteps,decisions,entropy,entropyFresh,ltm,contextualShare,human');
+  assert.equal(text.length, n + 1, 'one row per episode');
+  assert.match(text[1], /^main,7,0,8-7-\d,/);
+  const [json] = await Promise.all([page.waitForEvent('download'), page.click('#export-json')]);
+  const cfg = JSON.parse(readFileSync(await json.path(), 'utf8'));
+  assert.equal(cfg.settings.task, 'object-permanence');
+  assert.equal(cfg.config.agent.memory.alpha, 0.01);
+  assert.equal(cfg.seed, 7);
+  // Save the memory, then load it back.
+  const ltm = await page.evaluate(() => window.secPlayground.view.ltm);
+  const [mem] = await Promise.all([page.waitForEvent('download'), page.click('#save-memory')]);
+  const bytes = readFileSync(await mem.path());
+  assert.equal(bytes.subarray(0, 8).toString(), 'SECMEMRY');
+  const dir = mkdtempSync(join(tmpdir(), 'secmem-'));
+  writeFileSync(join(dir, 'good.secmem'), bytes);
+  await page.setInputFiles('#load-memory', join(dir, 'good.secmem'));
+  await page.waitForFunction((ltm) => document.getElementById('notice').textContent.includes(`${ltm} sequence`), ltm);
+  // A corrupt file: a clear error, the run keeps its memory and goes on.
+  const bad = Buffer.from(bytes);
+  bad[bad.length - 40] ^= 0xff;
+  writeFileSync(join(dir, 'bad.secmem'), bad);
+  await page.setInputFiles('#load-memory', join(dir, 'bad.secmem'));
+  await page.waitForFunction(() => !document.getElementById('error').hidden);
+  assert.match(await page.textContent('#error'), /memory: checksum mismatch/);
+  writeFileSync(join(dir, 'foreign.secmem'), 'name,value\nalpha,1\n');
+  await page.setInputFiles('#load-memory', join(dir, 'foreign.secmem'));
+  await page.waitForFunction(() => document.getElementById('error').textContent.includes('magic'));
+  assert.equal(await page.evaluate(() => window.secPlayground.view.ltm), ltm);
+  const before = await page.evaluate(() => window.secPlayground.episodes);
+  await page.keyboard.press(' ');
+  await page.waitForFunction((b) => window.secPlayground.episodes > b + 1, before, { timeout: 60000 });
+  rmSync(dir, { recursive: true });
+  assert.deepEqual(problems, []);
+  await page.close();
+});
+
+/** Waits until both elements of the course page play and returns their states. */
+async function coursePage(page) {
+  await page.waitForFunction(() => ['sec', 'nsec'].every((id) => document.getElementById(id).state?.view
+    && document.getElementById(id).state.episodes > 0), null, { timeout: 90000, polling: 250 });
+  return page.evaluate(() => ['sec', 'nsec'].map((id) => {
+    const s = document.getElementById(id).state;
+    return { settings: s.settings, episodes: s.episodes, playing: s.playing };
+  }));
+}
+
+test('two <sec-playground> elements on a course page run their own settings; the iframe posts its height', async () => {
+  const problems = [];
+  const page = await newPage();
+  page.on('console', (m) => { if (m.type() === 'error') problems.push(m.text()); });
+  page.on('pageerror', (e) => problems.push(String(e)));
+  await page.addInitScript(() => {
+    window.heights = [];
+    window.addEventListener('message', (e) => { if (e.data?.type === 'sec-playground:height') window.heights.push(e.data.height); });
+  });
+  await page.goto(`${base}www/examples/course.html`);
+  // Scrolled into view in turn (an element off screen pauses).
+  await page.locator('#sec').scrollIntoViewIfNeeded();
+  await page.waitForFunction(() => document.getElementById('sec').state?.episodes > 0, null, { timeout: 90000 });
+  await page.locator('#nsec').scrollIntoViewIfNeeded();
+  const [a, b] = await coursePage(page);
+  assert.equal(a.settings.bias, '1');
+  assert.equal(b.settings.bias, '0');
+  assert.equal(b.settings.m, '125');
+  assert.equal(a.settings.m, '500');
+  // Hidden controls are hidden in the second only.
+  const hidden = await page.evaluate(() => ['sec', 'nsec'].map((id) => document.getElementById(id).shadowRoot
+    .querySelector('.param[data-key="n"]').hidden));
+  assert.deepEqual(hidden, [false, true]);
+  // A key pressed in one element pauses that one only.
+  await page.locator('#nsec').focus();
+  await page.keyboard.press(' ');
+  await page.waitForFunction(() => !document.getElementById('nsec').state.playing);
+  assert.ok(await page.evaluate(() => document.getElementById('sec').state.playing !== undefined));
+  // The first one, scrolled away, pauses; back on screen, it plays again.
+  await page.evaluate(() => window.scrollTo(0, document.body.scrollHeight));
+  await page.waitForFunction(() => !document.getElementById('sec').state.playing, null, { timeout: 10000 });
+  await page.locator('#sec').scrollIntoViewIfNeeded();
+  await page.waitForFunction(() => document.getElementById('sec').state.playing, null, { timeout: 10000 });
+  // The iframe's page told this one its height.
+  await page.waitForFunction(() => window.heights.length > 0, null, { timeout: 30000 });
+  const h = await page.evaluate(() => window.heights.at(-1));
+  assert.ok(h > 400, `posted height ${h}`);
+  assert.equal(await page.evaluate(() => document.getElementById('frame').height), String(h));
+  await page.screenshot({ path: fileURLToPath(new URL('course.png', ARTIFACTS)), fullPage: true });
+  assert.deepEqual(problems, []);
+  await page.close();
+});
+
+test('the self-contained build runs from a plain static folder', async () => {
+  const dist = fileURLToPath(new URL('../../dist/sec-playground', import.meta.url));
+  assert.ok(existsSync(dist), 'scripts/build.sh writes dist/sec-playground');
+  const dir = mkdtempSync(join(tmpdir(), 'course-'));
+  cpSync(dist, join(dir, 'sec-playground'), { recursive: true });
+  const own = await serve(0, '127.0.0.1', dir);
+  try {
+    const problems = [];
+    const page = await newPage();
+    page.on('console', (m) => { if (m.type() === 'error') problems.push(m.text()); });
+    page.on('pageerror', (e) => problems.push(String(e)));
+    await page.goto(`http://127.0.0.1:${own.address().port}/sec-playground/www/examples/course.html`);
+    await page.locator('#sec').scrollIntoViewIfNeeded();
+    await page.waitForFunction(() => document.getElementById('sec').state?.episodes > 0, null, { timeout: 90000 });
+    await page.goto(`http://127.0.0.1:${own.address().port}/sec-playground/index.html#task=detour`);
+    await ready(page);
+    assert.equal(await page.evaluate(() => window.secPlayground.settings.task), 'detour');
+    assert.deepEqual(problems, []);
+    await page.close();
+  } finally {
+    own.close();
+    rmSync(dir, { recursive: true });
+  }
+});
+
+test('the scalar fallback build gives the same episodes as the SIMD build', async () => {
+  const first = async (path) => {
+    const page = await open(path);
+    await ready(page);
+    await page.waitForFunction(() => window.secPlayground.log.length >= 3, null, { timeout: 90000 });
+    const out = await page.evaluate(() => ({ build: window.secPlayground.build, log: window.secPlayground.log.slice(0, 3) }));
+    await page.close();
+    return out;
+  };
+  const simd = await first('#task=object-permanence&seed=7');
+  const scalar = await first('?wasm=scalar#task=object-permanence&seed=7');
+  assert.equal(simd.build, 'simd');
+  assert.equal(scalar.build, 'scalar');
+  assert.deepEqual(scalar.log, simd.log);
+  // And both are the native golden run's first episodes (exact numbers).
+  const golden = readFileSync(new URL('../golden/run.txt', import.meta.url), 'utf8').split('\n').slice(0, 3).map((l) => JSON.parse(l));
+  assert.deepEqual(simd.log, golden);
+});

@@ -1,0 +1,210 @@
+// The comparison panel: several configurations at once, each in its own worker running the
+// same seeds, their curves overlaid in one chart with standard-error bands; one-click presets
+// for the paper's experiments 1-4.
+import { ARM_COLOURS, CompareChart } from './charts.js';
+import { COMPARE_PRESETS, PRESET_BASE } from './presets.js';
+
+/** Most configurations at once (each is a worker). */
+const MAX_ARMS = 8;
+const METRICS = { reward: (m) => m.reward, entropy: (m) => m.entropy, decisions: (m) => m.decisions };
+
+/** Episodes every seed of a configuration has finished. */
+const finished = (arm) => (arm.runs.size ? Math.min(...[...arm.runs.values()].map((r) => r.length)) : 0);
+
+export class Compare {
+  constructor(root, { current, onError, wasm }) {
+    this.root = root;
+    this.$ = (id) => root.querySelector(`#${id}`);
+    this.current = current;
+    this.onError = onError;
+    this.wasm = wasm;
+    this.arms = [];
+    this.running = false;
+    this.visible = true;
+    this.title = '';
+    this.chart = new CompareChart(this.$('compare-chart'));
+    this.chart.watch(() => this.series());
+    const $ = this.$;
+    for (const name of Object.keys(COMPARE_PRESETS)) $(`compare-${name}`).addEventListener('click', () => this.preset(name));
+    $('compare-add').addEventListener('click', () => this.addCurrent());
+    $('compare-run').addEventListener('click', () => (this.running ? this.pause() : this.start()));
+    $('compare-clear').addEventListener('click', () => this.clear());
+    $('compare-metric').addEventListener('change', () => this.chart.touch());
+  }
+
+  /** The seeds every configuration runs: 1..k. */
+  seeds() {
+    const k = Number(this.$('compare-seeds').value);
+    return Array.from({ length: k }, (_, i) => i + 1);
+  }
+
+  /** Replaces the configurations with a preset's and starts them. */
+  preset(name) {
+    const p = COMPARE_PRESETS[name];
+    this.clear();
+    this.title = p.title;
+    this.$('compare-caption').textContent = p.caption;
+    for (const arm of p.arms) this.add(arm.label, { ...PRESET_BASE, ...arm.settings });
+    this.start();
+  }
+
+  /** Adds the settings in force in the playground above (its seed aside: seeds are 1..k). */
+  addCurrent() {
+    const s = this.current();
+    if (!s) return;
+    const { seed, ...settings } = s;
+    const label = `${settings.agent === 'sec' ? (settings.bias === '1' ? 'SEC' : 'NSEC') : settings.agent} `
+      + `α=${settings.alpha} m=${settings.m} ${settings.task}`;
+    this.add(label, settings);
+    if (!this.title) this.title = 'Your configurations';
+    if (this.running) this.launch(this.arms[this.arms.length - 1]);
+  }
+
+  add(label, settings) {
+    if (this.arms.length >= MAX_ARMS) {
+      this.onError(`compare: at most ${MAX_ARMS} configurations at once`);
+      return;
+    }
+    const colour = ARM_COLOURS[this.arms.length % ARM_COLOURS.length];
+    this.arms.push({ label, settings, colour, worker: null, runs: new Map(), error: null });
+    this.list();
+    this.chart.touch();
+  }
+
+  launch(arm) {
+    const query = new URLSearchParams({ task: arm.settings.task ?? 'double-t-maze' });
+    if (this.wasm) query.set('wasm', this.wasm);
+    const url = new URL(`./compare-worker.js?${query}`, import.meta.url);
+    const w = new Worker(url, { type: 'module' });
+    arm.worker = w;
+    arm.runs = new Map(this.seeds().map((s) => [s, []]));
+    arm.error = null;
+    w.onmessage = ({ data }) => {
+      if (data.type === 'ready') {
+        w.postMessage({ type: 'start', settings: arm.settings, seeds: this.seeds() });
+        if (this.running && this.visible) w.postMessage({ type: 'play' });
+      } else if (data.type === 'episodes') {
+        arm.runs.get(data.seed)?.push(...data.list);
+        this.chart.touch();
+        this.listSoon();
+      } else if (data.type === 'error') {
+        arm.error = data.message;
+        this.onError(`${arm.label}: ${data.message}`);
+        this.list();
+      }
+    };
+    w.onerror = (e) => {
+      arm.error = e.message;
+      this.onError(`${arm.label}: the worker failed: ${e.message}`);
+    };
+  }
+
+  start() {
+    if (!this.arms.length) {
+      this.onError('compare: add a configuration or pick an experiment first');
+      return;
+    }
+    this.running = true;
+    for (const arm of this.arms) {
+      if (!arm.worker) this.launch(arm);
+      else if (this.visible) arm.worker.postMessage({ type: 'play' });
+    }
+    this.$('compare-run').textContent = 'Pause';
+    this.$('compare-seeds').disabled = true;
+    this.list();
+  }
+
+  pause() {
+    this.running = false;
+    for (const arm of this.arms) arm.worker?.postMessage({ type: 'pause' });
+    this.$('compare-run').textContent = 'Resume';
+  }
+
+  /** Off screen or in a hidden tab: the workers pause, and resume after. */
+  setVisible(v) {
+    this.visible = v;
+    if (!this.running) return;
+    for (const arm of this.arms) arm.worker?.postMessage({ type: v ? 'play' : 'pause' });
+  }
+
+  stop() {
+    for (const arm of this.arms) arm.worker?.terminate();
+    this.running = false;
+  }
+
+  clear() {
+    this.stop();
+    this.arms = [];
+    this.title = '';
+    this.$('compare-caption').textContent = '';
+    this.$('compare-run').textContent = 'Start';
+    this.$('compare-seeds').disabled = false;
+    this.list();
+    this.chart.touch();
+  }
+
+  /** What the chart draws: per configuration one array of values per seed. */
+  series() {
+    const f = METRICS[this.$('compare-metric').value] ?? METRICS.reward;
+    const arms = this.arms.filter((a) => a.runs.size).map((a) => ({
+      label: a.label, colour: a.colour, runs: [...a.runs.values()].map((eps) => eps.map(f)),
+    }));
+    return { title: `${this.title}: ${this.$('compare-metric').value} (mean of ${20} episodes)`, arms };
+  }
+
+  /** For the CSV export: one entry per configuration and seed. */
+  runs() {
+    return this.arms.flatMap((a) => [...a.runs].map(([seed, episodes]) => ({ name: a.label, seed, episodes })));
+  }
+
+  listSoon() {
+    if (this.listTimer) return;
+    this.listTimer = setTimeout(() => {
+      this.listTimer = null;
+      this.list();
+    }, 250);
+  }
+
+  /** The configurations with their colour, settings and progress. */
+  list() {
+    const ol = this.$('compare-arms');
+    ol.replaceChildren(...this.arms.map((a, i) => {
+      const li = document.createElement('li');
+      const swatch = document.createElement('span');
+      swatch.className = 'swatch';
+      swatch.style.background = a.colour;
+      const name = document.createElement('strong');
+      name.textContent = a.label;
+      const done = finished(a);
+      const info = document.createElement('span');
+      info.className = 'info';
+      info.textContent = a.error ? a.error : a.runs.size ? `${done} episodes × ${a.runs.size} seeds` : 'not started';
+      li.append(swatch, name, info);
+      if (!this.running) {
+        const rm = document.createElement('button');
+        rm.type = 'button';
+        rm.textContent = '×';
+        rm.title = 'Remove';
+        rm.addEventListener('click', () => {
+          a.worker?.terminate();
+          this.arms.splice(i, 1);
+          this.list();
+          this.chart.touch();
+        });
+        li.append(rm);
+      }
+      return li;
+    }));
+  }
+
+  get state() {
+    const me = this;
+    return {
+      get arms() { return me.arms.length; },
+      get running() { return me.running; },
+      get drawn() { return me.chart.drawn; },
+      get episodes() { return me.arms.map(finished); },
+      get caption() { return me.$('compare-caption').textContent; },
+    };
+  }
+}

@@ -1,0 +1,68 @@
+// <sec-playground>: the playground as a custom element for course pages. Its attributes are the
+// URL hash's keys (task, alpha, m, seed...), plus `hide="key key ..."` (settings or sections a
+// teacher hides: runbar, keepbar, controls, views, charts, compare) and `autoplay`. Each element
+// has its own shadow root, worker and keyboard focus, so several on one page do not interfere;
+// one that is scrolled off screen pauses.
+//
+//   <script type="module" src="sec-playground/www/element.js"></script>
+//   <sec-playground task="double-t-maze" alpha="0.05" hide="compare keepbar" autoplay></sec-playground>
+import { Playground } from './playground.js';
+
+const OWN = new Set(['hide', 'autoplay', 'class', 'style', 'id', 'tabindex', 'title', 'lang', 'dir']);
+const CSS = ['./vendor/uPlot.min.css', './style.css'].map((p) => new URL(p, import.meta.url).href);
+
+class SecPlaygroundElement extends HTMLElement {
+  connectedCallback() {
+    if (this.playground) return;
+    const root = this.shadowRoot ?? this.attachShadow({ mode: 'open' });
+    for (const href of CSS) {
+      const link = document.createElement('link');
+      link.rel = 'stylesheet';
+      link.href = href;
+      root.append(link);
+    }
+    if (!this.hasAttribute('tabindex')) this.tabIndex = 0; // focus takes the keyboard shortcuts
+    this.playground = new Playground(root, {
+      settings: this.settingsFromAttributes(),
+      autoplay: this.hasAttribute('autoplay'),
+      hide: (this.getAttribute('hide') ?? '').split(/[\s,]+/).filter(Boolean),
+      keys: this,
+    });
+    this.observer = new IntersectionObserver((entries) => {
+      for (const e of entries) this.playground.setOnScreen(e.isIntersecting);
+    });
+    this.observer.observe(this);
+    this.attributes$ = new MutationObserver(() => this.playground.set(this.settingsFromAttributes()));
+    this.attributes$.observe(this, { attributes: true });
+  }
+
+  disconnectedCallback() {
+    // Moved within the page: keep running; removed: stop the workers.
+    queueMicrotask(() => {
+      if (this.isConnected || !this.playground) return;
+      this.observer.disconnect();
+      this.attributes$.disconnect();
+      this.playground.destroy();
+      this.playground = null;
+      this.shadowRoot.replaceChildren();
+    });
+  }
+
+  settingsFromAttributes() {
+    return Object.fromEntries([...this.attributes].filter((a) => !OWN.has(a.name) && !a.name.startsWith('data-')
+      && !a.name.startsWith('aria-')).map((a) => [attributeKey(a.name), a.value]));
+  }
+
+  /** The playground's state (settings, episodes, playing...), as `window.secPlayground` on the page. */
+  get state() {
+    return this.playground?.state;
+  }
+}
+
+/** HTML lowercases attribute names: theta-abs, thetaabs and thetaAbs all mean the key thetaAbs. */
+function attributeKey(name) {
+  const camel = name.replace(/-([a-z])/g, (_, c) => c.toUpperCase());
+  return { thetaabs: 'thetaAbs', thetaprop: 'thetaProp' }[camel.toLowerCase()] ?? camel;
+}
+
+if (!customElements.get('sec-playground')) customElements.define('sec-playground', SecPlaygroundElement);

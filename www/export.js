@@ -1,0 +1,36 @@
+// Keeping results: per-episode metrics as CSV, and files handed to the browser's downloads.
+
+/** The CSV columns after `run` and `seed`: every field of EpisodeMetrics. */
+const FIELDS = ['episode', 'layout', 'reward', 'rawReward', 'goal', 'envSteps', 'decisions', 'entropy',
+  'entropyFresh', 'ltm', 'contextualShare', 'human'];
+
+function cell(v) {
+  if (v == null) return '';
+  const s = typeof v === 'boolean' ? (v ? '1' : '0') : String(v);
+  return /[",\n]/.test(s) ? `"${s.replace(/"/g, '""')}"` : s;
+}
+
+/**
+ * `runs`: [{name, seed, episodes: EpisodeMetrics[]}]. A header, then one row per episode and
+ * run; numbers as JavaScript prints them (shortest round trip), so nothing is lost.
+ */
+export function episodesCsv(runs) {
+  const lines = [['run', 'seed', ...FIELDS].join(',')];
+  for (const r of runs) {
+    for (const m of r.episodes) lines.push([r.name, r.seed, ...FIELDS.map((f) => (f === 'human' ? !!m.human : m[f]))].map(cell).join(','));
+  }
+  return `${lines.join('\n')}\n`;
+}
+
+/** Hands `data` (a string or bytes) to the browser as a download called `name`. */
+export function download(root, name, type, data) {
+  const url = URL.createObjectURL(new Blob([data], { type }));
+  const a = document.createElement('a');
+  a.href = url;
+  a.download = name;
+  a.hidden = true;
+  (root.host ?? root).append?.(a);
+  a.click();
+  a.remove();
+  setTimeout(() => URL.revokeObjectURL(url), 10_000);
+}

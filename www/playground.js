@@ -1,0 +1,372 @@
+// One playground: a simulation worker, the controls built from the core's parameter table, the
+// views, the charts, driving, export and memory files, and the comparison panel. The page
+// (index.html, embed.html) puts one in its document; each <sec-playground> element puts one in
+// its shadow root, so several on a page share nothing.
+import { buildControls, runControls, SPEEDS } from './controls.js';
+import { Charts } from './charts.js';
+import { Compare } from './compare.js';
+import { drawRgba, drawHeat, drawProbs, drawStatus } from './views.js';
+import { keyboard } from './keys.js';
+import { download, episodesCsv } from './export.js';
+import { TEMPLATE } from './template.js';
+
+/** Decisions per second while a person drives (the speed slider's value above it is capped). */
+const DRIVE_SPEED = 8;
+/** `?wasm=scalar` in the page's address: the worker loads the fallback build. */
+const WASM = new URLSearchParams(location.search).get('wasm');
+
+const LAYERS = { C: 'contextual (memory)', R: 'reactive (random walk)', H: 'you (driving)' };
+
+export class Playground {
+  /**
+   * Builds a playground into `root` (an element or a shadow root). Options: `settings` (hash
+   * keys to values), `hash` (keep the settings in the page's URL hash), `autoplay`, `hide`
+   * (setting keys, or parts: runbar, keepbar, controls, views, charts, compare, or one view:
+   * camera, arena, reconstruction, heat, policy), `keys` (where
+   * the keyboard shortcuts listen: the window, or the element).
+   */
+  constructor(root, { settings = {}, hash = false, autoplay = true, hide = [], keys = window } = {}) {
+    const t = document.createElement('template');
+    t.innerHTML = TEMPLATE;
+    root.append(t.content);
+    this.root = root;
+    this.$ = (id) => root.querySelector(`#${id}`);
+    this.useHash = hash;
+    this.initial = hash ? { ...settings, ...readHash() } : { ...settings };
+    this.hidden = hide;
+    this.worker = null;
+    this.fatal = false;
+    this.params = [];
+    this.settings = null;
+    this.controls = null;
+    this.playing = false;
+    this.wantPlay = autoplay;
+    this.onScreen = true; // set by the element's IntersectionObserver
+    this.visible = !document.hidden; // on screen and the tab shown
+    this.speed = SPEEDS[Number(this.$('speed').value)];
+    this.episodes = 0;
+    this.log = []; // every finished episode of the current run (EpisodeMetrics)
+    this.lastView = null;
+    this.build = null;
+    this.driving = false;
+    this.action = 0;
+    this.listeners = [];
+    this.charts = new Charts(this.$('charts'));
+    this.compare = new Compare(this.$('compare'), {
+      current: () => this.settings,
+      onError: (m) => this.showError(m),
+      wasm: WASM,
+    });
+    this.rate = { t: performance.now(), decisions: 0, perSecond: 0 };
+    for (const part of hide) {
+      if (/^[a-z-]+$/i.test(part)) root.querySelector(`.playground .${part}, .playground #${part}`)?.setAttribute('hidden', '');
+    }
+    this.wire(keys);
+    this.startWorker();
+  }
+
+  showError(message) {
+    const el = this.$('error');
+    el.textContent = message ?? '';
+    el.hidden = !message;
+  }
+
+  notice(text) {
+    this.$('notice').textContent = text;
+  }
+
+  send(msg, transfer = []) {
+    this.worker.postMessage(msg, transfer);
+  }
+
+  /** A fresh simulation worker; with settings it carries on with them (after a fatal error). */
+  startWorker() {
+    this.worker?.terminate();
+    this.fatal = false;
+    // The first task goes with the worker's address, so it fetches its model while the wasm loads.
+    const query = new URLSearchParams({ task: (this.settings ?? this.initial).task ?? 'double-t-maze' });
+    if (WASM) query.set('wasm', WASM);
+    const url = new URL(`./worker.js?${query}`, import.meta.url);
+    this.worker = new Worker(url, { type: 'module' });
+    this.worker.onmessage = ({ data }) => this.handlers[data.type]?.call(this, data);
+    this.worker.onerror = (e) => this.showError(`The simulation worker failed: ${e.message}`);
+  }
+
+  writeHash() {
+    if (!this.useHash) return;
+    const h = `#${new URLSearchParams(this.settings)}`;
+    if (location.hash !== h) history.replaceState(null, '', h);
+  }
+
+  views() {
+    const watching = this.speed !== 'max' && this.visible;
+    this.send({ type: 'views', camera: watching, heat: watching ? this.$('heat-kind').value : null });
+  }
+
+  /** The speed the worker runs at: the slider's, capped while a person drives. */
+  effectiveSpeed() {
+    if (!this.driving) return this.speed;
+    return this.speed === 'max' ? DRIVE_SPEED : Math.min(this.speed, DRIVE_SPEED);
+  }
+
+  setPlaying(p) {
+    this.wantPlay = p;
+    this.send({ type: p && this.visible ? 'play' : 'pause' });
+  }
+
+  /** On screen or not (the element's observer): off screen the run pauses, and carries on after. */
+  setOnScreen(v) {
+    this.onScreen = v;
+    this.setVisible(v && !document.hidden);
+  }
+
+  setVisible(v) {
+    if (v === this.visible) return;
+    this.visible = v;
+    this.compare.setVisible(v);
+    if (!this.worker) return;
+    this.send({ type: this.wantPlay && v ? 'play' : 'pause' });
+    this.views();
+  }
+
+  /** Applies setting changes (hash keys to values), validated by the core like any control. */
+  set(changes) {
+    if (!this.settings) {
+      Object.assign(this.initial, changes);
+      return;
+    }
+    const diff = Object.fromEntries(Object.entries(changes).filter(([k, v]) => this.settings[k] !== String(v)));
+    if (Object.keys(diff).length) this.send({ type: 'set', changes: diff });
+  }
+
+  setDriving(on) {
+    this.driving = on;
+    const b = this.$('drive');
+    b.setAttribute('aria-pressed', String(on));
+    b.classList.toggle('on', on);
+    this.send({ type: 'speed', value: this.effectiveSpeed() });
+    this.sendDriver();
+    if (on) {
+      this.notice('Driving: hold the arrow keys (↑ forward, ↓ back, ← → turn); no key: stand still. '
+        + (this.$('record').checked ? 'Recording: a rewarded episode goes into the LTM.' : 'Not recording.'));
+      if (!this.wantPlay) this.setPlaying(true);
+    } else {
+      this.notice('The agent drives again.');
+    }
+    this.views();
+  }
+
+  sendDriver() {
+    this.send({ type: 'drive', action: this.driving ? this.action : null, record: this.$('record').checked });
+  }
+
+  label(key) {
+    return this.params.find((p) => p.key === key)?.symbol ?? key;
+  }
+
+  wire(keys) {
+    const $ = this.$;
+    runControls($, {
+      toggle: () => this.setPlaying(!this.wantPlay),
+      step: (what) => {
+        this.wantPlay = false;
+        this.send({ type: 'step', what });
+      },
+      reset: () => (this.fatal ? this.startWorker() : this.send({ type: 'reset' })),
+      preset: (name) => this.send({ type: 'preset', name }),
+      speed: (v) => {
+        this.speed = v;
+        this.send({ type: 'speed', value: this.effectiveSpeed() });
+        this.views();
+      },
+      drive: () => this.setDriving(!this.driving),
+    }, { target: keys, driving: () => this.driving });
+    keyboard(null, {
+      target: keys,
+      active: () => this.driving,
+      onChange: (action) => {
+        this.action = action;
+        if (this.driving) this.sendDriver();
+      },
+    });
+    $('drive').addEventListener('click', () => this.setDriving(!this.driving));
+    this.listen(document, 'visibilitychange', () => this.setVisible(this.onScreen && !document.hidden));
+    // Someone edits the link: apply what changed (validated by the core like any control).
+    if (this.useHash) this.listen(window, 'hashchange', () => this.set(readHash()));
+    $('record').addEventListener('change', () => this.driving && this.setDriving(true));
+    $('heat-kind').addEventListener('change', () => this.views());
+    $('export-csv').addEventListener('click', () => this.exportCsv());
+    $('export-json').addEventListener('click', () => this.exportJson());
+    $('save-memory').addEventListener('click', () => this.send({ type: 'saveMemory' }));
+    $('load-memory').addEventListener('change', async (e) => {
+      const file = e.target.files?.[0];
+      e.target.value = '';
+      if (!file) return;
+      const bytes = await file.arrayBuffer();
+      this.send({ type: 'loadMemory', bytes }, [bytes]);
+    });
+  }
+
+  /** Adds a listener that `destroy` removes. */
+  listen(target, type, f) {
+    target.addEventListener(type, f);
+    this.listeners.push(() => target.removeEventListener(type, f));
+  }
+
+  exportCsv() {
+    const runs = [{ name: 'main', settings: this.settings, seed: this.settings?.seed, episodes: this.log },
+      ...this.compare.runs()];
+    download(this.root, 'sec-episodes.csv', 'text/csv', episodesCsv(runs));
+  }
+
+  exportJson() {
+    this.pendingJson = true;
+    this.send({ type: 'config' });
+  }
+
+  /** What tests and the curious can read. */
+  get state() {
+    const me = this;
+    return {
+      get settings() { return me.settings; },
+      get episodes() { return me.episodes; },
+      get playing() { return me.playing; },
+      get marks() { return me.charts.marks; },
+      get points() { return me.charts.episodes.length; },
+      get view() { return me.lastView; },
+      get build() { return me.build; },
+      /** ms from the page's start to the first camera frame drawn. */
+      get firstFrame() { return me.firstFrame; },
+      get driving() { return me.driving; },
+      get log() { return me.log; },
+      get compare() { return me.compare.state; },
+      /** Test hook: makes the simulation panic. */
+      crash() { me.send({ type: 'crash' }); },
+    };
+  }
+
+  /** Stops the workers (the element left the page). */
+  destroy() {
+    this.worker?.terminate();
+    this.compare.stop();
+    this.compare.chart.destroy();
+    this.charts.destroy();
+    for (const off of this.listeners) off();
+  }
+
+  status() {
+    const v = this.lastView;
+    if (!v) return;
+    const now = performance.now();
+    const rate = this.rate;
+    if (now - rate.t > 1000) {
+      rate.perSecond = (rate.decisions * 1000) / (now - rate.t);
+      rate.t = now;
+      rate.decisions = 0;
+    }
+    drawStatus(this.$('status'), [
+      ['episode', String(v.episode)],
+      ['env step', String(v.step)],
+      ['reward', v.episodeReward.toFixed(3)],
+      ['LTM', v.capacity ? `${v.ltm} / ${v.capacity}` : '–'],
+      ['decisions/s', rate.perSecond ? rate.perSecond.toFixed(0) : '–'],
+    ]);
+  }
+}
+
+Playground.prototype.handlers = {
+  ready(msg) {
+    this.params = msg.params;
+    this.build = msg.build;
+    this.controls ??= buildControls(this.$('controls'), this.params, (key, value) => {
+      if (this.settings?.[key] !== value) this.send({ type: 'set', changes: { [key]: value } });
+    });
+    this.controls.hide(this.hidden);
+    this.send({ type: 'speed', value: this.effectiveSpeed() });
+    if (this.driving) this.sendDriver();
+    this.send({ type: 'start', settings: this.settings ?? this.initial });
+    this.views();
+  },
+  started(msg) {
+    const first = this.settings === null;
+    this.settings = msg.settings;
+    this.controls.set(this.settings);
+    this.writeHash();
+    if (msg.errors.length) {
+      this.showError(`${msg.errors.join('; ')}. Using the default for ${msg.errors.length === 1 ? 'it' : 'them'}.`);
+    } else if (!first) {
+      this.showError(null);
+    }
+    if (msg.mode === 'restart') {
+      this.charts.clear();
+      this.episodes = 0;
+      this.log = [];
+      if (!first) this.notice(msg.changes ? `New run: ${Object.keys(msg.changes).map((k) => this.label(k)).join(', ')} changed` : 'Run reset');
+    } else if (msg.changes) {
+      const what = Object.entries(msg.changes).map(([k, v]) => `${this.label(k)}=${v}`).join(' ');
+      this.charts.mark(what);
+      this.notice(`Applied live: ${what}`);
+    }
+    if (first || msg.fresh) this.setPlaying(this.wantPlay);
+  },
+  episodes({ list }) {
+    this.charts.push(list);
+    this.episodes += list.length;
+    for (const m of list) {
+      this.rate.decisions += m.decisions;
+      this.log.push(m);
+    }
+  },
+  view(msg) {
+    const $ = this.$;
+    this.lastView = msg.view;
+    if (msg.camera) {
+      if (!this.firstFrame) {
+        this.firstFrame = performance.now();
+        performance.mark('sec-playground:first-frame');
+      }
+      drawRgba($('camera'), new Uint8Array(msg.camera), 84, 84);
+      drawRgba($('reconstruction'), new Uint8Array(msg.reconstruction), 84, 84);
+      drawRgba($('arena'), new Uint8Array(msg.top), 252, 252);
+    }
+    if (msg.heat) drawHeat($('heat'), new Float32Array(msg.heat), msg.n, new Uint32Array(msg.selected), $('heat-kind').value);
+    const v = msg.view;
+    drawProbs($('probs'), v.p, v.action);
+    $('entropy').textContent = `${v.entropy.toFixed(3)} bits`;
+    $('entropy-meter').value = v.entropy;
+    $('layer').textContent = LAYERS[v.layer] ?? '–';
+    this.status();
+  },
+  state(msg) {
+    this.playing = msg.playing;
+    this.$('play').textContent = this.playing ? 'Pause' : 'Play';
+    this.$('play').closest('.playground').dataset.playing = this.playing;
+  },
+  memory({ bytes }) {
+    const s = this.settings;
+    download(this.root, `sec-memory-${s.task}-seed${s.seed}.secmem`, 'application/octet-stream', bytes);
+    this.notice(`Memory saved (${(bytes.byteLength / 1024).toFixed(0)} KB).`);
+  },
+  loaded({ sequences }) {
+    this.showError(null);
+    this.notice(`Memory loaded: ${sequences} sequence${sequences === 1 ? '' : 's'} in the LTM.`);
+    this.charts.mark('memory loaded');
+  },
+  config({ config, seed }) {
+    if (!this.pendingJson) return;
+    this.pendingJson = false;
+    const json = JSON.stringify({ settings: this.settings, seed, config }, null, 2);
+    download(this.root, `sec-config-${this.settings.task}-seed${seed}.json`, 'application/json', json);
+  },
+  error(msg) {
+    this.showError(msg.message);
+    this.fatal ||= msg.fatal;
+    // A refused value: show the settings still in force.
+    if (this.settings && this.controls) this.controls.set(this.settings);
+  },
+};
+
+/** The URL hash as settings: `#alpha=0.01&m=500` gives {alpha: '0.01', m: '500'}. */
+export function readHash() {
+  return Object.fromEntries(new URLSearchParams(location.hash.slice(1)));
+}

@@ -1,0 +1,96 @@
+// The playground's markup, shared by the page (index.html, embed.html) and the
+// <sec-playground> element (in its shadow root, where the ids are its own).
+
+export const TEMPLATE = `
+<div class="playground">
+  <section class="runbar" aria-label="Run control">
+    <button id="play" type="button" title="Play or pause (space)">Play</button>
+    <button id="step-decision" type="button" title="Step one decision (.)">Step decision</button>
+    <button id="step-episode" type="button" title="Step one episode (e)">Step episode</button>
+    <button id="reset" type="button" title="Restart the run with the same seed (r)">Reset</button>
+    <label class="speed" title="Decisions per second; at max only the charts are drawn">Speed
+      <input id="speed" type="range" min="0" max="9" step="1" value="8">
+      <output id="speed-out">1000/s</output>
+    </label>
+    <span class="presets">Preset
+      <button id="preset-code" type="button" title="The authors' code: θ_abs 0.98, θ_prop 0.995, α 0.01">code</button>
+      <button id="preset-paper" type="button" title="The paper's text: θ_abs 0.995, θ_prop 0.98, α 0.1 (D2, D3)">paper</button>
+    </span>
+    <dl id="status" class="status" aria-live="off"></dl>
+  </section>
+  <section class="keepbar" aria-label="Drive, export and memory files">
+    <button id="drive" type="button" aria-pressed="false"
+      title="Drive the agent yourself with the arrow keys (d); the run slows to a watchable speed">Drive</button>
+    <label title="Store a rewarded episode you drive in SEC's long-term memory, like any other sequence">
+      <input id="record" type="checkbox"> record</label>
+    <span class="sep"></span>
+    <button id="export-csv" type="button" title="Per-episode metrics of this run and the compared runs">Export CSV</button>
+    <button id="export-json" type="button" title="The configuration: settings, RunConfig and seed">Export JSON</button>
+    <button id="save-memory" type="button" title="SEC's memory (STM and LTM) as a file">Save memory</button>
+    <label class="file" title="Load a saved memory into this run (same task, encoder and n)">Load memory…
+      <input id="load-memory" type="file" accept=".secmem,application/octet-stream"></label>
+  </section>
+  <p id="error" class="error" role="alert" hidden></p>
+  <p id="notice" class="notice" aria-live="polite"></p>
+  <div class="layout">
+    <section id="controls" class="controls" aria-label="Parameters"></section>
+    <section class="views" aria-label="What the agent sees and remembers">
+      <figure class="camera">
+        <canvas id="camera" width="84" height="84" aria-label="The agent's first-person camera, 84 by 84"></canvas>
+        <figcaption>Camera (84×84)</figcaption>
+      </figure>
+      <figure class="arena">
+        <canvas id="arena" width="252" height="252" aria-label="Top-down view of the arena with the agent's trail"></canvas>
+        <figcaption>Top-down: agent, heading, trail</figcaption>
+      </figure>
+      <figure class="reconstruction">
+        <canvas id="reconstruction" width="84" height="84" aria-label="The autoencoder's reconstruction of the camera image"></canvas>
+        <figcaption>Autoencoder reconstruction</figcaption>
+      </figure>
+      <figure class="heat">
+        <canvas id="heat" width="252" height="252" aria-label="Long-term memory heat map"></canvas>
+        <figcaption>LTM: sequences × STM positions,
+          <select id="heat-kind" aria-label="Heat map quantity">
+            <option value="g">G (biased similarity)</option>
+            <option value="t">T (sequential bias)</option>
+          </select>; white boxes: selected</figcaption>
+      </figure>
+      <figure class="policy">
+        <table id="probs" aria-label="Action probabilities">
+          <thead><tr><th></th><th>none</th><th>right</th><th>left</th></tr></thead>
+          <tbody></tbody>
+        </table>
+        <div class="entropy"><span>entropy</span><meter id="entropy-meter" min="0" max="3.17"></meter><output id="entropy"></output></div>
+        <div class="layer">acting layer: <output id="layer">–</output></div>
+        <figcaption>Action probabilities p (3×3 grid)</figcaption>
+      </figure>
+    </section>
+  </div>
+  <section id="charts" class="charts" aria-label="Learning curves"></section>
+  <section id="compare" class="compare" aria-label="Compare configurations">
+    <h2>Compare</h2>
+    <p class="help">Run several configurations side by side, each in its own worker, with the same seeds; the
+      chart overlays their 20-episode mean reward, with a band of ± one standard error across seeds.</p>
+    <div class="compare-bar">
+      <span>Paper's experiments:
+        <button id="compare-exp1" type="button">1: SEC vs NSEC vs MFEC</button>
+        <button id="compare-exp2" type="button">2: LTM 125–1000</button>
+        <button id="compare-exp3" type="button">3: value function</button>
+        <button id="compare-exp4" type="button">4: forgetting</button>
+      </span>
+      <button id="compare-add" type="button" title="Add the settings in force above as a configuration">Add current settings</button>
+      <label>seeds <select id="compare-seeds">
+        <option>1</option><option>2</option><option selected>3</option><option>4</option><option>5</option>
+      </select></label>
+      <label>chart <select id="compare-metric">
+        <option value="reward">reward</option><option value="entropy">entropy</option>
+        <option value="decisions">decisions</option>
+      </select></label>
+      <button id="compare-run" type="button">Start</button>
+      <button id="compare-clear" type="button">Clear</button>
+    </div>
+    <p id="compare-caption" class="caption"></p>
+    <ol id="compare-arms" class="arms"></ol>
+    <div id="compare-chart" class="compare-chart"></div>
+  </section>
+</div>`;

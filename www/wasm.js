@@ -1,0 +1,51 @@
+// Loads the simulation's wasm: the SIMD build (simd128) where the browser runs wasm SIMD, the
+// scalar build otherwise. Both give the same bits (the kernels sum in the same order), so a run
+// is the same on either. `?wasm=scalar` in the page's address forces the fallback (for tests and
+// for comparing speed).
+
+/** A function returning a v128 (i8x16.splat, i8x16.popcnt): valid only where SIMD is. */
+const SIMD_PROBE = new Uint8Array([0, 97, 115, 109, 1, 0, 0, 0, 1, 5, 1, 96, 0, 1, 123, 3, 2, 1, 0, 10, 10, 1, 8, 0,
+  65, 0, 253, 15, 253, 98, 11]);
+
+/** Models being registered, and model downloads under way, by task. */
+const loading = new Map();
+const fetched = new Map();
+
+const params = new URLSearchParams(self.location?.search ?? '');
+/** Which build runs: 'simd' or 'scalar'. */
+export const build = params.get('wasm') === 'scalar' || !WebAssembly.validate(SIMD_PROBE) ? 'scalar' : 'simd';
+// The worker is told its first task: fetch its model while the wasm loads.
+if (params.get('task')) prefetchModel(params.get('task'));
+const glue = await import(build === 'simd' ? '../pkg/sec_playground.js' : '../pkg/scalar/sec_playground.js');
+
+export default glue.default;
+export const { SecRun, parameters, parseSettings, applySettings, presetSettings, panicForTest, registerModel, hasModel,
+  taskNames } = glue;
+
+/** Starts downloading `task`'s model now (before the wasm is ready); `ensureModel` uses it. */
+export function prefetchModel(task) {
+  if (!/^[a-z-]+$/.test(task ?? '') || fetched.has(task)) return;
+  fetched.set(task, fetch(new URL(`../assets/encoders/${task}.secae`, import.meta.url)).then((r) => {
+    if (!r.ok) throw new Error(`weights: the model of '${task}' could not be loaded (HTTP ${r.status})`);
+    return r.arrayBuffer();
+  }));
+  fetched.get(task).catch(() => {}); // reported when ensureModel awaits it
+}
+
+/**
+ * Fetches and registers the trained model of `task` (assets/encoders/<task>.secae, next to www/)
+ * unless it is there already. An unknown task is left to the run to refuse by name.
+ */
+export function ensureModel(task) {
+  if (!taskNames().includes(task) || hasModel(task)) return Promise.resolve();
+  if (!loading.has(task)) {
+    prefetchModel(task);
+    loading.set(task, fetched.get(task)
+      .then((b) => { registerModel(new Uint8Array(b)); })
+      .finally(() => {
+        loading.delete(task);
+        fetched.delete(task);
+      }));
+  }
+  return loading.get(task);
+}
