@@ -1,6 +1,6 @@
 // The arena page: builds an environment, steps it in real time with the keyboard's action and
 // draws the camera and the top-down view. Errors show on the page and keep the last good run.
-import init, { ArenaEnv, taskNames, taskDescription, frameSize } from '../pkg/sec_playground.js';
+import init, { ArenaEnv, taskNames, taskDescription, frameSize } from './wasm.js';
 import { drawRgba, drawStatus } from './views.js';
 import { keyboard } from './keys.js';
 

@@ -20,7 +20,7 @@ const glue = await import(build === 'simd' ? '../pkg/sec_playground.js' : '../pk
 
 export default glue.default;
 export const { SecRun, parameters, parseSettings, applySettings, presetSettings, panicForTest, registerModel, hasModel,
-  taskNames } = glue;
+  taskNames, ArenaEnv, taskDescription, frameSize } = glue;
 
 /** Starts downloading `task`'s model now (before the wasm is ready); `ensureModel` uses it. */
 export function prefetchModel(task) {
