@@ -266,3 +266,34 @@ fn every_bundled_model_reconstructs_its_held_out_frames() {
     let e = bundled::autoencoder("maze").unwrap_err().to_string();
     assert!(e.contains("task") && e.contains("double-t-maze"), "{e}");
 }
+
+/// Registered models (the wasm page's fetched files) are checked like bundled ones, must name a
+/// known task, and take the place of the task's model; a refused file changes nothing.
+#[test]
+fn registered_models_are_checked_and_used() {
+    let (_, bytes) = bundled::FILES.iter().find(|(t, _)| *t == "detour").unwrap();
+    let mut w = Weights::from_bytes(bytes).unwrap();
+    w.task = "maze".into();
+    let e = bundled::register(&w.to_bytes(DType::F16)).unwrap_err().to_string();
+    assert!(e.starts_with("weights:") && e.contains("'maze'") && e.contains("double-t-maze"), "{e}");
+    let mut corrupt = bytes.to_vec();
+    corrupt[500] ^= 1;
+    assert!(bundled::register(&corrupt).unwrap_err().to_string().contains("checksum"));
+    // A detour model with another scale, registered: the task's model is now that one.
+    let mut w = Weights::from_bytes(bytes).unwrap();
+    w.embedding_scale *= 2.0;
+    assert_eq!(bundled::register(&w.to_bytes(DType::F16)).unwrap(), "detour");
+    assert!(bundled::has("detour"));
+    let ae = bundled::autoencoder("detour").unwrap();
+    assert_eq!(ae.embedding_scale, w.embedding_scale);
+    assert_ne!(
+        ae.fingerprint(),
+        Autoencoder::from_weights(&Weights::from_bytes(bytes).unwrap()).unwrap().fingerprint()
+    );
+    // Back to the committed file, as the other tests expect.
+    bundled::register(bytes).unwrap();
+    assert_eq!(
+        bundled::autoencoder("detour").unwrap().embedding_scale,
+        Weights::from_bytes(bytes).unwrap().embedding_scale
+    );
+}
