@@ -1,10 +1,55 @@
 //! The inference kernels, channel-last (NHWC, one image). Each output channel sums its terms in
 //! one fixed order (bias, then kernel row, column and input channel ascending); loops run across
-//! output channels, so vectorising them never reorders a sum and every target gives the same bits.
-//! No fused multiply-add: Rust never contracts `a * b + c`.
+//! output channels (or, in `planar`, across pixels), so vectorising them never reorders a sum and
+//! every target gives the same bits. No fused multiply-add: Rust never contracts `a * b + c`.
+//!
+//! Convolutions are `valid` over their input; a `same` one reads an input with a border of zeros
+//! (`pad1`, or `maxpool2` asked for a border), so every output pixel takes the same vectorised
+//! path. The border's terms add zeros, which change at most the sign of a zero sum, and ReLU maps
+//! both zeros to +0: the bits are those of skipping them.
+//!
+//! Most activations after a ReLU are exactly zero (70-84 % in the bundled models), so the
+//! convolutions that read them (`conv3x3_relu_sparse`, `conv3x3_up2_relu`) first list each pixel's
+//! nonzero values (`Sparse`) and sum only those terms, in the same order. A skipped term is a
+//! product with zero: it could only change the sign of a zero sum, which ReLU maps to +0, so the
+//! bits are those of the dense sum.
+//!
+//! The decoder's convolutions of a nearest-neighbour 2x upsampling never build it: each output
+//! pixel's 3x3 window covers only 2x2 distinct input pixels, so the layer is four 2x2
+//! convolutions of the input, one per output-pixel parity, with weights summed ahead (`Up2`):
+//! 4/9 of the multiply-adds. The sums are then those of the folded weights, in the same fixed
+//! order on every target.
 
-/// 3x3 convolution with ReLU. `same` pads by one with zeros (output h x w); otherwise `valid`
-/// (output (h-2) x (w-2)). Weights are HWIO: `[ky][kx][ci][co]`.
+/// Where one convolution pass reads and writes: output pixel (i, j), for i < rows and j < cols,
+/// is the K x K window of the input at row i + r0 and column j + c0, and goes to pixel
+/// (sy * i + oy, sx * j + ox) of an output `ow` pixels wide.
+#[derive(Clone, Copy, Debug)]
+struct Pass {
+    rows: usize,
+    cols: usize,
+    r0: usize,
+    c0: usize,
+    sy: usize,
+    oy: usize,
+    sx: usize,
+    ox: usize,
+    ow: usize,
+}
+
+impl Pass {
+    /// The whole output of a plain `valid` convolution of an h x w input.
+    fn plain(h: usize, w: usize) -> Pass {
+        Pass { rows: h - 2, cols: w - 2, r0: 0, c0: 0, sy: 1, oy: 0, sx: 1, ox: 0, ow: w - 2 }
+    }
+
+    /// Output pixel (i, j) of the pass, as an index into the output's pixels.
+    fn pixel(&self, i: usize, j: usize) -> usize {
+        (self.sy * i + self.oy) * self.ow + self.sx * j + self.ox
+    }
+}
+
+/// 3x3 `valid` convolution with ReLU: output (h-2) x (w-2). Weights are HWIO:
+/// `[ky][kx][ci][co]`.
 ///
 /// On x86-64 with AVX2 the same code runs compiled for 8-wide vectors; lanes are output
 /// channels, so the result is bit-identical to the SSE2 and wasm builds.
@@ -14,126 +59,345 @@ pub fn conv3x3_relu<const CI: usize, const CO: usize>(
     w: usize,
     weights: &[f32],
     bias: &[f32],
-    same: bool,
-    out: &mut Vec<f32>,
-) -> (usize, usize) {
-    #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU supports AVX2, checked just above.
-        return unsafe { conv3x3_relu_avx2::<CI, CO>(input, h, w, weights, bias, same, out) };
-    }
-    conv3x3_relu_any::<CI, CO>(input, h, w, weights, bias, same, out)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn conv3x3_relu_avx2<const CI: usize, const CO: usize>(
-    input: &[f32],
-    h: usize,
-    w: usize,
-    weights: &[f32],
-    bias: &[f32],
-    same: bool,
-    out: &mut Vec<f32>,
-) -> (usize, usize) {
-    conv3x3_relu_any::<CI, CO>(input, h, w, weights, bias, same, out)
-}
-
-#[inline(always)]
-fn conv3x3_relu_any<const CI: usize, const CO: usize>(
-    input: &[f32],
-    h: usize,
-    w: usize,
-    weights: &[f32],
-    bias: &[f32],
-    same: bool,
     out: &mut Vec<f32>,
 ) -> (usize, usize) {
     assert_eq!(input.len(), h * w * CI);
-    assert_eq!(weights.len(), 9 * CI * CO);
-    assert_eq!(bias.len(), CO);
-    let (oh, ow, pad) = if same { (h, w, 1isize) } else { (h - 2, w - 2, 0) };
-    out.clear();
-    out.resize(oh * ow * CO, 0.0);
-    let bias: &[f32; CO] = bias.try_into().unwrap();
-    for oy in 0..oh {
-        let mut ox = 0;
-        // Interior runs of BLOCK pixels, whose 3x3 windows are all inside the image columns,
-        // share each weight row: a quarter of the weight loads. Same order of sums as below.
-        while ox < ow {
-            let x0 = ox as isize - pad;
-            if x0 >= 0 && x0 as usize + BLOCK + 2 <= w && ox + BLOCK <= ow {
-                let o = &mut out[(oy * ow + ox) * CO..][..BLOCK * CO];
-                #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
-                if CO % (4 * simd::NV) == 0 {
-                    simd::conv_block::<CI, CO>(input, h, w, weights, bias, oy as isize - pad, x0 as usize, o);
-                    ox += BLOCK;
-                    continue;
-                }
-                conv_block::<CI, CO>(input, h, w, weights, bias, oy as isize - pad, x0 as usize, o);
-                ox += BLOCK;
-                continue;
-            }
-            let mut acc = *bias;
+    let pass = Pass::plain(h, w);
+    out.resize(pass.rows * pass.cols * CO, 0.0); // every value is written: no need to clear
+    conv_pass::<CI, CO, 3>(input, w, weights, bias, pass, out);
+    (pass.rows, pass.cols)
+}
+
+/// The 3x3 weights of a convolution that reads a 2x nearest-neighbour upsampling, folded for
+/// reading the input itself (see the module's comment). `border` is the zero border around the
+/// upsampled image (1: a `same` convolution, 0: `valid`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Up2 {
+    /// Per parity (py, px) in row-major order, a 2x2 kernel `[ty][tx][ci][co]`.
+    weights: [Vec<f32>; 4],
+    /// Per parity, the first of the two input rows (or columns) read, relative to the output
+    /// pixel's half and counting the input's one-pixel border.
+    first: [usize; 2],
+    border: usize,
+}
+
+impl Up2 {
+    /// Output pixel 2i + p of the upsampled image (border b) reads upsampled rows 2i + p + k - b,
+    /// k = 0..3, i.e. input rows i + floor((p + k - b) / 2): two neighbours. Each 2x2 weight is
+    /// the sum, in kernel row then column order, of the 3x3 weights that land on it.
+    pub fn fold(weights: &[f32], ci: usize, co: usize, border: usize) -> Up2 {
+        assert_eq!(weights.len(), 9 * ci * co);
+        assert!(border <= 1);
+        // floor((p + k - b) / 2) for p + k - b >= -1, as an offset from -1.
+        let row = |p: usize, k: usize| (p + k + 2 - border) / 2;
+        let first = [row(0, 0), row(1, 0)];
+        let weights = std::array::from_fn(|parity| {
+            let (py, px) = (parity / 2, parity % 2);
+            let mut f = vec![0.0f32; 4 * ci * co];
             for ky in 0..3 {
-                let iy = oy as isize + ky as isize - pad;
-                if iy < 0 || iy >= h as isize {
-                    continue;
-                }
                 for kx in 0..3 {
-                    let ix = ox as isize + kx as isize - pad;
-                    if ix < 0 || ix >= w as isize {
-                        continue;
-                    }
-                    let px = &input[(iy as usize * w + ix as usize) * CI..][..CI];
-                    let wk = &weights[(ky * 3 + kx) * CI * CO..][..CI * CO];
-                    for (ci, &v) in px.iter().enumerate() {
-                        let wr: &[f32; CO] = wk[ci * CO..][..CO].try_into().unwrap();
-                        for co in 0..CO {
-                            acc[co] += v * wr[co];
-                        }
+                    let (ty, tx) = (row(py, ky) - first[py], row(px, kx) - first[px]);
+                    let src = &weights[(ky * 3 + kx) * ci * co..][..ci * co];
+                    for (d, &s) in f[(ty * 2 + tx) * ci * co..][..ci * co].iter_mut().zip(src) {
+                        *d += s;
                     }
                 }
             }
-            let o = &mut out[(oy * ow + ox) * CO..][..CO];
-            for co in 0..CO {
-                o[co] = relu(acc[co]);
-            }
-            ox += 1;
-        }
+            f
+        });
+        Up2 { weights, first, border }
+    }
+
+    /// Output size for an h x w input (before its border).
+    fn output(&self, h: usize, w: usize) -> (usize, usize) {
+        (2 * h + 2 * self.border - 2, 2 * w + 2 * self.border - 2)
+    }
+
+    /// The four passes over an input of h x w pixels plus a one-pixel border.
+    fn passes(&self, h: usize, w: usize) -> impl Iterator<Item = (Pass, &[f32])> + '_ {
+        let (oh, ow) = self.output(h, w);
+        assert!(oh % 2 == 0 && ow % 2 == 0);
+        (0..4).map(move |parity| {
+            let (py, px) = (parity / 2, parity % 2);
+            let pass = Pass {
+                rows: oh / 2,
+                cols: ow / 2,
+                r0: self.first[py],
+                c0: self.first[px],
+                sy: 2,
+                oy: py,
+                sx: 2,
+                ox: px,
+                ow,
+            };
+            (pass, &self.weights[parity][..])
+        })
+    }
+}
+
+/// 3x3 `valid` convolution with ReLU (as `conv3x3_relu`) of a mostly-zero input, through its
+/// nonzero values: `sparse` is scratch space.
+#[allow(clippy::too_many_arguments)]
+pub fn conv3x3_relu_sparse<const CI: usize, const CO: usize>(
+    input: &[f32],
+    h: usize,
+    w: usize,
+    weights: &[f32],
+    bias: &[f32],
+    sparse: &mut Sparse,
+    out: &mut Vec<f32>,
+) -> (usize, usize) {
+    sparse.build::<CI>(input, h, w);
+    let pass = Pass::plain(h, w);
+    out.resize(pass.rows * pass.cols * CO, 0.0);
+    sparse_pass::<CI, CO, 3>(sparse, weights, bias, pass, out);
+    (pass.rows, pass.cols)
+}
+
+/// 3x3 convolution with ReLU of the 2x nearest-neighbour upsampling of an h x w input, read
+/// from the input (with a one-pixel zero border: (h + 2) x (w + 2)) through `Up2` weights and
+/// the input's nonzero values (`sparse` is scratch space).
+#[allow(clippy::too_many_arguments)]
+pub fn conv3x3_up2_relu<const CI: usize, const CO: usize>(
+    input: &[f32],
+    h: usize,
+    w: usize,
+    up: &Up2,
+    bias: &[f32],
+    sparse: &mut Sparse,
+    out: &mut Vec<f32>,
+) -> (usize, usize) {
+    sparse.build::<CI>(input, h + 2, w + 2);
+    let (oh, ow) = up.output(h, w);
+    out.resize(oh * ow * CO, 0.0);
+    for (pass, weights) in up.passes(h, w) {
+        sparse_pass::<CI, CO, 2>(sparse, weights, bias, pass, out);
     }
     (oh, ow)
 }
 
-/// Output pixels convolved together in the interior.
+/// The nonzero values of an activation of h x w pixels of CI channels, pixel by pixel: those of
+/// pixel p are entries `start[p]..start[p + 1]`, each a value and its index within its row of
+/// the activation (x * CI + ci), in channel order.
+#[derive(Clone, Debug, Default)]
+pub struct Sparse {
+    start: Vec<u32>,
+    pos: Vec<u32>,
+    val: Vec<f32>,
+    /// The activation's width and channels, checked by `sparse_pass`.
+    w: usize,
+    ci: usize,
+}
+
+impl Sparse {
+    fn build<const CI: usize>(&mut self, input: &[f32], h: usize, w: usize) {
+        assert_eq!(input.len(), h * w * CI);
+        assert!(h * w * CI <= u32::MAX as usize);
+        (self.w, self.ci) = (w, CI);
+        self.start.resize(h * w + 1, 0);
+        // Every value is written at the next free entry, which advances only past nonzeros: no
+        // branch per value.
+        self.pos.resize(h * w * CI, 0);
+        self.val.resize(h * w * CI, 0.0);
+        let mut k = 0;
+        for (p, px) in input.chunks_exact(CI).enumerate() {
+            self.start[p] = k as u32;
+            let row = (p % w * CI) as u32;
+            for (ci, &v) in px.iter().enumerate() {
+                self.val[k] = v;
+                self.pos[k] = row + ci as u32;
+                k += (v != 0.0) as usize;
+            }
+        }
+        self.start[h * w] = k as u32;
+    }
+}
+
+/// One pass of a K x K convolution with ReLU through the input's nonzero values: for output
+/// pixel (i, j) and kernel row ky, the entries of the K input pixels under the window are
+/// adjacent in `sparse`, in kernel column then channel order, so one loop sums them.
+fn sparse_pass<const CI: usize, const CO: usize, const K: usize>(
+    sparse: &Sparse,
+    weights: &[f32],
+    bias: &[f32],
+    pass: Pass,
+    out: &mut [f32],
+) {
+    #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+    match CO {
+        32 => return simd::sparse_pass::<CI, CO, K, 8>(sparse, weights, bias, pass, out),
+        16 => return simd::sparse_pass::<CI, CO, K, 4>(sparse, weights, bias, pass, out),
+        _ => {}
+    }
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU supports AVX2, checked just above.
+        return unsafe { sparse_pass_avx2::<CI, CO, K>(sparse, weights, bias, pass, out) };
+    }
+    #[allow(unreachable_code)]
+    sparse_pass_any::<CI, CO, K>(sparse, weights, bias, pass, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn sparse_pass_avx2<const CI: usize, const CO: usize, const K: usize>(
+    sparse: &Sparse,
+    weights: &[f32],
+    bias: &[f32],
+    pass: Pass,
+    out: &mut [f32],
+) {
+    sparse_pass_any::<CI, CO, K>(sparse, weights, bias, pass, out)
+}
+
+/// The checks every version of `sparse_pass` relies on: the activation's geometry, the window
+/// inside it, the weights' and the output's sizes.
+fn check_sparse_pass<const CI: usize, const CO: usize, const K: usize>(
+    sparse: &Sparse,
+    weights: &[f32],
+    bias: &[f32],
+    pass: &Pass,
+    out: &[f32],
+) {
+    let w = sparse.w;
+    assert!(sparse.ci == CI && w > 0 && sparse.start.len() % w == 1);
+    assert!(pass.r0 + pass.rows + K - 1 <= sparse.start.len() / w && pass.c0 + pass.cols + K - 1 <= w);
+    assert!(weights.len() == K * K * CI * CO && bias.len() == CO);
+    assert!(pass.pixel(pass.rows - 1, pass.cols - 1) * CO + CO <= out.len());
+}
+
+#[inline(always)]
+fn sparse_pass_any<const CI: usize, const CO: usize, const K: usize>(
+    sparse: &Sparse,
+    weights: &[f32],
+    bias: &[f32],
+    pass: Pass,
+    out: &mut [f32],
+) {
+    check_sparse_pass::<CI, CO, K>(sparse, weights, bias, &pass, out);
+    let (w, bias) = (sparse.w, <&[f32; CO]>::try_from(bias).unwrap());
+    for i in 0..pass.rows {
+        for j in 0..pass.cols {
+            let mut acc = *bias;
+            for ky in 0..K {
+                let p0 = (pass.r0 + i + ky) * w + pass.c0 + j;
+                let (a, b) = (sparse.start[p0] as usize, sparse.start[p0 + K] as usize);
+                // Entry (x, ci) meets weight [ky][x - c0 - j][ci].
+                let skip = (pass.c0 + j) * CI;
+                let wk = &weights[ky * K * CI * CO..][..K * CI * CO];
+                for (&v, &pos) in sparse.val[a..b].iter().zip(&sparse.pos[a..b]) {
+                    let wr: &[f32; CO] = wk[(pos as usize - skip) * CO..][..CO].try_into().unwrap();
+                    for co in 0..CO {
+                        acc[co] += v * wr[co];
+                    }
+                }
+            }
+            let o = &mut out[pass.pixel(i, j) * CO..][..CO];
+            for co in 0..CO {
+                o[co] = relu(acc[co]);
+            }
+        }
+    }
+}
+
+/// One pass of a K x K convolution with ReLU over an input `w` pixels wide.
+fn conv_pass<const CI: usize, const CO: usize, const K: usize>(
+    input: &[f32],
+    w: usize,
+    weights: &[f32],
+    bias: &[f32],
+    pass: Pass,
+    out: &mut [f32],
+) {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU supports AVX2, checked just above.
+        return unsafe { conv_pass_avx2::<CI, CO, K>(input, w, weights, bias, pass, out) };
+    }
+    conv_pass_any::<CI, CO, K>(input, w, weights, bias, pass, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn conv_pass_avx2<const CI: usize, const CO: usize, const K: usize>(
+    input: &[f32],
+    w: usize,
+    weights: &[f32],
+    bias: &[f32],
+    pass: Pass,
+    out: &mut [f32],
+) {
+    conv_pass_any::<CI, CO, K>(input, w, weights, bias, pass, out)
+}
+
+#[inline(always)]
+fn conv_pass_any<const CI: usize, const CO: usize, const K: usize>(
+    input: &[f32],
+    w: usize,
+    weights: &[f32],
+    bias: &[f32],
+    pass: Pass,
+    out: &mut [f32],
+) {
+    assert_eq!(weights.len(), K * K * CI * CO);
+    assert!(pass.r0 + pass.rows + K - 1 <= input.len() / (w * CI) && pass.c0 + pass.cols + K - 1 <= w);
+    assert!(pass.pixel(pass.rows - 1, pass.cols - 1) * CO + CO <= out.len());
+    let bias: &[f32; CO] = bias.try_into().expect("one bias per output channel");
+    #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+    if CO % 16 == 0 {
+        // Few input channels (the first layer) leave time for more pixels per weight load.
+        if CI <= 4 {
+            for (i, j) in runs::<4>(pass) {
+                simd::conv_block::<CI, CO, K, 4, 2>(input, w, weights, bias, pass, i, j, out);
+            }
+        } else {
+            for (i, j) in runs::<2>(pass) {
+                simd::conv_block::<CI, CO, K, 2, 4>(input, w, weights, bias, pass, i, j, out);
+            }
+        }
+        return;
+    }
+    for (i, j) in runs::<BLOCK>(pass) {
+        conv_block::<CI, CO, K>(input, w, weights, bias, pass, i, j, out);
+    }
+}
+
+/// The runs of B pixels (i, j..j + B) of the pass, row by row. Runs of pixels share each weight
+/// load. The last run of a row overlaps the one before when B does not divide the width; its
+/// pixels are computed again the same way. (An iterator, not a callback: a closure holding a
+/// kernel was not inlined into the AVX2 copies and ran without AVX2, ten times slower.)
+#[inline(always)]
+fn runs<const B: usize>(pass: Pass) -> impl Iterator<Item = (usize, usize)> {
+    assert!(pass.cols >= B, "the output must be at least {B} pixels wide");
+    let (cols, per_row) = (pass.cols, pass.cols.div_ceil(B));
+    (0..pass.rows).flat_map(move |i| (0..per_row).map(move |k| (i, (k * B).min(cols - B))))
+}
+
+/// Output pixels convolved together.
 #[cfg(not(target_arch = "wasm32"))]
 const BLOCK: usize = 4;
-/// In wasm, the simd128 blocks' width (the scalar fallback build keeps it: same bits either way).
+/// In wasm without simd128 (the fallback build): same bits either way.
 #[cfg(target_arch = "wasm32")]
 const BLOCK: usize = 2;
 
-/// BLOCK adjacent output pixels whose windows start at input row `y0` and column `x0`.
+/// Pixels j..j + BLOCK of row i of the pass.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn conv_block<const CI: usize, const CO: usize>(
+fn conv_block<const CI: usize, const CO: usize, const K: usize>(
     input: &[f32],
-    h: usize,
     w: usize,
     weights: &[f32],
     bias: &[f32; CO],
-    y0: isize,
-    x0: usize,
+    pass: Pass,
+    i: usize,
+    j: usize,
     out: &mut [f32],
 ) {
     let mut acc = [*bias; BLOCK];
-    for ky in 0..3 {
-        let iy = y0 + ky as isize;
-        if iy < 0 || iy >= h as isize {
-            continue;
-        }
-        let row = &input[(iy as usize * w + x0) * CI..][..(BLOCK + 2) * CI];
-        for kx in 0..3 {
-            let wk = &weights[(ky * 3 + kx) * CI * CO..][..CI * CO];
+    for ky in 0..K {
+        let row = &input[((pass.r0 + i + ky) * w + pass.c0 + j) * CI..][..(BLOCK + K - 1) * CI];
+        for kx in 0..K {
+            let wk = &weights[(ky * K + kx) * CI * CO..][..CI * CO];
             for ci in 0..CI {
                 let wr: &[f32; CO] = wk[ci * CO..][..CO].try_into().unwrap();
                 for (p, a) in acc.iter_mut().enumerate() {
@@ -146,84 +410,215 @@ fn conv_block<const CI: usize, const CO: usize>(
         }
     }
     for (p, a) in acc.iter().enumerate() {
+        let o = &mut out[pass.pixel(i, j + p) * CO..][..CO];
         for co in 0..CO {
-            out[p * CO + co] = relu(a[co]);
+            o[co] = relu(a[co]);
         }
     }
 }
 
-/// The interior blocks written with wasm simd128 instructions: wasm engines have 16 vector
-/// registers, so a block accumulates P pixels x NV vectors of 4 output channels at a time and
-/// walks the channel groups in turn. Each lane does what the portable loop does, in the same
-/// order (multiply, then add; ReLU as max with 0), so the bits are the same.
+/// The kernels written with wasm simd128 instructions. Each lane does what the portable loops
+/// do, in the same order (multiply, then add; ReLU as max with 0), so the bits are the same.
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
 mod simd {
+    use super::Pass;
     use core::arch::wasm32::*;
 
-    pub const P: usize = super::BLOCK;
-    pub const NV: usize = 4;
-
+    /// Pixels j..j + P of row i of the pass. Wasm engines have 16 vector registers, so a block
+    /// accumulates P pixels x NV vectors of 4 output channels at a time and walks the channel
+    /// groups in turn.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
-    pub fn conv_block<const CI: usize, const CO: usize>(
+    pub fn conv_block<const CI: usize, const CO: usize, const K: usize, const P: usize, const NV: usize>(
         input: &[f32],
-        h: usize,
         w: usize,
         weights: &[f32],
         bias: &[f32; CO],
-        y0: isize,
-        x0: usize,
+        pass: Pass,
+        i: usize,
+        j: usize,
         out: &mut [f32],
     ) {
-        assert!(out.len() >= P * CO && weights.len() == 9 * CI * CO && CO % (4 * NV) == 0);
-        let load = |s: &[f32], i: usize| -> v128 {
-            let q = &s[i..i + 4];
-            // SAFETY: `q` holds 4 f32s; v128_load has no alignment requirement.
-            unsafe { v128_load(q.as_ptr() as *const v128) }
-        };
-        // The hot loop reads weights without a bounds check per load: every index below is
-        // (ky * 3 + kx) * CI * CO + ci * CO + g0 + 4 * j + 3 < 9 * CI * CO = weights.len(),
-        // asserted above.
-        let wp = weights.as_ptr();
+        let first = ((pass.r0 + i) * w + pass.c0 + j) * CI;
+        assert!(weights.len() == K * K * CI * CO && CO % (4 * NV) == 0);
+        assert!(first + ((K - 1) * w + P + K - 1) * CI <= input.len());
+        assert!(pass.pixel(i, j + P - 1) * CO + CO <= out.len());
+        // The hot loop reads without a bounds check per load. Weights: every index is
+        // (ky * K + kx) * CI * CO + ci * CO + g0 + 4 * v + 3 < K * K * CI * CO = weights.len().
+        // Inputs: first + ((ky * w + p + kx) * CI + ci < first + ((K - 1) * w + P + K - 1) * CI.
+        // Outputs: pixel(i, j + p) * CO + g0 + 4 * v + 3 < pixel(i, j + P - 1) * CO + CO.
+        // All asserted above.
+        let (wp, ip, op) = (weights.as_ptr(), input.as_ptr(), out.as_mut_ptr());
+        let (o0, step) = (pass.pixel(i, j) * CO, pass.sx * CO);
+        let zero = f32x4_splat(0.0);
+        // A short channel loop (the first layer's 3) hidden from the optimiser: unrolled, its
+        // loads and products are all live at once and V8 spills them (0.24 -> 0.17 ms).
+        let channels = if CI <= 4 { core::hint::black_box(CI) } else { CI };
         for g0 in (0..CO).step_by(4 * NV) {
-            let mut acc = [[f32x4_splat(0.0); NV]; P];
+            // SAFETY (all loads and stores below): in bounds, see above; v128 loads and stores
+            // have no alignment requirement.
+            let mut acc = [[zero; NV]; P];
             for a in acc.iter_mut() {
-                for (j, v) in a.iter_mut().enumerate() {
-                    *v = load(bias, g0 + 4 * j);
+                for (v, x) in a.iter_mut().enumerate() {
+                    *x = unsafe { v128_load(bias.as_ptr().add(g0 + 4 * v) as *const v128) };
                 }
             }
-            for ky in 0..3 {
-                let iy = y0 + ky as isize;
-                if iy < 0 || iy >= h as isize {
-                    continue;
-                }
-                let row = &input[(iy as usize * w + x0) * CI..][..(P + 2) * CI];
-                for kx in 0..3 {
-                    let base = (ky * 3 + kx) * CI * CO + g0;
-                    for ci in 0..CI {
-                        // SAFETY: in bounds, see `wp`; v128_load has no alignment requirement.
-                        let wr: [v128; NV] = std::array::from_fn(|j| unsafe {
-                            v128_load(wp.add(base + ci * CO + 4 * j) as *const v128)
+            for ky in 0..K {
+                for kx in 0..K {
+                    let base = (ky * K + kx) * CI * CO + g0;
+                    let row = first + (ky * w + kx) * CI;
+                    for ci in 0..channels {
+                        let wr: [v128; NV] = std::array::from_fn(|v| unsafe {
+                            v128_load(wp.add(base + ci * CO + 4 * v) as *const v128)
                         });
                         for (p, a) in acc.iter_mut().enumerate() {
-                            let v = f32x4_splat(row[(p + kx) * CI + ci]);
-                            for j in 0..NV {
-                                a[j] = f32x4_add(a[j], f32x4_mul(v, wr[j]));
+                            // One load that fills the four lanes, no shuffle.
+                            let x = unsafe { v128_load32_splat(ip.add(row + p * CI + ci) as *const u32) };
+                            for v in 0..NV {
+                                a[v] = f32x4_add(a[v], f32x4_mul(x, wr[v]));
                             }
                         }
                     }
                 }
             }
-            let zero = f32x4_splat(0.0);
             for (p, a) in acc.iter().enumerate() {
-                for (j, &v) in a.iter().enumerate() {
-                    let q = &mut out[p * CO + g0 + 4 * j..][..4];
-                    // SAFETY: `q` holds 4 f32s; unaligned stores are allowed.
-                    unsafe { v128_store(q.as_mut_ptr() as *mut v128, f32x4_pmax(zero, v)) };
+                let o = o0 + p * step + g0;
+                for (v, &x) in a.iter().enumerate() {
+                    unsafe { v128_store(op.add(o + 4 * v) as *mut v128, f32x4_pmax(zero, x)) };
                 }
             }
         }
     }
+
+    /// `sparse_pass` in simd128: one output pixel's CO channels in NV = CO / 4 accumulators.
+    pub fn sparse_pass<const CI: usize, const CO: usize, const K: usize, const NV: usize>(
+        sparse: &super::Sparse,
+        weights: &[f32],
+        bias: &[f32],
+        pass: Pass,
+        out: &mut [f32],
+    ) {
+        super::check_sparse_pass::<CI, CO, K>(sparse, weights, bias, &pass, out);
+        assert_eq!(4 * NV, CO);
+        let w = sparse.w;
+        let (wp, vp, pp, op) = (weights.as_ptr(), sparse.val.as_ptr(), sparse.pos.as_ptr(), out.as_mut_ptr());
+        let zero = f32x4_splat(0.0);
+        // SAFETY (the unchecked loads and stores below): by `check_sparse_pass`, the window's K
+        // pixels p0..p0 + K lie in one row of the activation, so their entries a..b are
+        // within `val` and `pos` (`build` writes `start` ascending up to their length), and
+        // each entry's pos - skip = (x - c0 - j) * CI + ci with 0 <= x - c0 - j < K and
+        // ci < CI, so the weight row read is inside `weights`; the output pixel is inside
+        // `out`. v128 loads and stores have no alignment requirement.
+        for i in 0..pass.rows {
+            for j in 0..pass.cols {
+                let mut acc: [v128; NV] =
+                    std::array::from_fn(|g| unsafe { v128_load(bias.as_ptr().add(4 * g) as *const v128) });
+                for ky in 0..K {
+                    let p0 = (pass.r0 + i + ky) * w + pass.c0 + j;
+                    let (a, b) = (sparse.start[p0] as usize, sparse.start[p0 + K] as usize);
+                    let skip = (pass.c0 + j) * CI;
+                    let wk = ky * K * CI * CO;
+                    for e in a..b {
+                        let (v, pos) = unsafe { (v128_load32_splat(vp.add(e) as *const u32), *pp.add(e) as usize) };
+                        let row = wk + (pos - skip) * CO;
+                        for (g, x) in acc.iter_mut().enumerate() {
+                            let wv = unsafe { v128_load(wp.add(row + 4 * g) as *const v128) };
+                            *x = f32x4_add(*x, f32x4_mul(v, wv));
+                        }
+                    }
+                }
+                let o = pass.pixel(i, j) * CO;
+                for (g, &x) in acc.iter().enumerate() {
+                    unsafe { v128_store(op.add(o + 4 * g) as *mut v128, f32x4_pmax(zero, x)) };
+                }
+            }
+        }
+    }
+
+    /// `planar_pass` in simd128: LANES pixels x CO channels of accumulators (LANES / 4 vectors
+    /// each), the same sums lane by lane.
+    #[allow(clippy::too_many_arguments)]
+    pub fn planar_pass<const CI: usize, const CO: usize, const K: usize>(
+        planes: &[f32],
+        ph: usize,
+        pw: usize,
+        weights: &[f32],
+        bias: &[f32],
+        pass: Pass,
+        out: &mut [f32],
+    ) {
+        const V: usize = super::LANES / 4;
+        assert!(planes.len() == CI * ph * pw && weights.len() == K * K * CI * CO && bias.len() == CO);
+        assert!(pass.r0 + pass.rows + K - 1 <= ph && pass.c0 + pass.cols + K - 1 <= pw);
+        // Unchecked reads: input indices are at most ((CI - 1) * ph + r0 + rows + K - 2) * pw +
+        // c0 + cols + K - 2 < CI * ph * pw, weights at most K * K * CI * CO - 1; both asserted
+        // above.
+        let (pp, wp) = (planes.as_ptr(), weights.as_ptr());
+        let zero = f32x4_splat(0.0);
+        for (i, j) in super::runs::<{ super::LANES }>(pass) {
+            let mut acc: [[v128; V]; CO] = std::array::from_fn(|co| [f32x4_splat(bias[co]); V]);
+            for ky in 0..K {
+                for kx in 0..K {
+                    for ci in 0..CI {
+                        let src = (ci * ph + pass.r0 + i + ky) * pw + pass.c0 + j + kx;
+                        // SAFETY: in bounds, see `pp`; no alignment requirement.
+                        let x: [v128; V] =
+                            std::array::from_fn(|l| unsafe { v128_load(pp.add(src + 4 * l) as *const v128) });
+                        let wr = ((ky * K + kx) * CI + ci) * CO;
+                        for (co, a) in acc.iter_mut().enumerate() {
+                            // SAFETY: in bounds, see `wp`.
+                            let wv = unsafe { v128_load32_splat(wp.add(wr + co) as *const u32) };
+                            for l in 0..V {
+                                a[l] = f32x4_add(a[l], f32x4_mul(x[l], wv));
+                            }
+                        }
+                    }
+                }
+            }
+            for (co, a) in acc.iter().enumerate() {
+                for (l, &v) in a.iter().enumerate() {
+                    let r = f32x4_pmax(zero, v);
+                    let lanes = [
+                        f32x4_extract_lane::<0>(r),
+                        f32x4_extract_lane::<1>(r),
+                        f32x4_extract_lane::<2>(r),
+                        f32x4_extract_lane::<3>(r),
+                    ];
+                    for (k, &x) in lanes.iter().enumerate() {
+                        out[pass.pixel(i, j + 4 * l + k) * CO + co] = x;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The input with a border of one zero pixel: (h + 2) x (w + 2), for a `same` convolution.
+pub fn pad1(input: &[f32], h: usize, w: usize, c: usize, out: &mut Vec<f32>) -> (usize, usize) {
+    assert_eq!(input.len(), h * w * c);
+    let (ph, pw) = (h + 2, w + 2);
+    out.clear();
+    out.resize(ph * pw * c, 0.0);
+    for y in 0..h {
+        out[((y + 1) * pw + 1) * c..][..w * c].copy_from_slice(&input[y * w * c..][..w * c]);
+    }
+    (ph, pw)
+}
+
+/// `pad1` into planar form: one (h + 2) x (w + 2) plane per channel, for `conv3x3_up2_relu_planar`.
+pub fn pad1_planar(input: &[f32], h: usize, w: usize, c: usize, out: &mut Vec<f32>) -> (usize, usize) {
+    assert_eq!(input.len(), h * w * c);
+    let (ph, pw) = (h + 2, w + 2);
+    out.clear();
+    out.resize(c * ph * pw, 0.0);
+    for y in 0..h {
+        for x in 0..w {
+            for (k, &v) in input[(y * w + x) * c..][..c].iter().enumerate() {
+                out[(k * ph + y + 1) * pw + x + 1] = v;
+            }
+        }
+    }
+    (ph, pw)
 }
 
 /// `b` if `a < b`, else `a`: wasm's `f32x4.pmax`, and a compare and select everywhere. `f32::max`
@@ -244,154 +639,138 @@ pub fn relu(x: f32) -> f32 {
 }
 
 /// 2x2 max pooling, stride 2, TensorFlow `same` padding: an odd side gets one extra output that
-/// pools over the remaining row or column only (21 -> 11).
-pub fn maxpool2(input: &[f32], h: usize, w: usize, c: usize, out: &mut Vec<f32>) -> (usize, usize) {
+/// pools over the remaining row or column only (21 -> 11). With `border` 1 the output gets a
+/// border of zeros for the next `same` convolution. Returns the output's size, border included.
+pub fn maxpool2<const C: usize>(
+    input: &[f32],
+    h: usize,
+    w: usize,
+    border: usize,
+    out: &mut Vec<f32>,
+) -> (usize, usize) {
+    assert_eq!(input.len(), h * w * C);
     let (oh, ow) = (h.div_ceil(2), w.div_ceil(2));
+    let (bh, bw) = (oh + 2 * border, ow + 2 * border);
     out.clear();
-    out.resize(oh * ow * c, f32::NEG_INFINITY);
+    out.resize(bh * bw * C, 0.0);
     for oy in 0..oh {
         for ox in 0..ow {
-            let o = &mut out[(oy * ow + ox) * c..][..c];
+            let o: &mut [f32; C] = (&mut out[((oy + border) * bw + ox + border) * C..][..C]).try_into().unwrap();
+            *o = [f32::NEG_INFINITY; C];
             for iy in 2 * oy..(2 * oy + 2).min(h) {
                 for ix in 2 * ox..(2 * ox + 2).min(w) {
-                    let p = &input[(iy * w + ix) * c..][..c];
-                    for k in 0..c {
+                    let p: &[f32; C] = input[(iy * w + ix) * C..][..C].try_into().unwrap();
+                    for k in 0..C {
                         o[k] = pmax(o[k], p[k]);
                     }
                 }
             }
         }
     }
-    (oh, ow)
+    (bh, bw)
 }
 
-/// Nearest-neighbour upsampling by 2 into planar form (one `(2h + 2) x (2w + 2)` plane per
-/// channel, with a border of zeros) for `conv3x3_relu_planar`.
-pub fn upsample2_planar(input: &[f32], h: usize, w: usize, c: usize, out: &mut Vec<f32>) -> (usize, usize) {
-    let (oh, ow) = (2 * h, 2 * w);
-    let (ph, pw) = (oh + 2, ow + 2);
-    out.clear();
-    out.resize(c * ph * pw, 0.0);
-    for oy in 0..oh {
-        for ox in 0..ow {
-            let px = &input[((oy / 2) * w + ox / 2) * c..][..c];
-            for (k, &v) in px.iter().enumerate() {
-                out[(k * ph + oy + 1) * pw + ox + 1] = v;
-            }
-        }
-    }
-    (oh, ow)
-}
-
-/// Pixels one vector of `conv3x3_relu_planar` covers: 2 AVX2 or 4 simd128 registers per channel.
+/// Pixels one run of `planar_pass` covers: 2 AVX2 registers per channel.
+#[cfg(not(target_arch = "wasm32"))]
 const LANES: usize = 16;
+/// In wasm 3 simd128 registers per channel, so that 3 channels' accumulators and a row of inputs
+/// fit the engines' 16 vector registers.
+#[cfg(target_arch = "wasm32")]
+const LANES: usize = 12;
 
-/// 3x3 `same` convolution with ReLU for layers with few output channels (the decoder's last,
-/// 16 -> 3), where vectors across channels would be mostly empty: lanes are adjacent output
-/// pixels instead. Input: the zero-bordered planes of `upsample2_planar`; output channel-last.
-/// Each output sums bias, then kernel row, column and input channel ascending, like
-/// `conv3x3_relu`; the border's zero terms add nothing (at most the sign of a zero).
-pub fn conv3x3_relu_planar<const CI: usize, const CO: usize>(
+/// `conv3x3_up2_relu` for layers with few output channels (the decoder's last, 16 -> 3), where
+/// vectors across channels would be mostly empty: lanes are adjacent output pixels of a pass
+/// instead. Input: the planes of `pad1_planar` (h x w before the border); output channel-last.
+pub fn conv3x3_up2_relu_planar<const CI: usize, const CO: usize>(
     planes: &[f32],
     h: usize,
     w: usize,
-    weights: &[f32],
+    up: &Up2,
     bias: &[f32],
     out: &mut Vec<f32>,
+) -> (usize, usize) {
+    let (oh, ow) = up.output(h, w);
+    out.resize(oh * ow * CO, 0.0);
+    for (pass, weights) in up.passes(h, w) {
+        planar_pass::<CI, CO, 2>(planes, h + 2, w + 2, weights, bias, pass, out);
+    }
+    (oh, ow)
+}
+
+fn planar_pass<const CI: usize, const CO: usize, const K: usize>(
+    planes: &[f32],
+    ph: usize,
+    pw: usize,
+    weights: &[f32],
+    bias: &[f32],
+    pass: Pass,
+    out: &mut [f32],
 ) {
+    #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+    return simd::planar_pass::<CI, CO, K>(planes, ph, pw, weights, bias, pass, out);
     #[cfg(target_arch = "x86_64")]
     if std::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU supports AVX2, checked just above.
-        return unsafe { conv3x3_relu_planar_avx2::<CI, CO>(planes, h, w, weights, bias, out) };
+        return unsafe { planar_pass_avx2::<CI, CO, K>(planes, ph, pw, weights, bias, pass, out) };
     }
-    conv3x3_relu_planar_any::<CI, CO>(planes, h, w, weights, bias, out)
+    #[allow(unreachable_code)]
+    planar_pass_any::<CI, CO, K>(planes, ph, pw, weights, bias, pass, out)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn conv3x3_relu_planar_avx2<const CI: usize, const CO: usize>(
+unsafe fn planar_pass_avx2<const CI: usize, const CO: usize, const K: usize>(
     planes: &[f32],
-    h: usize,
-    w: usize,
+    ph: usize,
+    pw: usize,
     weights: &[f32],
     bias: &[f32],
-    out: &mut Vec<f32>,
+    pass: Pass,
+    out: &mut [f32],
 ) {
-    conv3x3_relu_planar_any::<CI, CO>(planes, h, w, weights, bias, out)
+    planar_pass_any::<CI, CO, K>(planes, ph, pw, weights, bias, pass, out)
 }
 
+/// Each output sums bias, then kernel row, column and input channel ascending, like `conv_pass`.
 #[inline(always)]
-fn conv3x3_relu_planar_any<const CI: usize, const CO: usize>(
+fn planar_pass_any<const CI: usize, const CO: usize, const K: usize>(
     planes: &[f32],
-    h: usize,
-    w: usize,
+    ph: usize,
+    pw: usize,
     weights: &[f32],
     bias: &[f32],
-    out: &mut Vec<f32>,
+    pass: Pass,
+    out: &mut [f32],
 ) {
-    let (ph, pw) = (h + 2, w + 2);
     assert_eq!(planes.len(), CI * ph * pw);
-    assert_eq!(weights.len(), 9 * CI * CO);
+    assert_eq!(weights.len(), K * K * CI * CO);
     assert_eq!(bias.len(), CO);
-    out.clear();
-    out.resize(h * w * CO, 0.0);
-    for y in 0..h {
-        let mut x = 0;
-        while x < w {
-            if x + LANES <= w {
-                let mut acc = [[0.0f32; LANES]; CO];
-                for (a, &b) in acc.iter_mut().zip(bias) {
-                    *a = [b; LANES];
-                }
-                for ky in 0..3 {
-                    for kx in 0..3 {
-                        for ci in 0..CI {
-                            let src: &[f32; LANES] =
-                                planes[(ci * ph + y + ky) * pw + x + kx..][..LANES].try_into().unwrap();
-                            let wr = &weights[((ky * 3 + kx) * CI + ci) * CO..][..CO];
-                            for (a, &wv) in acc.iter_mut().zip(wr) {
-                                for l in 0..LANES {
-                                    a[l] += src[l] * wv;
-                                }
-                            }
+    for (i, j) in runs::<LANES>(pass) {
+        let mut acc = [[0.0f32; LANES]; CO];
+        for (a, &b) in acc.iter_mut().zip(bias) {
+            *a = [b; LANES];
+        }
+        for ky in 0..K {
+            for kx in 0..K {
+                for ci in 0..CI {
+                    let src: &[f32; LANES] =
+                        planes[(ci * ph + pass.r0 + i + ky) * pw + pass.c0 + j + kx..][..LANES].try_into().unwrap();
+                    let wr = &weights[((ky * K + kx) * CI + ci) * CO..][..CO];
+                    for (a, &wv) in acc.iter_mut().zip(wr) {
+                        for l in 0..LANES {
+                            a[l] += src[l] * wv;
                         }
                     }
                 }
-                for l in 0..LANES {
-                    for co in 0..CO {
-                        out[(y * w + x + l) * CO + co] = relu(acc[co][l]);
-                    }
-                }
-                x += LANES;
-            } else {
-                for co in 0..CO {
-                    let mut a = bias[co];
-                    for ky in 0..3 {
-                        for kx in 0..3 {
-                            for ci in 0..CI {
-                                a += planes[(ci * ph + y + ky) * pw + x + kx]
-                                    * weights[((ky * 3 + kx) * CI + ci) * CO + co];
-                            }
-                        }
-                    }
-                    out[(y * w + x) * CO + co] = relu(a);
-                }
-                x += 1;
+            }
+        }
+        for l in 0..LANES {
+            let o = &mut out[pass.pixel(i, j + l) * CO..][..CO];
+            for co in 0..CO {
+                o[co] = relu(acc[co][l]);
             }
         }
     }
-}
-
-/// Nearest-neighbour upsampling by 2.
-pub fn upsample2(input: &[f32], h: usize, w: usize, c: usize, out: &mut Vec<f32>) -> (usize, usize) {
-    out.clear();
-    out.resize(4 * h * w * c, 0.0);
-    for oy in 0..2 * h {
-        for ox in 0..2 * w {
-            out[(oy * 2 * w + ox) * c..][..c].copy_from_slice(&input[((oy / 2) * w + ox / 2) * c..][..c]);
-        }
-    }
-    (2 * h, 2 * w)
 }
 
 /// Dense layer `out = b + x W` (W is `[in][out]`), optionally with ReLU.

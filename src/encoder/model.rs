@@ -5,7 +5,10 @@
 //! flatten before the bottleneck is channel-last `(y, x, c)` order. A trainer with other layouts
 //! transposes when it writes the weights file.
 
-use super::kernels::{conv3x3_relu, conv3x3_relu_planar, dense, maxpool2, upsample2, upsample2_planar};
+use super::kernels::{
+    conv3x3_relu, conv3x3_relu_sparse, conv3x3_up2_relu, conv3x3_up2_relu_planar, dense, maxpool2, pad1, pad1_planar,
+    Sparse, Up2,
+};
 use super::weights::{Tensor, Weights};
 use crate::arena::ConfigError;
 use crate::render::{HEIGHT, WIDTH};
@@ -47,6 +50,9 @@ pub const TENSORS: [(&str, &[usize]); 18] = [
 #[derive(Clone, Debug, PartialEq)]
 pub struct Autoencoder {
     params: Vec<Vec<f32>>,
+    /// The decoder's last three convolutions' weights folded for reading their input before the
+    /// upsampling (`Up2`): derived from `params`, kept so that decoding does not redo it.
+    up: [Up2; 3],
     pub task: String,
     pub embedding_scale: f32,
 }
@@ -58,6 +64,7 @@ pub struct Scratch {
     b: Vec<f32>,
     flat: Vec<f32>,
     rec: Vec<f32>,
+    sparse: Sparse,
 }
 
 impl Autoencoder {
@@ -71,7 +78,7 @@ impl Autoencoder {
                 format!("{} tensors, expected {}", w.tensors.len(), TENSORS.len()),
             ));
         }
-        Ok(Autoencoder { params, task: w.task.clone(), embedding_scale: w.embedding_scale })
+        Ok(Autoencoder::with(params, w.task.clone(), w.embedding_scale))
     }
 
     /// Keras' initialisation: Glorot-uniform kernels, zero biases. For tests and benchmarks.
@@ -90,7 +97,14 @@ impl Autoencoder {
                 (0..n).map(|_| rng.gen_range(-limit..limit)).collect()
             })
             .collect();
-        Autoencoder { params, task: String::new(), embedding_scale: 1.0 }
+        Autoencoder::with(params, String::new(), 1.0)
+    }
+
+    fn with(params: Vec<Vec<f32>>, task: String, embedding_scale: f32) -> Self {
+        // dec.conv2 is `same` (border 1 around the upsampled image), dec.conv3 `valid`, dec.conv4 `same`.
+        let up =
+            [Up2::fold(&params[12], 32, 32, 1), Up2::fold(&params[14], 32, 16, 0), Up2::fold(&params[16], 16, 3, 1)];
+        Autoencoder { params, up, task, embedding_scale }
     }
 
     pub fn to_weights(&self) -> Weights {
@@ -124,12 +138,13 @@ impl Autoencoder {
     /// embedding scale.
     pub fn encode(&self, image: &[f32], s: &mut Scratch, out: &mut [f32; EMBEDDING]) {
         assert_eq!(image.len(), IMAGE, "the image must be 84x84x3");
-        let (h, w) = conv3x3_relu::<3, 16>(image, HEIGHT, WIDTH, self.p(0), self.p(1), true, &mut s.a);
-        let (h, w) = maxpool2(&s.a, h, w, 16, &mut s.b);
-        let (h, w) = conv3x3_relu::<16, 32>(&s.b, h, w, self.p(2), self.p(3), true, &mut s.a);
-        let (h, w) = maxpool2(&s.a, h, w, 32, &mut s.b);
-        let (h, w) = conv3x3_relu::<32, 32>(&s.b, h, w, self.p(4), self.p(5), true, &mut s.a);
-        let (h, w) = maxpool2(&s.a, h, w, 32, &mut s.b);
+        let (h, w) = pad1(image, HEIGHT, WIDTH, 3, &mut s.b);
+        let (h, w) = conv3x3_relu::<3, 16>(&s.b, h, w, self.p(0), self.p(1), &mut s.a);
+        let (h, w) = maxpool2::<16>(&s.a, h, w, 1, &mut s.b);
+        let (h, w) = conv3x3_relu_sparse::<16, 32>(&s.b, h, w, self.p(2), self.p(3), &mut s.sparse, &mut s.a);
+        let (h, w) = maxpool2::<32>(&s.a, h, w, 1, &mut s.b);
+        let (h, w) = conv3x3_relu_sparse::<32, 32>(&s.b, h, w, self.p(4), self.p(5), &mut s.sparse, &mut s.a);
+        let (h, w) = maxpool2::<32>(&s.a, h, w, 0, &mut s.b);
         debug_assert_eq!(h * w * 32, FLAT);
         dense(&s.b, self.p(6), self.p(7), true, out);
         if self.embedding_scale != 1.0 {
@@ -144,14 +159,15 @@ impl Autoencoder {
         let raw: [f32; EMBEDDING] = std::array::from_fn(|i| embedding[i] / self.embedding_scale);
         s.flat.resize(FLAT, 0.0);
         dense(&raw, self.p(8), self.p(9), false, &mut s.flat);
-        let (h, w) = conv3x3_relu::<32, 32>(&s.flat, 11, 11, self.p(10), self.p(11), true, &mut s.a);
-        let (h, w) = upsample2(&s.a, h, w, 32, &mut s.b);
-        let (h, w) = conv3x3_relu::<32, 32>(&s.b, h, w, self.p(12), self.p(13), true, &mut s.a);
-        let (h, w) = upsample2(&s.a, h, w, 32, &mut s.b);
-        let (h, w) = conv3x3_relu::<32, 16>(&s.b, h, w, self.p(14), self.p(15), false, &mut s.a);
-        let (h, w) = upsample2_planar(&s.a, h, w, 16, &mut s.b);
+        let (h, w) = pad1(&s.flat, 11, 11, 32, &mut s.b);
+        let (h, w) = conv3x3_relu::<32, 32>(&s.b, h, w, self.p(10), self.p(11), &mut s.a);
+        pad1(&s.a, h, w, 32, &mut s.b);
+        let (h, w) = conv3x3_up2_relu::<32, 32>(&s.b, h, w, &self.up[0], self.p(13), &mut s.sparse, &mut s.a);
+        pad1(&s.a, h, w, 32, &mut s.b);
+        let (h, w) = conv3x3_up2_relu::<32, 16>(&s.b, h, w, &self.up[1], self.p(15), &mut s.sparse, &mut s.a);
+        pad1_planar(&s.a, h, w, 16, &mut s.b);
+        let (h, w) = conv3x3_up2_relu_planar::<16, 3>(&s.b, h, w, &self.up[2], self.p(17), out);
         debug_assert_eq!((h, w), (HEIGHT, WIDTH));
-        conv3x3_relu_planar::<16, 3>(&s.b, h, w, self.p(16), self.p(17), out);
     }
 
     /// Mean squared reconstruction error of an image: the reconstruction gate's measure.

@@ -344,13 +344,13 @@ impl Memory {
             let v = *t * (1.0 - beta) + beta;
             *t = if s || v < 1.0 { 1.0 } else { v };
         }
-        // Then the successors' boost. Adding 0 leaves T (>= 1) unchanged, so no branch is needed
-        // and the loop vectorises.
-        for (t_row, s_row) in self.t.chunks_exact_mut(n).zip(self.sel_prev.chunks_exact(n)) {
-            for j in 0..n - 1 {
-                t_row[j + 1] += if s_row[j] { alpha } else { 0.0 };
+        // Then the successors' boost (each T gets at most one, so their order does not matter).
+        let t = &mut self.t;
+        each_set(&self.sel_prev, |idx| {
+            if idx % n != n - 1 {
+                t[idx + 1] += alpha;
             }
-        }
+        });
     }
 
     /// Section 7: similarity to every stored couplet, selection by both thresholds, Q over the
@@ -373,17 +373,8 @@ impl Memory {
         for (s, &g) in self.sel.iter_mut().zip(&self.g) {
             *s = g > threshold;
         }
-        // Few couplets pass: skip eight at a time.
-        for (w, chunk) in self.sel.chunks(8).enumerate() {
-            if chunk.iter().any(|&s| s) {
-                for (l, &s) in chunk.iter().enumerate() {
-                    if s {
-                        let idx = w * 8 + l;
-                        self.selected.push(Selected { row: (idx / n) as u32, col: (idx % n) as u32, g: self.g[idx] });
-                    }
-                }
-            }
-        }
+        let (g, selected) = (&self.g, &mut self.selected);
+        each_set(&self.sel, |idx| selected.push(Selected { row: (idx / n) as u32, col: (idx % n) as u32, g: g[idx] }));
         if self.selected.is_empty() {
             return None;
         }
@@ -547,15 +538,37 @@ unsafe fn similarity_avx2(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut
 
 #[inline(always)]
 fn similarity_any(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f32]) {
-    out.fill(0.0);
+    /// Couplets summed together, their sums held in registers across the 20 dimensions.
+    const C: usize = 8;
     for (row, o) in ltm.chunks_exact(EMBEDDING * n).zip(out.chunks_exact_mut(n)) {
-        for (k, &ek) in e.iter().enumerate() {
-            for (o, &x) in o.iter_mut().zip(&row[k * n..][..n]) {
-                *o += (ek - x).abs();
+        if n < C {
+            for (j, o) in o.iter_mut().enumerate() {
+                let mut acc = 0.0f32;
+                for (k, &ek) in e.iter().enumerate() {
+                    acc += (ek - row[k * n + j]).abs();
+                }
+                *o = 1.0 - acc / EMBEDDING as f32;
             }
+            continue;
         }
-        for o in o.iter_mut() {
-            *o = 1.0 - *o / EMBEDDING as f32;
+        let mut j0 = 0;
+        loop {
+            // The last chunk overlaps the one before when C does not divide n (same values).
+            let j = j0.min(n - C);
+            let mut acc = [0.0f32; C];
+            for (k, &ek) in e.iter().enumerate() {
+                let x: &[f32; C] = row[k * n + j..][..C].try_into().unwrap();
+                for l in 0..C {
+                    acc[l] += (ek - x[l]).abs();
+                }
+            }
+            for l in 0..C {
+                o[j + l] = 1.0 - acc[l] / EMBEDDING as f32;
+            }
+            if j + C >= n {
+                break;
+            }
+            j0 += C;
         }
     }
 }
@@ -597,6 +610,20 @@ fn biased_any(sim: &[f32], t: &[f64], g: &mut [f64]) -> f64 {
         }
     }
     tail.iter().chain(&m).fold(f64::NEG_INFINITY, |a, &b| if b > a { b } else { a })
+}
+
+/// Calls `f` with the index of every true in `mask`, ascending. Few couplets are selected, so
+/// it skips eight at a time.
+fn each_set(mask: &[bool], mut f: impl FnMut(usize)) {
+    for (w, chunk) in mask.chunks(8).enumerate() {
+        if chunk.iter().any(|&s| s) {
+            for (l, &s) in chunk.iter().enumerate() {
+                if s {
+                    f(w * 8 + l);
+                }
+            }
+        }
+    }
 }
 
 /// Draws an index with probabilities `p` (summing to 1): the first index whose cumulative sum

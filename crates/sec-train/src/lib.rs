@@ -63,7 +63,7 @@ pub fn heldout_mse(ae: &Autoencoder, rgb: &[u8]) -> f64 {
 /// run kept after `epoch` epochs.
 pub enum Start {
     Fresh,
-    Resume { weights: Autoencoder, epoch: usize },
+    Resume { weights: Box<Autoencoder>, epoch: usize },
 }
 
 /// Trains up to epoch `cfg.epochs`; calls `log` after every epoch. A resumed run replays the
@@ -81,7 +81,7 @@ pub fn train(
     let device = train_device();
     let (init, done) = match start {
         Start::Fresh => (Autoencoder::glorot(cfg.seed), 0),
-        Start::Resume { weights, epoch } => (weights, epoch),
+        Start::Resume { weights, epoch } => (*weights, epoch),
     };
     let mut init = init;
     init.task = task.to_string();

@@ -111,7 +111,7 @@ fn run() -> Result<(), String> {
         csv += &rows;
         best = heldout_mse(&weights, &validation);
         eprintln!("{name}: resuming after epoch {epoch} (validation MSE {best:.5})");
-        Start::Resume { weights, epoch }
+        Start::Resume { weights: Box::new(weights), epoch }
     } else {
         Start::Fresh
     };

@@ -1,0 +1,83 @@
+//! The inference kernels' shortcuts against the plain computation: skipping zero inputs gives the
+//! same bits, and a convolution of a 2x upsampling computed on its input (`Up2`) gives the
+//! convolution of the upsampled image up to rounding. The wasm build runs the same kernels in
+//! simd128 (`tests/wasm.rs` checks the golden embedding and reconstruction bit for bit).
+#![cfg(not(target_arch = "wasm32"))]
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use sec_playground::encoder::kernels::{conv3x3_relu, conv3x3_relu_sparse, conv3x3_up2_relu, pad1, Sparse, Up2};
+
+/// Values in [-1, 1], `zeros` of them exactly zero, some of those -0.0.
+fn mostly_zero(n: usize, zeros: f64, rng: &mut ChaCha8Rng) -> Vec<f32> {
+    (0..n)
+        .map(|_| {
+            if rng.gen_bool(zeros) {
+                if rng.gen_bool(0.3) {
+                    -0.0
+                } else {
+                    0.0
+                }
+            } else {
+                rng.gen_range(-1.0..1.0)
+            }
+        })
+        .collect()
+}
+
+fn bits(v: &[f32]) -> Vec<u32> {
+    v.iter().map(|x| x.to_bits()).collect()
+}
+
+#[test]
+fn skipping_zero_inputs_gives_the_dense_bits() {
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let mut sparse = Sparse::default();
+    // Odd and even sizes, few and many zeros; a negative bias makes many sums end at or below 0.
+    for (h, w, zeros) in [(13, 13, 0.8), (23, 23, 0.7), (44, 44, 0.95), (9, 30, 0.0), (12, 17, 1.0)] {
+        let input = mostly_zero(h * w * 16, zeros, &mut rng);
+        let weights: Vec<f32> = (0..9 * 16 * 32).map(|_| rng.gen_range(-0.5..0.5)).collect();
+        let bias: Vec<f32> = (0..32).map(|_| rng.gen_range(-0.5..0.2)).collect();
+        let (mut dense, mut skipped) = (Vec::new(), Vec::new());
+        let a = conv3x3_relu::<16, 32>(&input, h, w, &weights, &bias, &mut dense);
+        let b = conv3x3_relu_sparse::<16, 32>(&input, h, w, &weights, &bias, &mut sparse, &mut skipped);
+        assert_eq!(a, b);
+        assert_eq!(bits(&dense), bits(&skipped), "{h}x{w}, {zeros} zeros");
+        assert!(dense.iter().any(|&v| v > 0.0) || zeros == 1.0);
+    }
+}
+
+/// Nearest-neighbour 2x upsampling with a border of `border` zero pixels.
+fn upsample(x: &[f32], h: usize, w: usize, c: usize, border: usize) -> (Vec<f32>, usize, usize) {
+    let (uh, uw) = (2 * h + 2 * border, 2 * w + 2 * border);
+    let mut out = vec![0.0; uh * uw * c];
+    for y in 0..2 * h {
+        for x0 in 0..2 * w {
+            for k in 0..c {
+                out[((y + border) * uw + x0 + border) * c + k] = x[((y / 2) * w + x0 / 2) * c + k];
+            }
+        }
+    }
+    (out, uh, uw)
+}
+
+#[test]
+fn folded_upsampling_convolutions_match_the_upsampled_image() {
+    let mut rng = ChaCha8Rng::seed_from_u64(6);
+    for (h, w, border) in [(11, 11, 1), (22, 22, 0), (7, 10, 1), (8, 5, 0)] {
+        let input = mostly_zero(h * w * 32, 0.5, &mut rng);
+        let weights: Vec<f32> = (0..9 * 32 * 16).map(|_| rng.gen_range(-0.5..0.5)).collect();
+        let bias: Vec<f32> = (0..16).map(|_| rng.gen_range(-0.2..0.2)).collect();
+        let (up, uh, uw) = upsample(&input, h, w, 32, border);
+        let mut expected = Vec::new();
+        let size = conv3x3_relu::<32, 16>(&up, uh, uw, &weights, &bias, &mut expected);
+        let (mut padded, mut got) = (Vec::new(), Vec::new());
+        pad1(&input, h, w, 32, &mut padded);
+        let fold = Up2::fold(&weights, 32, 16, border);
+        let got_size = conv3x3_up2_relu::<32, 16>(&padded, h, w, &fold, &bias, &mut Sparse::default(), &mut got);
+        assert_eq!(size, got_size);
+        let worst = expected.iter().zip(&got).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
+        assert!(worst <= 1e-5, "{h}x{w} border {border}: off by {worst}");
+        assert!(expected.iter().filter(|&&v| v > 0.0).count() > expected.len() / 4);
+    }
+}
