@@ -1,12 +1,13 @@
 //! The inference kernels' shortcuts against the plain computation: skipping zero inputs gives the
 //! same bits, and a convolution of a 2x upsampling computed on its input (`Up2`) gives the
-//! convolution of the upsampled image up to rounding. The wasm build runs the same kernels in
-//! simd128 (`tests/wasm.rs` checks the golden embedding and reconstruction bit for bit).
-#![cfg(not(target_arch = "wasm32"))]
+//! convolution of the upsampled image up to rounding. Natively (the AVX2 path) and under
+//! `wasm-pack test --node` (the simd128 kernels).
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use sec_playground::encoder::kernels::{conv3x3_relu, conv3x3_relu_sparse, conv3x3_up2_relu, pad1, Sparse, Up2};
+use sec_playground::encoder::kernels::{
+    conv3x3_relu, conv3x3_relu_sparse, conv3x3_up2_relu, conv3x3_up2_relu_planar, pad1, pad1_planar, Sparse, Up2,
+};
 
 /// Values in [-1, 1], `zeros` of them exactly zero, some of those -0.0.
 fn mostly_zero(n: usize, zeros: f64, rng: &mut ChaCha8Rng) -> Vec<f32> {
@@ -29,7 +30,8 @@ fn bits(v: &[f32]) -> Vec<u32> {
     v.iter().map(|x| x.to_bits()).collect()
 }
 
-#[test]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
 fn skipping_zero_inputs_gives_the_dense_bits() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let mut sparse = Sparse::default();
@@ -61,7 +63,8 @@ fn upsample(x: &[f32], h: usize, w: usize, c: usize, border: usize) -> (Vec<f32>
     (out, uh, uw)
 }
 
-#[test]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
 fn folded_upsampling_convolutions_match_the_upsampled_image() {
     let mut rng = ChaCha8Rng::seed_from_u64(6);
     for (h, w, border) in [(11, 11, 1), (22, 22, 0), (7, 10, 1), (8, 5, 0)] {
@@ -78,6 +81,28 @@ fn folded_upsampling_convolutions_match_the_upsampled_image() {
         assert_eq!(size, got_size);
         let worst = expected.iter().zip(&got).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
         assert!(worst <= 1e-5, "{h}x{w} border {border}: off by {worst}");
+        assert!(expected.iter().filter(|&&v| v > 0.0).count() > expected.len() / 4);
+    }
+}
+
+/// The decoder's last layer: 16 -> 3 channels, lanes across pixels on planar input.
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn the_planar_folded_convolution_matches_the_upsampled_image() {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    for (h, w) in [(42, 42), (9, 20)] {
+        let input = mostly_zero(h * w * 16, 0.6, &mut rng);
+        let weights: Vec<f32> = (0..9 * 16 * 3).map(|_| rng.gen_range(-0.5..0.5)).collect();
+        let bias: Vec<f32> = (0..3).map(|_| rng.gen_range(-0.2..0.2)).collect();
+        let (up, uh, uw) = upsample(&input, h, w, 16, 1);
+        let mut expected = Vec::new();
+        let size = conv3x3_relu::<16, 3>(&up, uh, uw, &weights, &bias, &mut expected);
+        let (mut planes, mut got) = (Vec::new(), Vec::new());
+        pad1_planar(&input, h, w, 16, &mut planes);
+        let got_size = conv3x3_up2_relu_planar::<16, 3>(&planes, h, w, &Up2::fold(&weights, 16, 3, 1), &bias, &mut got);
+        assert_eq!(size, got_size);
+        let worst = expected.iter().zip(&got).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
+        assert!(worst <= 1e-5, "{h}x{w}: off by {worst}");
         assert!(expected.iter().filter(|&&v| v > 0.0).count() > expected.len() / 4);
     }
 }
