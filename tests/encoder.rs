@@ -297,3 +297,66 @@ fn registered_models_are_checked_and_used() {
         Weights::from_bytes(bytes).unwrap().embedding_scale
     );
 }
+
+#[test]
+fn the_untrained_encoder_is_keras_glorot_uniform_with_zero_biases() {
+    use sec_playground::encoder::model::{glorot_limit, TENSORS};
+    use sec_playground::encoder::{Perception, PerceptionKind};
+    let p = Perception::new(PerceptionKind::Untrained, "double-t-maze", None, 11).unwrap();
+    let w = p.embedder().to_weights();
+    assert_eq!(w.embedding_scale, 1.0, "raw units, as the authors' encoder");
+    for (t, (name, shape)) in w.tensors.iter().zip(TENSORS) {
+        if !name.starts_with("enc.") || shape.len() == 1 {
+            assert!(t.data.iter().all(|&v| v == 0.0), "{name}: biases and the unused decoder are zero");
+            continue;
+        }
+        let (limit, (fan_in, fan_out)) = glorot_limit(shape);
+        // Keras: fan = kernel area x channels, limit sqrt(6 / (fan_in + fan_out)).
+        let area: usize = shape[..shape.len() - 2].iter().product();
+        assert_eq!((fan_in, fan_out), (area * shape[shape.len() - 2], area * shape[shape.len() - 1]), "{name}");
+        let n = t.data.len() as f64;
+        let mean = t.data.iter().map(|&v| v as f64).sum::<f64>() / n;
+        let var = t.data.iter().map(|&v| (v as f64 - mean).powi(2)).sum::<f64>() / n;
+        let max = t.data.iter().fold(0.0f32, |m, v| m.max(v.abs()));
+        let want_var = (limit as f64).powi(2) / 3.0;
+        assert!(max < limit && max > 0.98 * limit, "{name}: max |w| {max} vs limit {limit}");
+        // U(-l, l): mean 0 with sd l / sqrt(3n); variance l^2 / 3 with relative sd sqrt(0.8 / n).
+        assert!(mean.abs() < 5.0 * (want_var / n).sqrt(), "{name}: mean {mean}");
+        assert!((var / want_var - 1.0).abs() < 5.0 * (0.8 / n).sqrt(), "{name}: variance {var} vs {want_var}");
+    }
+    // The conv1 limit by hand: fan_in 3 x 3 x 3 = 27, fan_out 3 x 3 x 16 = 144.
+    assert_eq!(glorot_limit(&[3, 3, 3, 16]).0, (6.0f32 / 171.0).sqrt());
+}
+
+#[test]
+fn the_untrained_encoder_is_drawn_from_the_runs_seed() {
+    use sec_playground::encoder::{Perception, PerceptionKind};
+    let fp = |seed, kind| Perception::new(kind, "detour", None, seed).unwrap().embedder().fingerprint();
+    assert_eq!(fp(3, PerceptionKind::Untrained), fp(3, PerceptionKind::Untrained));
+    assert_ne!(fp(3, PerceptionKind::Untrained), fp(4, PerceptionKind::Untrained));
+    // The trained perception embeds with the task's model, whatever the seed.
+    assert_eq!(fp(3, PerceptionKind::Trained), fp(4, PerceptionKind::Trained));
+    assert_eq!(fp(3, PerceptionKind::Trained), bundled::autoencoder("detour").unwrap().fingerprint());
+    // Either way the gate's model is the trained one, and an embedding is finite and >= 0.
+    let p = Perception::new(PerceptionKind::Untrained, "detour", Some(2.0), 3).unwrap();
+    assert_eq!(p.trained().fingerprint(), bundled::autoencoder("detour").unwrap().fingerprint());
+    let mut e = [0.0; EMBEDDING];
+    p.embed(&frame("detour"), &mut Scratch::default(), &mut e);
+    assert!(e.iter().all(|v| v.is_finite() && *v >= 0.0) && e.iter().any(|&v| v > 0.0), "{e:?}");
+    let mut raw = [0.0; EMBEDDING];
+    Perception::new(PerceptionKind::Untrained, "detour", None, 3).unwrap().embed(
+        &frame("detour"),
+        &mut Scratch::default(),
+        &mut raw,
+    );
+    assert_eq!(e, raw.map(|v| v * 2.0), "the scale multiplies the raw outputs");
+}
+
+#[test]
+fn bad_embedding_scales_are_refused_by_name() {
+    use sec_playground::encoder::{Perception, PerceptionKind};
+    for s in [0.0, -1.0, f32::NAN, f32::INFINITY, 2e6] {
+        let e = Perception::new(PerceptionKind::Trained, "detour", Some(s), 1).unwrap_err();
+        assert_eq!(e.field, "embeddingScale", "{s}");
+    }
+}

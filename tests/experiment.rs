@@ -1,6 +1,7 @@
 //! Runs of SEC in a task: deterministic, and counted as the paper counts them.
 
 use sec_playground::agent::mfec::Embedding;
+use sec_playground::encoder::PerceptionKind;
 use sec_playground::experiment::{golden_run, AgentKind, Run, RunConfig};
 
 fn episodes(cfg: &RunConfig, seed: u64, n: usize) -> Vec<String> {
@@ -45,15 +46,17 @@ fn bad_run_configurations_are_refused() {
     );
 }
 
-/// `tests/wasm.rs` checks the same log under Node. `SEC_UPDATE_GOLDEN=1` rewrites it.
+/// `tests/wasm.rs` checks the same logs under Node. `SEC_UPDATE_GOLDEN=1` rewrites them.
 #[test]
 fn a_short_run_gives_the_golden_episode_log() {
-    let log = golden_run();
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/golden/run.txt");
-    if std::env::var("SEC_UPDATE_GOLDEN").is_ok_and(|v| v == "1") {
-        std::fs::write(path, &log).unwrap();
+    for (perception, file) in [(PerceptionKind::Trained, "run.txt"), (PerceptionKind::Untrained, "run-untrained.txt")] {
+        let log = golden_run(perception);
+        let path = format!("{}/tests/golden/{file}", env!("CARGO_MANIFEST_DIR"));
+        if std::env::var("SEC_UPDATE_GOLDEN").is_ok_and(|v| v == "1") {
+            std::fs::write(&path, &log).unwrap();
+        }
+        assert_eq!(log, std::fs::read_to_string(&path).unwrap(), "{file}");
     }
-    assert_eq!(log, std::fs::read_to_string(path).unwrap());
 }
 
 fn json_lines(cfg: &RunConfig, seed: u64, n: usize) -> Vec<String> {
@@ -78,15 +81,21 @@ fn baselines_run_deterministically_and_count_their_decisions() {
             assert!(v["decisions"].as_u64().unwrap() <= 63);
         }
     }
-    // With one neighbour, Q (so the entropy) depends on the embedding: rp and ae differ.
+    // With one neighbour and no warm-up, Q (so the entropy) depends on the embedding: rp and ae
+    // differ.
     let (mut rp1, mut ae1) = (rp.clone(), ae.clone());
-    (rp1.mfec.k, ae1.mfec.k) = (1, 1);
+    for c in [&mut rp1, &mut ae1] {
+        (c.mfec.k, c.mfec.warmup_decisions, c.mfec.warmup_rewarded_episodes) = (1, 0, 0);
+    }
     assert_ne!(json_lines(&rp1, 3, 2), json_lines(&ae1, 3, 2), "MFEC-rp's entropies differ from MFEC-ae's");
-    // The reactive walk logs no entropy; MFEC logs its softmax entropy.
+    // The reactive walk logs no entropy; MFEC logs its softmax entropy, which (as the authors')
+    // it computes only when it acts: during the warm-up it stays at its initial 0.
     let v: serde_json::Value = serde_json::from_str(&json_lines(&reactive, 3, 1)[0]).unwrap();
     assert_eq!((v["entropy"].as_f64(), v["entropyFresh"].is_null()), (Some(0.0), true));
     let v: serde_json::Value = serde_json::from_str(&json_lines(&ae, 3, 1)[0]).unwrap();
-    assert!((v["entropy"].as_f64().unwrap() - 9f64.log2()).abs() < 1e-9, "an empty MFEC is uniform");
+    assert_eq!((v["entropy"].as_f64(), v["entropyFresh"].is_null()), (Some(0.0), true));
+    let v: serde_json::Value = serde_json::from_str(&json_lines(&rp1, 3, 1)[0]).unwrap();
+    assert!(v["entropy"].as_f64().unwrap() > 0.0 && !v["entropyFresh"].is_null(), "MFEC acting logs its entropy");
 }
 
 #[test]
@@ -106,7 +115,8 @@ fn configurations_round_trip_through_json_and_unknown_fields_are_refused() {
 fn raw_embeddings_undo_the_calibrated_scale() {
     // The object-permanence model's scale is 1.51: with raw embeddings the same run sees other
     // similarities, so once the contextual layer is consulted the logs differ.
-    let cfg = RunConfig { task: "object-permanence".into(), ..RunConfig::default() };
+    let cfg =
+        RunConfig { task: "object-permanence".into(), perception: PerceptionKind::Trained, ..RunConfig::default() };
     let raw = RunConfig { raw_embeddings: true, ..cfg.clone() };
     let mut a = Run::new(cfg, 7).unwrap();
     let mut b = Run::new(raw, 7).unwrap();
@@ -116,13 +126,14 @@ fn raw_embeddings_undo_the_calibrated_scale() {
 
 #[test]
 fn stepping_by_ticks_or_decisions_gives_the_same_run_as_by_episodes() {
-    // Object permanence: goals come early, so storage, the contextual layer and T all act.
+    // Object permanence, seed 2: goals come early, so storage, the contextual layer (from the
+    // 16th episode) and T all act.
     let cfg = RunConfig { task: "object-permanence".into(), ..RunConfig::default() };
-    let whole = episodes(&cfg, 7, 12);
-    let mut run = Run::new(cfg, 7).unwrap();
+    let whole = episodes(&cfg, 2, 18);
+    let mut run = Run::new(cfg, 2).unwrap();
     let mut stepped = Vec::new();
     let mut decisions = 0;
-    while stepped.len() < 12 {
+    while stepped.len() < 18 {
         // Alternate: a few episodes tick by tick, the rest decision by decision.
         let t = if stepped.len() % 2 == 0 { run.tick() } else { run.decision() };
         decisions += t.decision.is_some() as u32;
@@ -135,7 +146,7 @@ fn stepping_by_ticks_or_decisions_gives_the_same_run_as_by_episodes() {
 #[test]
 fn live_changes_apply_to_the_running_agent_and_others_ask_for_a_new_run() {
     let cfg = RunConfig { task: "object-permanence".into(), ..RunConfig::default() };
-    let mut run = Run::new(cfg.clone(), 7).unwrap();
+    let mut run = Run::new(cfg.clone(), 2).unwrap();
     for _ in 0..12 {
         run.episode();
     }
@@ -170,4 +181,85 @@ fn live_changes_apply_to_the_running_agent_and_others_ask_for_a_new_run() {
     for _ in 0..4 {
         assert!(run.episode().ltm <= 2);
     }
+}
+
+#[test]
+fn a_fixed_start_heading_faces_the_centre_from_each_corner() {
+    use sec_playground::arena::{facing_centre, Env, EnvConfig, StartHeading, Task};
+    assert_eq!([facing_centre(3.0, 37.0), facing_centre(37.0, 37.0)], [135.0, 225.0]);
+    assert_eq!([facing_centre(3.0, 3.0), facing_centre(37.0, 3.0)], [45.0, 315.0]);
+    let headings = |h: StartHeading| {
+        let task = Task::preset("double-t-maze").unwrap().with_start_heading(h);
+        let mut env = Env::new(EnvConfig::new(task), 5).unwrap();
+        (0..8)
+            .map(|_| {
+                let out = (env.layout_name().to_string(), env.world().agent.heading);
+                env.reset(None);
+                out
+            })
+            .collect::<Vec<_>>()
+    };
+    let fixed = headings(StartHeading::Fixed);
+    for (layout, h) in &fixed {
+        let want = match layout.as_str() {
+            "corner-1" => 135.0,
+            "corner-2" => 225.0,
+            "corner-3" => 45.0,
+            _ => 315.0,
+        };
+        assert_eq!(*h, want, "{layout}");
+    }
+    let random = headings(StartHeading::Random);
+    assert!(random.iter().any(|(l, h)| fixed.iter().any(|(fl, fh)| fl == l && fh != h)));
+    // Layouts that fix their heading keep it.
+    let permanence = Task::preset("object-permanence").unwrap();
+    assert_eq!(permanence.clone().with_start_heading(StartHeading::Fixed), permanence);
+}
+
+#[test]
+fn perception_scale_and_heading_are_checked_and_the_trained_perception_is_the_old_run() {
+    let e = |c: RunConfig| Run::new(c, 1).err().unwrap().to_string();
+    let scale = |s| RunConfig { embedding_scale: Some(s), ..RunConfig::default() };
+    assert_eq!(e(scale(0.0)), "embeddingScale: 0 is out of range (0, 1000000]");
+    assert_eq!(e(scale(f32::INFINITY)), "embeddingScale: inf is out of range (0, 1000000]");
+    assert!(e(RunConfig { raw_embeddings: true, ..scale(2.0) }).starts_with("rawEmbeddings:"));
+    for (json, field) in [
+        (r#"{"perception":"random"}"#, "unknown variant `random`, expected `untrained` or `trained`"),
+        (r#"{"startHeading":"north"}"#, "unknown variant `north`, expected `random` or `fixed`"),
+    ] {
+        let err = serde_json::from_str::<RunConfig>(json).unwrap_err().to_string();
+        assert!(err.contains(field), "{err}");
+    }
+    // The default perception is the untrained one; rawEmbeddings is embeddingScale 1.
+    assert_eq!(RunConfig::default().perception, PerceptionKind::Untrained);
+    let trained = RunConfig { task: "detour".into(), perception: PerceptionKind::Trained, ..RunConfig::default() };
+    let raw = json_lines(&RunConfig { raw_embeddings: true, ..trained.clone() }, 3, 4);
+    assert_eq!(raw, json_lines(&RunConfig { embedding_scale: Some(1.0), ..trained }, 3, 4));
+}
+
+/// MFEC's bookkeeping before D21 is the `per-episode` option: with it the golden MFEC runs of
+/// that time (`tests/golden/mfec-per-episode.txt`, MFEC-ae then MFEC-rp, seed 7) come back bit
+/// for bit.
+#[test]
+fn the_per_episode_mfec_bookkeeping_gives_the_old_golden_runs() {
+    use sec_playground::agent::mfec::{Bookkeeping, MfecConfig};
+    let mfec = MfecConfig {
+        warmup_decisions: 100,
+        warmup_rewarded_episodes: 1,
+        bookkeeping: Bookkeeping::PerEpisode,
+        ..MfecConfig::default()
+    };
+    let ae = RunConfig {
+        task: "object-permanence".into(),
+        t: Some(250),
+        kind: AgentKind::Mfec,
+        perception: PerceptionKind::Trained,
+        mfec,
+        ..RunConfig::default()
+    };
+    let mut rp = ae.clone();
+    rp.mfec.embedding = Embedding::RandomProjection;
+    let got: Vec<String> = [ae, rp].iter().flat_map(|c| json_lines(c, 7, 6)).collect();
+    let want = include_str!("golden/mfec-per-episode.txt");
+    assert_eq!(got, want.lines().collect::<Vec<_>>());
 }

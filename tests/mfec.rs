@@ -2,10 +2,12 @@
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use sec_playground::agent::mfec::{softmax_entropy_bits, Mfec, MfecConfig, RandomProjection};
+use sec_playground::agent::mfec::{softmax_entropy_bits, Bookkeeping, Mfec, MfecConfig, RandomProjection};
 use sec_playground::agent::Layer;
 use sec_playground::encoder::{EMBEDDING, IMAGE};
 
+/// Greedy from the first decision, with the per-episode bookkeeping (one episode's decisions are
+/// its transitions); `authors` below is the default, D21's.
 fn greedy(k: usize, capacity: usize, gamma: f64) -> MfecConfig {
     MfecConfig {
         k,
@@ -14,8 +16,13 @@ fn greedy(k: usize, capacity: usize, gamma: f64) -> MfecConfig {
         epsilon: 0.0,
         warmup_decisions: 0,
         warmup_rewarded_episodes: 0,
+        bookkeeping: Bookkeeping::PerEpisode,
         ..MfecConfig::default()
     }
+}
+
+fn authors(k: usize, capacity: usize, gamma: f64) -> MfecConfig {
+    MfecConfig { bookkeeping: Bookkeeping::Authors, ..greedy(k, capacity, gamma) }
 }
 
 fn state(x: f32) -> [f32; EMBEDDING] {
@@ -124,14 +131,111 @@ fn the_reactive_walk_explores_during_the_warm_up() {
     let mut m = Mfec::new(cfg, &mut r).unwrap();
     let layers: Vec<Layer> = (0..5).map(|i| m.decide(&state(i as f32), false, &mut r).layer).collect();
     assert_eq!(layers, [Layer::Reactive, Layer::Reactive, Layer::Reactive, Layer::Contextual, Layer::Contextual]);
-    // Until 5 rewarded episodes, whatever the decision count.
-    let cfg = MfecConfig { warmup_decisions: 0, warmup_rewarded_episodes: 1, epsilon: 0.0, ..MfecConfig::default() };
+    // Until 5 rewarded episodes, whatever the decision count (counted at the episode's end with
+    // the per-episode bookkeeping; at the goal's frame with the authors', tested below).
+    let cfg = MfecConfig {
+        warmup_decisions: 0,
+        warmup_rewarded_episodes: 1,
+        epsilon: 0.0,
+        bookkeeping: Bookkeeping::PerEpisode,
+        ..MfecConfig::default()
+    };
     let mut m = Mfec::new(cfg, &mut r).unwrap();
     assert_eq!(m.decide(&state(1.0), false, &mut r).layer, Layer::Reactive);
     m.episode_end(false);
     assert_eq!(m.decide(&state(1.0), false, &mut r).layer, Layer::Reactive);
     m.episode_end(true);
     assert_eq!(m.decide(&state(1.0), false, &mut r).layer, Layer::Contextual);
+}
+
+#[test]
+fn the_authors_bookkeeping_starts_with_a_dummy_couplet_and_carries_the_last_one_over() {
+    let mut r = rng();
+    let mut m = Mfec::new(authors(1, 100, 0.5), &mut r).unwrap();
+    // Episode 1: decisions on 1 and 2 (argmax of equal -10s: action 0), the goal on a decision
+    // frame, where a terminal decision on 3 is taken.
+    m.frame(-0.001, -0.001, false, true);
+    m.decide(&state(1.0), false, &mut r);
+    m.frame(-0.001, -0.002, false, true);
+    m.decide(&state(2.0), false, &mut r);
+    m.frame(1.0, 0.998, true, true);
+    m.decide(&state(3.0), true, &mut r);
+    m.episode_end(true);
+    let q = |m: &mut Mfec, x: f32, r: &mut ChaCha8Rng| {
+        m.decide(&state(x), false, r);
+        m.q()[0]
+    };
+    // The dummy (zeros, no-op) took the first frame's -0.001 and is the episode's first
+    // transition: its return replaced the no-op buffer's (zeros, -10) start entry.
+    let (g2, g1) = (0.998, -0.001 + 0.5 * 0.998);
+    let g0 = -0.001 + 0.5 * g1;
+    assert_eq!(q(&mut m, 0.0, &mut r), g0);
+    assert_eq!(q(&mut m, 1.0, &mut r), g1);
+    assert_eq!(q(&mut m, 2.0, &mut r), g2);
+    // The terminal couplet (3) is not written yet: 3's nearest is 2.
+    assert_eq!(q(&mut m, 3.0, &mut r), g2);
+    assert_eq!(m.len(), 9 + 2, "the dummy replaced an entry; 1 and 2 are new");
+}
+
+#[test]
+fn the_carried_couplet_gets_the_next_episodes_return() {
+    let mut r = rng();
+    let mut m = Mfec::new(authors(1, 100, 0.5), &mut r).unwrap();
+    // Episode 1 ends between decisions: its last couplet (5) stays open.
+    m.frame(-0.001, -0.001, false, true);
+    m.decide(&state(5.0), false, &mut r);
+    m.frame(-0.001, -0.002, false, false);
+    m.episode_end(false);
+    // Episode 2: the first frame's reward closes 5; one more decision, then the goal.
+    m.frame(-0.001, -0.001, false, true);
+    m.decide(&state(6.0), false, &mut r);
+    m.frame(2.0, 1.999, true, true);
+    m.decide(&state(7.0), true, &mut r);
+    m.episode_end(true);
+    m.decide(&state(5.0), false, &mut r);
+    assert_eq!(m.q()[0], -0.001 + 0.5 * 1.999, "5 was credited in episode 2");
+}
+
+#[test]
+fn the_authors_buffers_hold_capacity_minus_one_written_newest_first() {
+    let mut r = rng();
+    // Capacity 3 keeps 2 entries per buffer. Decisions on 1, 2, 3 (equal -10s: action 0 each),
+    // the goal on a decision frame with a terminal decision on 4.
+    let mut m = Mfec::new(authors(1, 3, 1.0), &mut r).unwrap();
+    for x in [1.0, 2.0, 3.0] {
+        m.frame(-0.001, 0.0, false, true);
+        m.decide(&state(x), false, &mut r);
+    }
+    m.frame(1.0, 1.0, true, true);
+    m.decide(&state(4.0), true, &mut r);
+    m.episode_end(true);
+    // Transitions dummy(0) -> 1 -> 2 -> 3 with returns 0.997, 0.998, 0.999, 1. Written 3, 2,
+    // 1, 0, each new state evicting the oldest: buffer 0 keeps the last two written, 1 and 0.
+    assert_eq!(m.len(), 2 + 8);
+    let q = |m: &mut Mfec, x: f32, r: &mut ChaCha8Rng| {
+        m.decide(&state(x), false, r);
+        m.q()[0]
+    };
+    assert_eq!(q(&mut m, 3.0, &mut r), -0.001 + (-0.001 + 1.0), "3 and 2 were evicted: 1 is nearest");
+    assert_eq!(q(&mut m, 0.0, &mut r), -0.001 + (-0.001 + (-0.001 + 1.0)));
+}
+
+#[test]
+fn the_authors_mfec_values_states_only_when_it_acts() {
+    let mut r = rng();
+    let cfg = MfecConfig { warmup_decisions: 2, ..authors(1, 100, 1.0) };
+    let mut m = Mfec::new(cfg, &mut r).unwrap();
+    let d = m.decide(&state(1.0), false, &mut r);
+    assert_eq!((d.layer, d.selected, m.entropy(), m.q()), (Layer::Reactive, false, 0.0, &[0.0; 9]));
+    m.decide(&state(1.0), false, &mut r);
+    let d = m.decide(&state(1.0), false, &mut r);
+    assert_eq!((d.layer, d.selected), (Layer::Contextual, true));
+    assert_eq!(m.q(), &[-10.0; 9]);
+    // A goal counts towards the warm-up on its own frame.
+    let cfg = MfecConfig { warmup_rewarded_episodes: 1, ..authors(1, 100, 1.0) };
+    let mut m = Mfec::new(cfg, &mut r).unwrap();
+    m.frame(2.0, 1.9, true, true);
+    assert_eq!(m.decide(&state(1.0), true, &mut r).layer, Layer::Contextual);
 }
 
 #[test]
@@ -148,7 +252,7 @@ fn bad_mfec_parameters_are_refused_by_name() {
     let e = |c: MfecConfig| Mfec::new(c, &mut rng()).err().unwrap().to_string();
     assert_eq!(e(MfecConfig { k: 0, ..MfecConfig::default() }), "mfec.k: 0 is out of range 1..=1000");
     assert_eq!(e(MfecConfig { gamma: f64::NAN, ..MfecConfig::default() }), "mfec.gamma: NaN is out of range [0, 1]");
-    assert_eq!(e(MfecConfig { capacity: 0, ..MfecConfig::default() }), "mfec.capacity: 0 is out of range 1..=1000000");
+    assert_eq!(e(MfecConfig { capacity: 1, ..MfecConfig::default() }), "mfec.capacity: 1 is out of range 2..=1000000");
     assert_eq!(e(MfecConfig { epsilon: 1.5, ..MfecConfig::default() }), "mfec.epsilon: 1.5 is out of range [0, 1]");
 }
 

@@ -29,6 +29,9 @@ fn settings_round_trip_and_cover_every_parameter() {
         ("m", "125"),
         ("forgetting", "rwd-prop"),
         ("value", "soloRR"),
+        ("perception", "trained"),
+        ("embeddingScale", "0.5"),
+        ("startHeading", "fixed"),
         ("t", "400"),
         ("seed", "9007199254740991"),
     ]);
@@ -46,9 +49,10 @@ fn every_range_is_checked_at_both_ends_and_named() {
     for p in params() {
         let (mut cfg, mut seed) = defaults();
         let (ok, bad): (Vec<String>, Vec<String>) = match &p.kind {
-            Kind::Number { min, max, min_open, .. } => {
+            Kind::Number { min, max, min_open, auto, .. } => {
                 let lo = if *min_open { vec![] } else { vec![min.to_string()] };
-                let ok = [lo, vec![max.to_string()]].concat();
+                let auto = if *auto { vec!["auto".to_string()] } else { vec![] };
+                let ok = [lo, vec![max.to_string()], auto].concat();
                 let below = if *min_open { min.to_string() } else { (min - 1e-9).to_string() };
                 (ok, vec![below, (max + 1e-9).to_string(), "NaN".into(), "inf".into(), "".into(), "x".into()])
             }
@@ -96,10 +100,34 @@ fn presets_set_the_code_and_the_paper_values() {
         (paper["thetaAbs"].as_str(), paper["thetaProp"].as_str(), paper["alpha"].as_str()),
         ("0.995", "0.98", "0.1")
     );
+    assert_eq!((paper["perception"].as_str(), paper["embeddingScale"].as_str()), ("trained", "auto"));
     let code = preset("code").unwrap();
     assert_eq!(
         (code["thetaAbs"].as_str(), code["thetaProp"].as_str(), code["alpha"].as_str()),
         ("0.98", "0.995", "0.01")
     );
+    assert_eq!((code["perception"].as_str(), code["embeddingScale"].as_str()), ("untrained", "auto"));
     assert_eq!(preset("book").unwrap_err().field, "preset");
+}
+
+#[test]
+fn perception_scale_and_heading_are_settings_of_a_new_run() {
+    let (cfg, seed, errors) =
+        from_settings(&settings(&[("perception", "trained"), ("embeddingScale", "2.5"), ("startHeading", "fixed")]));
+    assert!(errors.is_empty(), "{errors:?}");
+    use sec_playground::arena::StartHeading;
+    use sec_playground::encoder::PerceptionKind;
+    assert_eq!(
+        (cfg.perception, cfg.embedding_scale, cfg.start_heading),
+        (PerceptionKind::Trained, Some(2.5), StartHeading::Fixed)
+    );
+    assert!(defaults().0.needs_restart(&cfg));
+    assert_eq!(to_settings(&defaults().0, seed)["embeddingScale"], "auto");
+    for (k, v) in [("perception", "raw"), ("embeddingScale", "0"), ("embeddingScale", "-1"), ("startHeading", "north")]
+    {
+        let (c, _, errors) = from_settings(&settings(&[(k, v)]));
+        assert_eq!(errors.len(), 1, "{k}={v}");
+        assert_eq!(errors[0].field, k);
+        assert_eq!(c, defaults().0);
+    }
 }

@@ -1,12 +1,13 @@
 //! The trace command's core: recorded events through the contextual layer, internals out.
 
 use sec_playground::agent::AgentConfig;
+use sec_playground::encoder::PerceptionKind;
 use sec_playground::experiment::trace::{parse_event, trace, Event, TraceLine};
 use sec_playground::experiment::{Run, RunConfig};
 
 fn run_trace(cfg: &AgentConfig, seed: u64, input: &str) -> Result<Vec<TraceLine>, String> {
     let mut out = Vec::new();
-    trace(cfg, seed, input.as_bytes(), &mut out).map_err(|e| e.to_string())?;
+    trace(cfg, None, seed, input.as_bytes(), &mut out).map_err(|e| e.to_string())?;
     Ok(String::from_utf8(out).unwrap().lines().map(|l| serde_json::from_str(l).unwrap()).collect())
 }
 
@@ -48,13 +49,15 @@ fn a_hand_made_stream_shows_selection_and_the_sequential_bias() {
 
 #[test]
 fn recorded_events_trace_to_the_runs_own_decisions() {
-    // Object permanence reaches goals early, so the LTM fills and the contextual layer acts.
+    // Object permanence, seed 2, reaches goals early, so the LTM fills and the contextual layer
+    // acts (the default, untrained perception).
     let cfg = RunConfig { task: "object-permanence".into(), ..RunConfig::default() };
-    let seed = 7;
+    let seed = 2;
     let mut run = Run::new(cfg.clone(), seed).unwrap();
     run.record_events();
-    let episodes: Vec<_> = (0..12).map(|_| run.episode()).collect();
+    let episodes: Vec<_> = (0..20).map(|_| run.episode()).collect();
     let events: Vec<String> = run.take_events().iter().map(|e| serde_json::to_string(e).unwrap()).collect();
+    assert_eq!(events[0], r#"{"event":"perception","perception":"untrained","embeddingScale":1.0}"#);
     let t = run_trace(&cfg.agent, seed, &events.join("\n")).unwrap();
     let (mut i, mut ltm) = (0, 0);
     for m in &episodes {
@@ -84,4 +87,15 @@ fn bad_events_are_refused_with_their_line() {
     let e = parse_event(r#"{"event":"decision","embedding":[0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0],"recMse":-1}"#, 4);
     assert_eq!(e.unwrap_err().to_string(), "line 4: recMse: -1 is out of range [0, inf)");
     assert_eq!(parse_event(r#"{"event":"episodeEnd"}"#, 1).unwrap(), Event::EpisodeEnd);
+}
+
+#[test]
+fn a_trace_refuses_events_of_another_perception() {
+    let events =
+        format!("{}\n{}", r#"{"event":"perception","perception":"trained","embeddingScale":0.2}"#, decision(1.0));
+    let mut out = Vec::new();
+    let cfg = AgentConfig::default();
+    let e = trace(&cfg, Some(PerceptionKind::Untrained), 1, events.as_bytes(), &mut out).unwrap_err().to_string();
+    assert_eq!(e, "line 1: perception: the events were recorded with the Trained encoder, the config says Untrained");
+    assert_eq!(trace(&cfg, Some(PerceptionKind::Trained), 1, events.as_bytes(), &mut out).unwrap(), 1);
 }

@@ -103,11 +103,17 @@ fn the_encoder_api_embeds_and_reconstructs_an_observation() {
 #[wasm_bindgen_test]
 fn wasm_gives_the_native_golden_episode_log() {
     models();
-    let log = sec_playground::experiment::golden_run();
-    for (i, (a, b)) in log.lines().zip(include_str!("golden/run.txt").lines()).enumerate() {
-        assert_eq!(a, b, "episode {} differs between wasm and native", i);
+    use sec_playground::encoder::PerceptionKind;
+    for (perception, golden) in [
+        (PerceptionKind::Trained, include_str!("golden/run.txt")),
+        (PerceptionKind::Untrained, include_str!("golden/run-untrained.txt")),
+    ] {
+        let log = sec_playground::experiment::golden_run(perception);
+        for (i, (a, b)) in log.lines().zip(golden.lines()).enumerate() {
+            assert_eq!(a, b, "{perception:?}: episode {i} differs between wasm and native");
+        }
+        assert_eq!(log.lines().count(), golden.lines().count());
     }
-    assert_eq!(log.lines().count(), include_str!("golden/run.txt").lines().count());
 }
 
 fn js(json: &str) -> wasm_bindgen::JsValue {
@@ -123,10 +129,11 @@ fn a_run_through_the_js_api_gives_the_native_golden_episode_log() {
     models();
     use sec_playground::experiment::EpisodeMetrics;
     use sec_playground::web::SecRun;
-    // The golden log's first 16 lines are SEC in object permanence with seed 7 (`golden_run`).
+    // The untrained golden log's first 20 lines are SEC in object permanence with seed 2
+    // (`golden_run`), the default perception.
     let golden: Vec<EpisodeMetrics> =
-        include_str!("golden/run.txt").lines().take(16).map(|l| serde_json::from_str(l).unwrap()).collect();
-    let mut run = SecRun::new(js(r#"{"task": "object-permanence"}"#), 7.0).unwrap();
+        include_str!("golden/run-untrained.txt").lines().take(20).map(|l| serde_json::from_str(l).unwrap()).collect();
+    let mut run = SecRun::new(js(r#"{"task": "object-permanence"}"#), 2.0).unwrap();
     let mut got = Vec::new();
     // Step by decisions, by episodes and in batches: all the same run.
     while got.len() < 4 {
@@ -138,12 +145,12 @@ fn a_run_through_the_js_api_gives_the_native_golden_episode_log() {
     for _ in 0..4 {
         got.push(metrics(run.step_episode().unwrap()));
     }
-    while got.len() < 16 {
+    while got.len() < 20 {
         let batch: Vec<EpisodeMetrics> = serde_wasm_bindgen::from_value(run.advance(37).unwrap()).unwrap();
         got.extend(batch);
     }
     // Exact f64 comparison: bit for bit with the native run.
-    assert_eq!(&got[..16], &golden[..]);
+    assert_eq!(&got[..20], &golden[..]);
 }
 
 #[wasm_bindgen_test]

@@ -3,7 +3,10 @@
 //! for exploration, and discounted returns written back at episode end.
 //!
 //! Faithful by default, including the reward bookkeeping handicap of D13: only rewards on decision
-//! frames reach the buffers, so a goal between decisions is lost. `sum_rewards` removes it.
+//! frames reach the buffers, so a goal between decisions is lost. `sum_rewards` removes it. The
+//! transitions are kept as the authors' agent kept them (D21, `Bookkeeping::Authors`): a run
+//! starts with a dummy couplet, the terminal frame's decision is taken, and an episode's last
+//! couplet is carried into the next.
 
 use super::{Decision, Layer, Reactive};
 use crate::arena::ConfigError;
@@ -21,6 +24,25 @@ pub enum Embedding {
     Autoencoder,
     /// A seeded Gaussian random projection of the 84x84x3 image to 20 numbers (MFEC-rp).
     RandomProjection,
+}
+
+/// How transitions are cut into episodes (D21).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Bookkeeping {
+    /// As `agent_mfec.py`: the run starts with a dummy couplet (zero state, no-op), which takes
+    /// the first frame's reward and overwrites the no-op buffer's (zeros, -10) entry; every
+    /// decision, the terminal frame's included, closes the previous couplet with the current
+    /// frame's reward; the couplet open at an episode's end is carried into the next episode and
+    /// credited with that episode's return; returns are written newest first; Q is computed
+    /// only when MFEC itself acts (its entropy is stale otherwise); a buffer holds at most
+    /// capacity - 1 entries (it deletes its oldest as soon as it reaches the capacity).
+    #[default]
+    Authors,
+    /// Each episode's decisions are its own transitions, the terminal frame's decision is not
+    /// one, returns are written oldest first, Q and its entropy are computed at every decision
+    /// and a buffer holds `capacity` entries (the project's bookkeeping before D21).
+    PerEpisode,
 }
 
 /// MFEC's parameters; defaults are the authors' (FC buffer cap).
@@ -41,6 +63,7 @@ pub struct MfecConfig {
     pub warmup_rewarded_episodes: u64,
     /// Deviation from D13: every frame's reward reaches the transition of the decision it follows.
     pub sum_rewards: bool,
+    pub bookkeeping: Bookkeeping,
 }
 
 impl Default for MfecConfig {
@@ -54,6 +77,7 @@ impl Default for MfecConfig {
             warmup_decisions: 1250,
             warmup_rewarded_episodes: 5,
             sum_rewards: false,
+            bookkeeping: Bookkeeping::Authors,
         }
     }
 }
@@ -64,8 +88,9 @@ impl MfecConfig {
         if !(1..=1000).contains(&self.k) {
             return range("mfec.k", self.k.to_string(), "1..=1000");
         }
-        if !(1..=1_000_000).contains(&self.capacity) {
-            return range("mfec.capacity", self.capacity.to_string(), "1..=1000000");
+        // The authors' buffers hold capacity - 1 entries, so 1 would leave them empty.
+        if !(2..=1_000_000).contains(&self.capacity) {
+            return range("mfec.capacity", self.capacity.to_string(), "2..=1000000");
         }
         if !(self.gamma >= 0.0 && self.gamma <= 1.0) {
             return range("mfec.gamma", self.gamma.to_string(), "[0, 1]");
@@ -178,7 +203,11 @@ pub struct Mfec {
     cfg: MfecConfig,
     buffers: Vec<Buffer>,
     reactive: Reactive,
+    /// The episode's closed transitions, oldest first.
     episode: Vec<Transition>,
+    /// The last decision's couplet, whose reward is still coming (`Authors` bookkeeping; the run
+    /// starts with the dummy couplet, and a person's driving leaves none).
+    open: Option<Transition>,
     decisions: u64,
     rewarded_episodes: u64,
     stamp: u64,
@@ -195,11 +224,17 @@ impl Mfec {
         for b in &mut buffers {
             b.write(&[0.0; EMBEDDING], -10.0, cfg.capacity, 0);
         }
+        let open = (cfg.bookkeeping == Bookkeeping::Authors).then_some(Transition {
+            e: [0.0; EMBEDDING],
+            action: 0,
+            reward: 0.0,
+        });
         Ok(Mfec {
             cfg,
             buffers,
             reactive: Reactive::new(rng),
             episode: Vec::new(),
+            open,
             decisions: 0,
             rewarded_episodes: 0,
             stamp: 1,
@@ -213,7 +248,7 @@ impl Mfec {
         &self.cfg
     }
 
-    /// Q of the last decision's state.
+    /// Q of the last state MFEC valued.
     pub fn q(&self) -> &[f64; ACTIONS] {
         &self.q
     }
@@ -232,59 +267,112 @@ impl Mfec {
         self.len() == 0
     }
 
+    /// Entries a buffer keeps: the authors' delete their oldest on reaching the capacity.
+    fn kept(&self) -> usize {
+        match self.cfg.bookkeeping {
+            Bookkeeping::Authors => self.cfg.capacity - 1,
+            Bookkeeping::PerEpisode => self.cfg.capacity,
+        }
+    }
+
+    /// The transition a frame's reward goes to: the open couplet (`Authors`) or the episode's
+    /// last decision (`PerEpisode`).
+    fn receiving(&mut self) -> Option<&mut Transition> {
+        match self.cfg.bookkeeping {
+            Bookkeeping::Authors => self.open.as_mut(),
+            Bookkeeping::PerEpisode => self.episode.last_mut(),
+        }
+    }
+
     /// A frame's reward: `reward` of the frame, `r_ep` the episode's so far, `goal` whether the
     /// frame reached a goal, `decision` whether a decision is taken on it. Faithfully only decision
     /// frames count, a goal frame with the cumulative episode reward (D13).
+    /// With the authors' bookkeeping a goal counts towards the warm-up on its frame (theirs
+    /// counted frames paying >= 1, here the goal event with a positive episode reward, D12), so
+    /// a decision on that frame already sees it.
     pub fn frame(&mut self, reward: f64, r_ep: f64, goal: bool, decision: bool) {
-        let Some(last) = self.episode.last_mut() else { return };
-        if self.cfg.sum_rewards {
+        if self.cfg.bookkeeping == Bookkeeping::Authors && goal && r_ep > 0.0 {
+            self.rewarded_episodes += 1;
+        }
+        let sum = self.cfg.sum_rewards;
+        let Some(last) = self.receiving() else { return };
+        if sum {
             last.reward += reward;
         } else if decision {
             last.reward = if goal { r_ep } else { reward };
         }
     }
 
-    /// Chooses the action for state `e`; `terminal` frames are not recorded as transitions.
-    pub fn decide(&mut self, e: &[f32; EMBEDDING], terminal: bool, rng: &mut ChaCha8Rng) -> Decision {
+    fn value(&mut self, e: &[f32; EMBEDDING]) {
         for (a, b) in self.buffers.iter().enumerate() {
             self.q[a] = b.q(e, self.cfg.k, &mut self.dist);
         }
         self.entropy = softmax_entropy_bits(&self.q);
+    }
+
+    /// Chooses the action for state `e` on a frame that `terminal` or not ends the episode.
+    pub fn decide(&mut self, e: &[f32; EMBEDDING], terminal: bool, rng: &mut ChaCha8Rng) -> Decision {
+        let authors = self.cfg.bookkeeping == Bookkeeping::Authors;
+        if !authors {
+            self.value(e);
+        }
         let explore = rng.gen::<f64>() < self.cfg.epsilon
             || self.decisions < self.cfg.warmup_decisions
             || self.rewarded_episodes < self.cfg.warmup_rewarded_episodes;
         let (action, layer) = if explore {
             (self.reactive.step(rng), Layer::Reactive)
         } else {
+            if authors {
+                self.value(e);
+            }
             let best = (0..ACTIONS).fold(0, |b, a| if self.q[a] > self.q[b] { a } else { b });
             (best as u8, Layer::Contextual)
         };
         self.decisions += 1;
-        if !terminal {
-            self.episode.push(Transition { e: *e, action, reward: 0.0 });
+        let next = Transition { e: *e, action, reward: 0.0 };
+        if authors {
+            // The couplet this decision closes had its reward set by this frame's `frame`.
+            if let Some(closed) = self.open.replace(next) {
+                self.episode.push(closed);
+            }
+        } else if !terminal {
+            self.episode.push(next);
         }
-        Decision { action, layer, selected: true }
+        Decision { action, layer, selected: !explore || !authors }
     }
 
-    /// Episode end: discounted returns backwards, written into the action buffers in the
-    /// episode's order.
-    /// Forgets the episode in progress without learning from it (a person drove it).
+    /// Forgets the episode in progress without learning from it (a person drove it), and the
+    /// couplet it would carry.
     pub fn discard_episode(&mut self) {
         self.episode.clear();
+        self.open = None;
     }
 
+    /// Episode end: discounted returns backwards, written into the action buffers (newest first
+    /// with the authors' bookkeeping, oldest first otherwise). The open couplet, if any, stays
+    /// for the next episode. `rewarded`: the episode reached a goal (counted here with the
+    /// per-episode bookkeeping, at the goal's frame with the authors').
     pub fn episode_end(&mut self, rewarded: bool) {
         let mut g = 0.0;
         for t in self.episode.iter_mut().rev() {
             g = t.reward + self.cfg.gamma * g;
             t.reward = g;
         }
-        for t in &self.episode {
-            self.buffers[t.action as usize].write(&t.e, t.reward, self.cfg.capacity, self.stamp);
-            self.stamp += 1;
+        let kept = self.kept();
+        let mut write = |t: &Transition, stamp: &mut u64| {
+            self.buffers[t.action as usize].write(&t.e, t.reward, kept, *stamp);
+            *stamp += 1;
+        };
+        let mut stamp = self.stamp;
+        match self.cfg.bookkeeping {
+            Bookkeeping::Authors => self.episode.iter().rev().for_each(|t| write(t, &mut stamp)),
+            Bookkeeping::PerEpisode => self.episode.iter().for_each(|t| write(t, &mut stamp)),
         }
+        self.stamp = stamp;
         self.episode.clear();
-        self.rewarded_episodes += rewarded as u64;
+        if self.cfg.bookkeeping == Bookkeeping::PerEpisode {
+            self.rewarded_episodes += rewarded as u64;
+        }
     }
 }
 

@@ -15,7 +15,7 @@ pub use env::{Action, Env, EnvConfig, Step, StepOutcome};
 pub use physics::{
     AGENT_RADIUS, DRAG_FACTOR, FRAMES_PER_STEP, FRAME_DT, FRICTION_DV, GRAVITY, IMPULSE_DV, TURN_DEGREES,
 };
-pub use tasks::{Task, TASK_NAMES};
+pub use tasks::{facing_centre, StartHeading, Task, TASK_NAMES};
 pub use world::{Agent, BoxObj, Footprint, Goal, Tunnel, World, Zone};
 
 use std::fmt;

@@ -10,6 +10,23 @@ pub struct Task {
     pub layouts: Vec<Layout>,
 }
 
+/// How a layout that leaves the agent's heading open starts its episodes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StartHeading {
+    /// A heading drawn at every reset (Animal-AI's behaviour for a missing rotation).
+    #[default]
+    Random,
+    /// Facing the arena's centre from the layout's start position, the same every episode. The
+    /// rule was fixed before any run: the unpublished newdac files' headings are unknown (D11).
+    Fixed,
+}
+
+impl StartHeading {
+    pub const ALL: [(&'static str, StartHeading); 2] =
+        [("random", StartHeading::Random), ("fixed", StartHeading::Fixed)];
+}
+
 /// The built-in tasks, in the order the page lists them.
 pub const TASK_NAMES: [&str; 6] =
     ["double-t-maze", "detour", "detour-transparent", "cylinder", "object-permanence", "object-permanence-pits"];
@@ -33,6 +50,19 @@ fn layout(name: &str, objects: Vec<ObjectSpec>, agent: AgentSpec) -> Layout {
 }
 
 impl Task {
+    /// The task with `heading` applied to its layouts that fix the agent's position but not its
+    /// heading (only the double T-maze's corners among the presets).
+    pub fn with_start_heading(mut self, heading: StartHeading) -> Task {
+        if heading == StartHeading::Fixed {
+            for l in &mut self.layouts {
+                if let (None, [Some(x), Some(z)]) = (l.agent.rotation, l.agent.position) {
+                    l.agent.rotation = Some(facing_centre(x, z));
+                }
+            }
+        }
+        self
+    }
+
     /// A built-in task by name; every preset uses t = 1000 (the paper's limit).
     pub fn preset(name: &str) -> Result<Task, ConfigError> {
         let (description, layouts) = match name {
@@ -168,4 +198,16 @@ fn permanence(name: &str, rotation: f32, pits: bool) -> Layout {
         objects.push(pit(8.0, 20.0, 6.0, 4.0));
     }
     layout(name, objects, agent(5.0, 5.0, Some(rotation)))
+}
+
+/// The heading (degrees clockwise from +z, arenas.md section 2) that faces the arena's centre
+/// from (x, z); 0 at the centre itself.
+pub fn facing_centre(x: f32, z: f32) -> f32 {
+    let half = super::ARENA_SIZE as f64 / 2.0;
+    let (dx, dz) = (half - x as f64, half - z as f64);
+    if dx == 0.0 && dz == 0.0 {
+        return 0.0;
+    }
+    let deg = libm::atan2(dx, dz).to_degrees();
+    (if deg < 0.0 { deg + 360.0 } else { deg }) as f32
 }

@@ -5,9 +5,11 @@ pub mod bundled;
 pub mod dataset;
 pub mod kernels;
 pub mod model;
+pub mod perception;
 pub mod weights;
 
 pub use model::{Autoencoder, Scratch, EMBEDDING, IMAGE, PARAMETERS};
+pub use perception::{Perception, PerceptionKind};
 pub use weights::{DType, Weights};
 
 /// The gate of sec-algorithm.md section 4: the reconstruction MSE of the current frame,

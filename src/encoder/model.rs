@@ -81,22 +81,29 @@ impl Autoencoder {
         Ok(Autoencoder::with(params, w.task.clone(), w.embedding_scale))
     }
 
-    /// Keras' initialisation: Glorot-uniform kernels, zero biases. For tests and benchmarks.
+    /// Keras' initialisation of every layer: Glorot-uniform kernels, zero biases. For tests and
+    /// benchmarks.
     pub fn glorot(seed: u64) -> Self {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        let params = TENSORS
-            .iter()
-            .map(|(_, shape)| {
-                let n: usize = shape.iter().product();
-                if shape.len() == 1 {
-                    return vec![0.0; n];
-                }
-                let receptive: usize = shape[..shape.len() - 2].iter().product();
-                let (fan_in, fan_out) = (shape[shape.len() - 2] * receptive, shape[shape.len() - 1] * receptive);
-                let limit = (6.0 / (fan_in + fan_out) as f32).sqrt();
-                (0..n).map(|_| rng.gen_range(-limit..limit)).collect()
-            })
-            .collect();
+        let params = TENSORS.iter().map(|(_, shape)| glorot_uniform(shape, &mut rng)).collect();
+        Autoencoder::with(params, String::new(), 1.0)
+    }
+
+    /// The encoder as Keras initialises it and the authors' agent embedded with (D20): the
+    /// encoder's kernels Glorot-uniform from `rng`, in file order, its biases zero. The decoder
+    /// is all zeros: this model embeds, it does not reconstruct.
+    pub fn untrained_encoder(rng: &mut ChaCha8Rng) -> Self {
+        let params =
+            TENSORS
+                .iter()
+                .map(|(name, shape)| {
+                    if name.starts_with("enc.") {
+                        glorot_uniform(shape, rng)
+                    } else {
+                        vec![0.0; shape.iter().product()]
+                    }
+                })
+                .collect();
         Autoencoder::with(params, String::new(), 1.0)
     }
 
@@ -185,4 +192,23 @@ impl Autoencoder {
         s.rec = rec;
         sum / IMAGE as f32
     }
+}
+
+/// Keras' `glorot_uniform` for a kernel of `shape` (HWIO or `[in][out]`): uniform in
+/// [-limit, limit) with limit = sqrt(6 / (fan_in + fan_out)), fan = kernel area x channels. A
+/// bias (rank 1) is zeros, Keras' default.
+pub fn glorot_uniform(shape: &[usize], rng: &mut ChaCha8Rng) -> Vec<f32> {
+    let n: usize = shape.iter().product();
+    if shape.len() == 1 {
+        return vec![0.0; n];
+    }
+    let (limit, _) = glorot_limit(shape);
+    (0..n).map(|_| rng.gen_range(-limit..limit)).collect()
+}
+
+/// (limit, (fan_in, fan_out)) of Keras' Glorot initialisers for a kernel of `shape`.
+pub fn glorot_limit(shape: &[usize]) -> (f32, (usize, usize)) {
+    let receptive: usize = shape[..shape.len() - 2].iter().product();
+    let (fan_in, fan_out) = (shape[shape.len() - 2] * receptive, shape[shape.len() - 1] * receptive);
+    ((6.0 / (fan_in + fan_out) as f32).sqrt(), (fan_in, fan_out))
 }

@@ -5,8 +5,9 @@
 
 use crate::agent::mfec::{Embedding, Mfec, MfecConfig, RandomProjection};
 use crate::agent::{Agent, AgentConfig, Decision, Layer, Reactive};
-use crate::arena::{Action, ConfigError, Env, EnvConfig, StepOutcome, Task};
-use crate::encoder::{bundled, Autoencoder, ReconstructionGate, Scratch, EMBEDDING, IMAGE};
+use crate::arena::{Action, ConfigError, Env, EnvConfig, StartHeading, StepOutcome, Task};
+use crate::encoder::perception::check_scale;
+use crate::encoder::{Autoencoder, Perception, PerceptionKind, ReconstructionGate, Scratch, EMBEDDING, IMAGE};
 use crate::memory::{self, ACTIONS};
 use crate::render::Frame;
 pub mod presets;
@@ -31,9 +32,18 @@ pub struct RunConfig {
     pub agent: AgentConfig,
     /// MFEC's parameters (used when `kind` is mfec).
     pub mfec: MfecConfig,
-    /// Use the encoder's raw outputs, without the calibrated per-model scale (deviation D17
-    /// undone: the thresholds then act on raw embedding units, as in the authors' code).
+    /// Which encoder embeds the frames: `untrained` (the authors' code, D20) or `trained` (the
+    /// paper's text). The trained model runs the reconstruction gate either way.
+    pub perception: PerceptionKind,
+    /// Replaces the embedding scale (`None`: the trained model's calibrated scale, or 1 for the
+    /// untrained encoder); finite and > 0.
+    pub embedding_scale: Option<f32>,
+    /// Shorthand for `embeddingScale: 1`: the encoder's raw outputs (with `trained`, deviation
+    /// D17 undone).
     pub raw_embeddings: bool,
+    /// The start heading of layouts that leave it open (the double T-maze's corners, D11, D21):
+    /// drawn at every reset, or fixed facing the arena's centre.
+    pub start_heading: StartHeading,
 }
 
 impl Default for RunConfig {
@@ -45,7 +55,10 @@ impl Default for RunConfig {
             kind: AgentKind::Sec,
             agent: AgentConfig::default(),
             mfec: MfecConfig::default(),
+            perception: PerceptionKind::Untrained,
+            embedding_scale: None,
             raw_embeddings: false,
+            start_heading: StartHeading::Random,
         }
     }
 }
@@ -61,8 +74,27 @@ impl RunConfig {
             ));
         }
         EnvConfig { task: Task::preset(&self.task)?, t: self.t }.validate()?;
+        if let Some(s) = self.embedding_scale {
+            check_scale(s)?;
+            if self.raw_embeddings && s != 1.0 {
+                return Err(ConfigError::new(
+                    "rawEmbeddings",
+                    format!("means embeddingScale 1, which contradicts embeddingScale {s}"),
+                ));
+            }
+        }
         self.agent.validate()?;
         self.mfec.validate()
+    }
+
+    /// The embedding scale the run uses, if it overrides the perception's own.
+    pub fn scale_override(&self) -> Option<f32> {
+        self.embedding_scale.or(self.raw_embeddings.then_some(1.0))
+    }
+
+    /// The task with the start heading applied.
+    pub fn task(&self) -> Result<Task, ConfigError> {
+        Ok(Task::preset(&self.task)?.with_start_heading(self.start_heading))
     }
 
     /// Whether going from `self` to `next` needs a new run: everything but SEC's parameters
@@ -129,7 +161,7 @@ impl EpisodeMetrics {
 pub struct Run {
     cfg: RunConfig,
     env: Env,
-    encoder: Autoencoder,
+    perception: Perception,
     scratch: Scratch,
     image: Vec<f32>,
     gate: ReconstructionGate,
@@ -159,11 +191,8 @@ pub struct Driver {
 impl Run {
     pub fn new(cfg: RunConfig, seed: u64) -> Result<Self, ConfigError> {
         cfg.validate()?;
-        let task = Task::preset(&cfg.task)?;
-        let mut encoder = bundled::autoencoder(&cfg.task)?;
-        if cfg.raw_embeddings {
-            encoder.embedding_scale = 1.0;
-        }
+        let task = cfg.task()?;
+        let perception = Perception::new(cfg.perception, &cfg.task, cfg.scale_override(), seed)?;
         let env = Env::new(EnvConfig { task, t: cfg.t }, seed)?;
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         rng.set_stream(1);
@@ -183,7 +212,7 @@ impl Run {
         Ok(Run {
             cfg,
             env,
-            encoder,
+            perception,
             scratch: Scratch::default(),
             image: vec![0.0; IMAGE],
             gate: ReconstructionGate::new(),
@@ -237,9 +266,15 @@ impl Run {
         self.env.observation()
     }
 
-    /// The run's frozen autoencoder (with its embedding scale).
+    /// The task's trained autoencoder: the reconstruction gate's model and the page's
+    /// reconstruction view.
     pub fn encoder(&self) -> &Autoencoder {
-        &self.encoder
+        self.perception.trained()
+    }
+
+    /// Where the run's embeddings come from.
+    pub fn perception(&self) -> &Perception {
+        &self.perception
     }
 
     /// Benchmark helper: fills SEC's LTM up to `rows` sequences (at most m) of real embeddings
@@ -260,7 +295,7 @@ impl Run {
             env.advance(action, 4).expect("the episode is not over");
             env.observation().to_rgb_f32(&mut image);
             let mut e = [0.0; EMBEDDING];
-            self.encoder.encode(&image, &mut scratch, &mut e);
+            self.perception.embed(&image, &mut scratch, &mut e);
             action = Action::new(rng.gen_range(0..9)).expect("actions are 0..9");
             agent.memory.push(crate::memory::Couplet { embedding: e, action: action.index() as u8 });
             if rng.gen_bool(0.2) {
@@ -271,7 +306,7 @@ impl Run {
 
     /// The reconstruction error the gate measured last.
     pub fn gate_mse(&mut self) -> f32 {
-        self.gate.mse(&self.encoder, &mut self.scratch)
+        self.gate.mse(self.perception.trained(), &mut self.scratch)
     }
 
     /// A person takes (`Some`) or gives back (`None`) the controls; see `Driver`. An action
@@ -301,7 +336,7 @@ impl Run {
 
     /// What this run's embeddings mean, for memory files.
     fn identity(&self) -> memory::file::Identity {
-        memory::file::Identity { task: self.cfg.task.clone(), model: self.encoder.fingerprint() }
+        memory::file::Identity { task: self.cfg.task.clone(), model: self.perception.embedder().fingerprint() }
     }
 
     /// SEC's memory (STM and LTM) as a file (`memory::file`).
@@ -325,7 +360,10 @@ impl Run {
     /// Starts recording SEC's events (embeddings with the gate's MSE, goals, episode ends): fed
     /// to `trace::trace` with the run's seed they give the run's actions again.
     pub fn record_events(&mut self) {
-        self.events.get_or_insert_with(Vec::new);
+        if self.events.is_none() {
+            let (perception, embedding_scale) = (self.perception.kind(), self.perception.embedder().embedding_scale);
+            self.events = Some(vec![trace::Event::Perception { perception, embedding_scale }]);
+        }
     }
 
     /// The events recorded since the last call.
@@ -343,14 +381,16 @@ impl Run {
         match &self.projection {
             Some(p) => p.project(&self.image, &mut e),
             None if !matches!(self.controller, Controller::Reactive(_)) => {
-                self.encoder.encode(&self.image, &mut self.scratch, &mut e);
-                self.gate.share_embedding(&e);
+                self.perception.embed(&self.image, &mut self.scratch, &mut e);
+                if self.perception.embeds_with_gate_model() {
+                    self.gate.share_embedding(&e);
+                }
             }
             None => {}
         }
         match &mut self.controller {
             Controller::Sec(agent) => {
-                let (gate, encoder, scratch) = (&mut self.gate, &self.encoder, &mut self.scratch);
+                let (gate, encoder, scratch) = (&mut self.gate, self.perception.trained(), &mut self.scratch);
                 if let Some(ev) = &mut self.events {
                     ev.push(trace::Event::Decision { embedding: e.to_vec(), rec_mse: gate.mse(encoder, scratch) });
                 }
@@ -553,11 +593,19 @@ impl EpisodeState {
     }
 }
 
-/// The short runs whose JSON lines `tests/golden/run.txt` holds: native and wasm builds must
-/// reproduce them bit for bit (the JSON numbers are shortest round-trip decimals).
-pub fn golden_run() -> String {
-    // Object permanence: goals come early, so the LTM fills and the contextual layer acts.
-    let sec = RunConfig { task: "object-permanence".into(), ..RunConfig::default() };
+/// The short runs whose JSON lines the golden files hold: `tests/golden/run.txt` with the
+/// trained perception (the log from before the untrained one existed, kept to prove it
+/// unchanged) and `tests/golden/run-untrained.txt` with the default, untrained one. Native and
+/// wasm builds must reproduce them bit for bit (the JSON numbers are shortest round-trip
+/// decimals).
+pub fn golden_run(perception: PerceptionKind) -> String {
+    // Object permanence: goals come early, so the LTM fills and the contextual layer acts (with
+    // the untrained encoder from the 16th episode of seed 2).
+    let (seed, sec_episodes) = match perception {
+        PerceptionKind::Trained => (7, 16),
+        PerceptionKind::Untrained => (2, 20),
+    };
+    let sec = RunConfig { task: "object-permanence".into(), perception, ..RunConfig::default() };
     let mut mfec_rp = RunConfig { kind: AgentKind::Mfec, t: Some(250), ..sec.clone() };
     mfec_rp.mfec.embedding = Embedding::RandomProjection;
     mfec_rp.mfec.warmup_decisions = 100;
@@ -568,8 +616,8 @@ pub fn golden_run() -> String {
     };
     let reactive = RunConfig { kind: AgentKind::Reactive, ..mfec_rp.clone() };
     let mut log = String::new();
-    for (cfg, episodes) in [(sec, 16), (mfec_ae, 6), (mfec_rp, 6), (reactive, 2)] {
-        let mut run = Run::new(cfg, 7).expect("the golden configurations are valid");
+    for (cfg, episodes) in [(sec, sec_episodes), (mfec_ae, 6), (mfec_rp, 6), (reactive, 2)] {
+        let mut run = Run::new(cfg, seed).expect("the golden configurations are valid");
         for _ in 0..episodes {
             log += &run.episode().to_json();
             log.push('\n');

@@ -3,7 +3,8 @@
 
 use super::{AgentKind, RunConfig};
 use crate::agent::mfec::Embedding;
-use crate::arena::ConfigError;
+use crate::arena::{ConfigError, StartHeading};
+use crate::encoder::PerceptionKind;
 use crate::memory::{Forgetting, ValueFn};
 
 /// One condition of an experiment: a name as the paper's tables use it, its configuration, and
@@ -17,12 +18,14 @@ pub struct Condition {
 }
 
 /// The experiment presets by name, with a line on what each is.
-pub const EXPERIMENTS: [(&str, &str); 6] = [
+pub const EXPERIMENTS: [(&str, &str); 8] = [
     ("exp1", "four tasks x SEC, NSEC, MFEC-ae, MFEC-rp and the reactive walk (paper figure 4, table 1)"),
     ("exp2", "double T-maze, SEC and NSEC with LTM capacity 125, 250, 500, 1000 (figures 5 and 6)"),
     ("exp3", "double T-maze, SEC's value function and its six ablations (figure 7)"),
     ("exp4", "double T-maze, SEC and NSEC with forgetting none, FIFO, RWD, PRIOR (figure 8)"),
     ("presets", "double T-maze, SEC with the authors' code values and with the paper's text (D2, D3)"),
+    ("heading", "double T-maze with a fixed start heading per corner: SEC, NSEC and MFEC-ae (D11, D21)"),
+    ("perception", "double T-maze, SEC and NSEC with the untrained encoder at scales 0.5, 1, 2 and the trained one calibrated and raw (D17, D20)"),
     ("smoke", "a few cheap conditions to try the runner (not in the paper)"),
 ];
 
@@ -118,6 +121,33 @@ pub fn experiment(name: &str) -> Result<Vec<Condition>, ConfigError> {
             out.push(condition("presets/SEC-code".into(), sec("double-t-maze"), Some(11604.88)));
             let paper = RunConfig { agent: crate::agent::AgentConfig::paper(), ..sec("double-t-maze") };
             out.push(condition("presets/SEC-paper".into(), paper, None));
+        }
+        "heading" => {
+            let fixed = |mut c: RunConfig| {
+                c.start_heading = StartHeading::Fixed;
+                c
+            };
+            let task = "double-t-maze";
+            out.push(condition("fixed-heading/SEC".into(), fixed(sec(task)), None));
+            out.push(condition("fixed-heading/NSEC".into(), fixed(nsec(task)), None));
+            out.push(condition("fixed-heading/MFEC-ae".into(), fixed(mfec(task, Embedding::Autoencoder)), None));
+        }
+        "perception" => {
+            // The scales were fixed before any run: the untrained encoder's raw units halved and
+            // doubled, and the trained encoder calibrated (D17) and raw.
+            let arms: [(&str, PerceptionKind, Option<f32>); 5] = [
+                ("untrained-x0.5", PerceptionKind::Untrained, Some(0.5)),
+                ("untrained-x1", PerceptionKind::Untrained, None),
+                ("untrained-x2", PerceptionKind::Untrained, Some(2.0)),
+                ("trained-calibrated", PerceptionKind::Trained, None),
+                ("trained-x1", PerceptionKind::Trained, Some(1.0)),
+            ];
+            for (label, perception, embedding_scale) in arms {
+                for (model, base) in [("SEC", sec("double-t-maze")), ("NSEC", nsec("double-t-maze"))] {
+                    let config = RunConfig { perception, embedding_scale, ..base };
+                    out.push(condition(format!("{label}/{model}"), config, None));
+                }
+            }
         }
         "smoke" => {
             let mut s = sec("object-permanence");

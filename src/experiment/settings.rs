@@ -6,7 +6,9 @@
 use super::{AgentKind, RunConfig};
 use crate::agent::mfec::Embedding;
 use crate::agent::AgentConfig;
-use crate::arena::{ConfigError, DEFAULT_T, MAX_T, TASK_NAMES};
+use crate::arena::{ConfigError, StartHeading, DEFAULT_T, MAX_T, TASK_NAMES};
+use crate::encoder::perception::SCALE_RANGE;
+use crate::encoder::PerceptionKind;
 use crate::memory::{
     Forgetting, ValueFn, ALPHA_RANGE, BETA_RANGE, M_RANGE, N_RANGE, TAU_RANGE, THETA_ABS_RANGE, THETA_PROP_RANGE,
 };
@@ -22,9 +24,10 @@ pub const MAX_SEED: u64 = 9_007_199_254_740_991;
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 #[serde(tag = "type", rename_all = "camelCase")]
 pub enum Kind {
-    /// A real number in [min, max] (or (min, max] when `min_open`).
+    /// A real number in [min, max] (or (min, max] when `min_open`); with `auto`, also the word
+    /// `auto`, which leaves the value to the run (an empty control shows it).
     #[serde(rename_all = "camelCase")]
-    Number { min: f64, max: f64, min_open: bool, step: f64 },
+    Number { min: f64, max: f64, min_open: bool, step: f64, auto: bool },
     /// A whole number in min..=max.
     Integer { min: u64, max: u64 },
     /// One of the options.
@@ -46,7 +49,13 @@ pub struct Param {
 }
 
 fn number(key: &'static str, symbol: &'static str, help: &'static str, r: (f64, f64), open: bool, step: f64) -> Param {
-    Param { key, symbol, help, kind: Kind::Number { min: r.0, max: r.1, min_open: open, step }, live: true }
+    Param {
+        key,
+        symbol,
+        help,
+        kind: Kind::Number { min: r.0, max: r.1, min_open: open, step, auto: false },
+        live: true,
+    }
 }
 
 fn choice(key: &'static str, symbol: &'static str, help: &'static str, options: &[&str], live: bool) -> Param {
@@ -65,6 +74,8 @@ pub fn params() -> Vec<Param> {
     vec![
         choice("task", "task", "The arena the agent learns in (a new run).", &TASK_NAMES, false),
         choice("agent", "agent", "SEC, MFEC on the autoencoder's or a random projection's embedding, or the reactive walk alone (a new run).", &AGENTS, false),
+        choice("perception", "encoder", "Which encoder embeds the camera image: untrained random weights (what the authors' code ran) or the trained one (the paper's text); the trained one always runs the gate (a new run).", &names(&PerceptionKind::ALL), false),
+        Param { key: "embeddingScale", symbol: "scale", help: "Multiplies every embedding, so it sets how alike two views must be to pass θ_abs; auto: 1 untrained, the calibrated scale trained (a new run).", kind: Kind::Number { min: SCALE_RANGE.0 as f64, max: SCALE_RANGE.1 as f64, min_open: true, step: 0.01, auto: true }, live: false },
         Param { key: "bias", symbol: "T", help: "Sequential bias: on is SEC, off is NSEC (T restarts at 1).", kind: Kind::Switch, live: true },
         number("alpha", "α", "How much T rises for the successor of a selected couplet.", ALPHA_RANGE, false, 0.001),
         number("beta", "β", "How fast T decays back towards 1 at every decision.", BETA_RANGE, false, 0.001),
@@ -76,12 +87,14 @@ pub fn params() -> Vec<Param> {
         choice("forgetting", "forget", "What a full LTM does: nothing, drop the oldest, the lowest reward, the 10% lowest, or one drawn by low reward.", &names(&Forgetting::ALL), true),
         choice("value", "value", "How a couplet's similarity g, relative reward rr and distance d make its value.", &names(&ValueFn::ALL), true),
         Param { key: "t", symbol: "t", help: "Episode limit in env steps; every step costs 1/t (a new run).", kind: Kind::Integer { min: 0, max: MAX_T as u64 }, live: false },
+        choice("startHeading", "heading", "Where the double T-maze's agent starts looking: a new random heading every episode, or always facing the centre (a new run).", &names(&StartHeading::ALL), false),
         Param { key: "seed", symbol: "seed", help: "The run is a pure function of its settings and this seed (a new run).", kind: Kind::Integer { min: 0, max: MAX_SEED }, live: false },
     ]
 }
 
 fn range_error(key: &str, value: &str, kind: &Kind) -> ConfigError {
     let range = match kind {
+        Kind::Number { min, max, min_open: true, auto: true, .. } => format!("({min}, {max}] or auto"),
         Kind::Number { min, max, min_open: true, .. } => format!("({min}, {max}]"),
         Kind::Number { min, max, .. } => format!("[{min}, {max}]"),
         Kind::Integer { min, max } => format!("{min}..={max} (whole numbers)"),
@@ -91,10 +104,12 @@ fn range_error(key: &str, value: &str, kind: &Kind) -> ConfigError {
     ConfigError::new(key, format!("'{value}' is out of range {range}"))
 }
 
-/// The setting's value parsed and range-checked, as a number (choices: their index).
+/// The setting's value parsed and range-checked, as a number (choices: their index; `auto`:
+/// NaN).
 fn parse(p: &Param, value: &str) -> Result<f64, ConfigError> {
     let bad = || range_error(p.key, value, &p.kind);
     match &p.kind {
+        Kind::Number { auto: true, .. } if value.trim() == "auto" => Ok(f64::NAN),
         Kind::Number { min, max, min_open, .. } => {
             let v: f64 = value.trim().parse().map_err(|_| bad())?;
             let above = if *min_open { v > *min } else { v >= *min };
@@ -134,6 +149,9 @@ pub fn apply(cfg: &mut RunConfig, seed: &mut u64, key: &str, value: &str) -> Res
             };
             cfg.mfec.embedding = if value == "mfec-rp" { Embedding::RandomProjection } else { Embedding::Autoencoder };
         }
+        "perception" => cfg.perception = PerceptionKind::ALL[v as usize].1,
+        "embeddingScale" => cfg.embedding_scale = (!v.is_nan()).then_some(v as f32),
+        "startHeading" => cfg.start_heading = StartHeading::ALL[v as usize].1,
         "bias" => mem.sequential_bias = v == 1.0,
         "alpha" => mem.alpha = v,
         "beta" => mem.beta = v,
@@ -160,11 +178,16 @@ pub fn to_settings(cfg: &RunConfig, seed: u64) -> Settings {
         (AgentKind::Mfec, Embedding::Autoencoder) => "mfec-ae",
         (AgentKind::Mfec, Embedding::RandomProjection) => "mfec-rp",
     };
+    let perception = PerceptionKind::ALL.iter().find(|(_, p)| *p == cfg.perception).expect("listed").0;
+    let heading = StartHeading::ALL.iter().find(|(_, h)| *h == cfg.start_heading).expect("listed").0;
+    let scale = cfg.scale_override().map_or("auto".to_string(), |s| s.to_string());
     let forgetting = Forgetting::ALL.iter().position(|(_, f)| *f == mem.forgetting).expect("listed");
     let value = ValueFn::ALL.iter().position(|(_, f)| *f == mem.value_function).expect("listed");
     [
         ("task", cfg.task.clone()),
         ("agent", agent.into()),
+        ("perception", perception.into()),
+        ("embeddingScale", scale),
         ("bias", (mem.sequential_bias as u8).to_string()),
         ("alpha", mem.alpha.to_string()),
         ("beta", mem.beta.to_string()),
@@ -176,6 +199,7 @@ pub fn to_settings(cfg: &RunConfig, seed: u64) -> Settings {
         ("forgetting", Forgetting::ALL[forgetting].0.to_string()),
         ("value", ValueFn::ALL[value].0.to_string()),
         ("t", cfg.t.unwrap_or(DEFAULT_T).to_string()),
+        ("startHeading", heading.into()),
         ("seed", seed.to_string()),
     ]
     .into_iter()
@@ -208,14 +232,15 @@ pub fn from_settings(settings: &Settings) -> (RunConfig, u64, Vec<ConfigError>) 
 }
 
 /// The settings of the presets "code" (the authors' code, the default) and "paper" (the paper's
-/// text, D2 and D3): only the keys they set.
+/// text: D2, D3 and the trained encoder, D20): only the keys they set.
 pub fn preset(name: &str) -> Result<Settings, ConfigError> {
-    let agent = match name {
-        "code" => AgentConfig::code(),
-        "paper" => AgentConfig::paper(),
+    let (agent, perception) = match name {
+        "code" => (AgentConfig::code(), PerceptionKind::Untrained),
+        "paper" => (AgentConfig::paper(), PerceptionKind::Trained),
         _ => return Err(ConfigError::new("preset", format!("'{name}' is not one of code, paper"))),
     };
-    let cfg = RunConfig { agent, ..RunConfig::default() };
+    let cfg = RunConfig { agent, perception, ..RunConfig::default() };
     let all = to_settings(&cfg, 1);
-    Ok(["alpha", "beta", "tau", "thetaAbs", "thetaProp"].iter().map(|k| (k.to_string(), all[*k].clone())).collect())
+    let keys = ["perception", "embeddingScale", "alpha", "beta", "tau", "thetaAbs", "thetaProp"];
+    Ok(keys.iter().map(|k| (k.to_string(), all[*k].clone())).collect())
 }

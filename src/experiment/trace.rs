@@ -4,7 +4,9 @@
 //!
 //! Input, one JSON object per line:
 //! `{"event":"decision","embedding":[20 numbers],"recMse":0.002}` (`recMse` optional, default 0),
-//! `{"event":"goal","reward":2.7}` and `{"event":"episodeEnd"}`.
+//! `{"event":"goal","reward":2.7}` and `{"event":"episodeEnd"}`, after an optional first line
+//! `{"event":"perception","perception":"untrained","embeddingScale":1.0}` saying which encoder
+//! made the embeddings (a recorded run writes it; `trace` refuses a config that says otherwise).
 //! Output, one line per decision: the action and the layer that took it, the sequences in the
 //! LTM, T (the entries that differ from 1, as [row, column, value], as used by this decision), the
 //! selected couplets with their G, Q and p (null when nothing was selected) and the entropy as
@@ -12,7 +14,7 @@
 
 use crate::agent::{Agent, AgentConfig, Layer};
 use crate::arena::ConfigError;
-use crate::encoder::EMBEDDING;
+use crate::encoder::{PerceptionKind, EMBEDDING};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::io::{BufRead, Write};
@@ -21,6 +23,12 @@ use std::io::{BufRead, Write};
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(tag = "event", rename_all = "camelCase", deny_unknown_fields)]
 pub enum Event {
+    /// Which encoder made the embeddings that follow, and its scale.
+    Perception {
+        perception: PerceptionKind,
+        #[serde(rename = "embeddingScale")]
+        embedding_scale: f32,
+    },
     Decision {
         embedding: Vec<f32>,
         /// The reconstruction gate's last MSE.
@@ -145,8 +153,15 @@ pub fn trace_line(agent: &Agent, decision: u64, action: u8, layer: Layer) -> Tra
 }
 
 /// Feeds the events of `input` through a fresh SEC agent with `cfg` and `seed`, writing one
-/// [`TraceLine`] per decision to `output`. Returns the number of decisions.
-pub fn trace(cfg: &AgentConfig, seed: u64, input: impl BufRead, mut output: impl Write) -> Result<u64, TraceError> {
+/// [`TraceLine`] per decision to `output`; `perception`, when given, must be the one the events
+/// name (if they name one). Returns the number of decisions.
+pub fn trace(
+    cfg: &AgentConfig,
+    perception: Option<PerceptionKind>,
+    seed: u64,
+    input: impl BufRead,
+    mut output: impl Write,
+) -> Result<u64, TraceError> {
     let mut rng = agent_rng(seed);
     let mut agent = Agent::new(cfg.clone(), &mut rng).map_err(TraceError::Input)?;
     let mut decisions = 0;
@@ -168,6 +183,15 @@ pub fn trace(cfg: &AgentConfig, seed: u64, input: impl BufRead, mut output: impl
                 agent.goal(reward, &mut rng);
             }
             Event::EpisodeEnd => agent.episode_end(),
+            Event::Perception { perception: recorded, .. } => {
+                if let Some(want) = perception.filter(|&p| p != recorded) {
+                    return Err(TraceError::Input(ConfigError::at(
+                        i + 1,
+                        "perception",
+                        format!("the events were recorded with the {recorded:?} encoder, the config says {want:?}"),
+                    )));
+                }
+            }
         }
     }
     output.flush()?;

@@ -222,9 +222,12 @@ pub struct Memory {
     /// M (selected by the last `advance`) and M_prev, rows x n.
     sel: Vec<bool>,
     sel_prev: Vec<bool>,
-    /// G of the last `advance`, rows x n: 1 - MAE computed in f32 (the embeddings' type), times
-    /// T in f64, as numpy did.
+    /// G of the last `advance`, rows x n, in the precision the authors' numpy used (see
+    /// `advance`), held as f64.
     g: Vec<f64>,
+    /// Whether the LTM has been through forgetting: from then on the authors' LTM is a list of
+    /// Python floats, so numpy computes the similarity in f64 (see `advance`).
+    forgot: bool,
     /// 1 - MAE of every couplet, rows x n.
     sim: Vec<f32>,
     selected: Vec<Selected>,
@@ -247,6 +250,7 @@ impl Memory {
             sel: Vec::with_capacity(m * n),
             sel_prev: Vec::with_capacity(m * n),
             g: Vec::with_capacity(m * n),
+            forgot: false,
             sim: Vec::with_capacity(m * n),
             selected: Vec::with_capacity(m * n),
             q: [0.0; ACTIONS],
@@ -356,6 +360,12 @@ impl Memory {
     /// Section 7: similarity to every stored couplet, selection by both thresholds, Q over the
     /// actions of the selected, and an action drawn in proportion to Q. `None` when nothing
     /// passes (the authors' [-1, -1]); the entropy is then left as it was.
+    ///
+    /// The similarity and the comparisons are in the precision the authors' numpy computed them
+    /// in: 1 - MAE in f32 (their embeddings are f32) until the LTM has been through forgetting,
+    /// in f64 after (their LTM is then a list of Python floats); times T in f64 with the bias,
+    /// while without it G stays f32 and is compared with theta_abs and G / Gmax with theta_prop
+    /// as f32 (numpy casts a Python float to the array's type).
     pub fn advance(&mut self, e: &[f32; EMBEDDING], rng: &mut ChaCha8Rng) -> Option<u8> {
         self.selected.clear();
         let (n, rows) = (self.cfg.n, self.len());
@@ -363,15 +373,30 @@ impl Memory {
             return None;
         }
         self.g.resize(rows * n, 0.0);
-        self.sim.resize(rows * n, 0.0);
-        similarity(e, &self.ltm, n, &mut self.sim);
         let t: &[f64] = if self.cfg.sequential_bias { &self.t } else { &[] };
-        let gmax = biased(&self.sim, t, &mut self.g);
-        // D16: with Gmax <= 0 nothing can pass; otherwise G > theta_abs and G / Gmax > theta_prop,
-        // i.e. G > max(theta_abs, theta_prop * Gmax): exact comparisons, so exactly the same set.
-        let threshold = if gmax > 0.0 { self.cfg.theta_abs.max(self.cfg.theta_prop * gmax) } else { f64::INFINITY };
-        for (s, &g) in self.sel.iter_mut().zip(&self.g) {
-            *s = g > threshold;
+        let gmax = if self.forgot {
+            similarity_f64(e, &self.ltm, n, &mut self.g);
+            biased_in_place(t, &mut self.g)
+        } else {
+            self.sim.resize(rows * n, 0.0);
+            similarity(e, &self.ltm, n, &mut self.sim);
+            biased(&self.sim, t, &mut self.g)
+        };
+        // D16: with Gmax <= 0 nothing can pass (every G <= Gmax <= 0 < theta_abs or G / Gmax
+        // undefined); otherwise G > theta_abs and G / Gmax > theta_prop, the ratio rounded as
+        // numpy rounds it.
+        let (ta, tp) = (self.cfg.theta_abs, self.cfg.theta_prop);
+        if gmax <= 0.0 {
+            self.sel.fill(false);
+        } else if t.is_empty() && !self.forgot {
+            let (ta, tp, gmax) = (ta as f32, tp as f32, gmax as f32);
+            for (s, &g) in self.sel.iter_mut().zip(&self.sim) {
+                *s = (g > ta) & (g / gmax > tp);
+            }
+        } else {
+            for (s, &g) in self.sel.iter_mut().zip(&self.g) {
+                *s = (g > ta) & (g / gmax > tp);
+            }
         }
         let (g, selected) = (&self.g, &mut self.selected);
         each_set(&self.sel, |idx| selected.push(Selected { row: (idx / n) as u32, col: (idx % n) as u32, g: g[idx] }));
@@ -421,6 +446,9 @@ impl Memory {
             self.sel_prev.resize(self.sel_prev.len() + n, false);
         }
         if self.len() >= m {
+            // Any forgetting, even one that removes nothing, leaves the authors' LTM as Python
+            // floats (`np.delete(...).tolist()`).
+            self.forgot |= self.cfg.forgetting != Forgetting::None;
             match self.cfg.forgetting {
                 Forgetting::None => {}
                 Forgetting::Fifo => self.remove(0),
@@ -473,6 +501,7 @@ impl Memory {
         }
         while self.len() > cfg.m {
             self.remove(0);
+            self.forgot = true;
         }
         // Room for the new capacity now, so that decisions still allocate nothing.
         let (n, free) = (cfg.n, cfg.m.saturating_sub(self.len()));
@@ -571,6 +600,31 @@ fn similarity_any(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f32]) 
             j0 += C;
         }
     }
+}
+
+/// `similarity` in f64, as numpy computes it once the LTM holds Python floats: each couplet
+/// sums |e_k - x_k| in f64 over k ascending, then 1 - sum / 20.
+fn similarity_f64(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f64]) {
+    let e = e.map(f64::from);
+    for (row, o) in ltm.chunks_exact(EMBEDDING * n).zip(out.chunks_exact_mut(n)) {
+        o.fill(0.0);
+        for (k, &ek) in e.iter().enumerate() {
+            for (acc, &x) in o.iter_mut().zip(&row[k * n..(k + 1) * n]) {
+                *acc += (ek - x as f64).abs();
+            }
+        }
+        for v in o.iter_mut() {
+            *v = 1.0 - *v / EMBEDDING as f64;
+        }
+    }
+}
+
+/// G = similarity times T (unchanged when `t` is empty, NSEC), in place; returns Gmax.
+fn biased_in_place(t: &[f64], g: &mut [f64]) -> f64 {
+    for (g, &t) in g.iter_mut().zip(t) {
+        *g *= t;
+    }
+    g.iter().fold(f64::NEG_INFINITY, |a, &b| if b > a { b } else { a })
 }
 
 /// G = (1 - MAE) times T (or 1 when `t` is empty, NSEC) into `g`; returns Gmax. Eight running

@@ -8,7 +8,6 @@ use crate::stats::{ci95, mann_whitney, mean, moving_mean, sd, se};
 use sec_playground::experiment::EpisodeMetrics;
 use std::fmt::Write as _;
 use std::fs;
-use std::io::{BufRead, BufReader};
 use std::path::Path;
 
 /// The curves' window, as in the paper's figures.
@@ -72,14 +71,10 @@ impl ConditionRuns {
 }
 
 fn read_run(path: &Path) -> Result<Vec<EpisodeMetrics>, String> {
-    let file = fs::File::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    BufReader::new(file)
-        .lines()
+    let text = crate::runner::read_run_text(path)?;
+    text.lines()
         .enumerate()
-        .map(|(i, l)| {
-            let l = l.map_err(|e| format!("{}: {e}", path.display()))?;
-            serde_json::from_str(&l).map_err(|e| format!("{} line {}: {e}", path.display(), i + 1))
-        })
+        .map(|(i, l)| serde_json::from_str(l).map_err(|e| format!("{} line {}: {e}", path.display(), i + 1)))
         .collect()
 }
 

@@ -1,16 +1,20 @@
 //! Runs a grid of (condition, seed) jobs on all cores and streams each run's episodes as JSON
-//! lines to `OUT/<condition>/seed-<seed>.jsonl`.
+//! lines to `OUT/<condition>/seed-<seed>.jsonl.part`; a finished run is gzipped to
+//! `seed-<seed>.jsonl.gz` (about a sixth of the size, so the runs themselves can be committed and
+//! every report regenerated from them).
 //!
-//! Resumable: a finished run is a complete `.jsonl` file and is skipped; an unfinished one is a
-//! `.part` file and starts again (runs are deterministic, so nothing differs but the time spent).
+//! Resumable: a finished run is a complete `.jsonl.gz` file and is skipped; an unfinished one is
+//! a `.part` file and starts again (runs are deterministic, so nothing differs but the time spent).
 //! `--shard i/N` takes every N-th job, so shards on several machines write disjoint files into
 //! copies of the same tree, which merge by copying.
 
+use flate2::read::GzDecoder;
+use flate2::write::GzEncoder;
 use indicatif::{ProgressBar, ProgressStyle};
 use sec_playground::experiment::presets::Condition;
 use sec_playground::experiment::{Run, RunConfig};
 use std::fs;
-use std::io::{BufRead, BufReader, BufWriter, Write};
+use std::io::{BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
@@ -73,14 +77,26 @@ pub fn parse_seeds(s: &str) -> Result<Vec<u64>, String> {
     Ok(seeds)
 }
 
-/// The file of one run.
+/// The file of one finished run.
 pub fn run_path(out: &Path, condition: &str, seed: u64) -> PathBuf {
-    out.join(condition).join(format!("seed-{seed}.jsonl"))
+    out.join(condition).join(format!("seed-{seed}.jsonl.gz"))
 }
 
-/// Lines in a finished run file (0 if there is none).
+/// A run file's text: gzipped (`.gz`) or plain.
+pub fn read_run_text(path: &Path) -> Result<String, String> {
+    let bytes = fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    if path.extension().is_some_and(|e| e == "gz") {
+        let mut text = String::new();
+        GzDecoder::new(&bytes[..]).read_to_string(&mut text).map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(text)
+    } else {
+        String::from_utf8(bytes).map_err(|e| format!("{}: {e}", path.display()))
+    }
+}
+
+/// Lines in a finished run file (0 if there is none or it is unreadable).
 pub fn finished_episodes(path: &Path) -> usize {
-    fs::File::open(path).map(|f| BufReader::new(f).lines().count()).unwrap_or(0)
+    read_run_text(path).map(|t| t.lines().count()).unwrap_or(0)
 }
 
 /// Writes the manifest and each condition's `config.json`, refusing to mix configurations: a
@@ -138,7 +154,7 @@ pub fn jobs(conditions: &[Condition], seeds: &[u64], (shard, of): (usize, usize)
 /// Plays one job's `episodes` into `<file>.part`, then renames it into place.
 fn run_job(job: &Job, out: &Path, episodes: usize, bar: &ProgressBar) -> Result<(), String> {
     let path = run_path(out, &job.condition, job.seed);
-    let part = path.with_extension("jsonl.part");
+    let part = path.with_extension("part");
     let file = fs::File::create(&part).map_err(|e| format!("{}: {e}", part.display()))?;
     let mut w = BufWriter::new(file);
     let mut run = Run::new(job.config.clone(), job.seed).map_err(|e| format!("{}: {e}", job.condition))?;
@@ -149,7 +165,14 @@ fn run_job(job: &Job, out: &Path, episodes: usize, bar: &ProgressBar) -> Result<
     }
     w.flush().map_err(|e| format!("{}: {e}", part.display()))?;
     drop(w);
-    fs::rename(&part, &path).map_err(|e| format!("{}: {e}", path.display()))
+    let text = fs::read(&part).map_err(|e| format!("{}: {e}", part.display()))?;
+    let mut gz = GzEncoder::new(Vec::new(), flate2::Compression::best());
+    gz.write_all(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let tmp = path.with_extension("gz.tmp");
+    fs::write(&tmp, gz.finish().map_err(|e| format!("{}: {e}", path.display()))?)
+        .map_err(|e| format!("{}: {e}", tmp.display()))?;
+    fs::rename(&tmp, &path).map_err(|e| format!("{}: {e}", path.display()))?;
+    fs::remove_file(&part).map_err(|e| format!("{}: {e}", part.display()))
 }
 
 /// Runs the unfinished `jobs` on `threads` threads with a progress bar on standard error (a line

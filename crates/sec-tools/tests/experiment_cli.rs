@@ -18,8 +18,8 @@ fn files(dir: &Path) -> Vec<(String, String)> {
     let mut out = Vec::new();
     for cond in ["object-permanence/SEC", "object-permanence/NSEC", "object-permanence/reactive"] {
         for seed in 1..=2 {
-            let p = dir.join("smoke").join(cond).join(format!("seed-{seed}.jsonl"));
-            out.push((format!("{cond} {seed}"), std::fs::read_to_string(&p).unwrap_or_default()));
+            let p = sec_tools::runner::run_path(&dir.join("smoke"), cond, seed);
+            out.push((format!("{cond} {seed}"), sec_tools::runner::read_run_text(&p).unwrap_or_default()));
         }
     }
     out

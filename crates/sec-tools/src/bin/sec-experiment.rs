@@ -213,9 +213,9 @@ fn trace_cmd(args: &[String]) -> Result<(), String> {
     let n = match o.get("trace") {
         Some(path) => {
             let file = std::fs::File::create(Path::new(path)).map_err(|e| format!("--trace {path}: {e}"))?;
-            trace(&cfg.agent, seed, reader, BufWriter::new(file))
+            trace(&cfg.agent, Some(cfg.perception), seed, reader, BufWriter::new(file))
         }
-        None => trace(&cfg.agent, seed, reader, BufWriter::new(std::io::stdout().lock())),
+        None => trace(&cfg.agent, Some(cfg.perception), seed, reader, BufWriter::new(std::io::stdout().lock())),
     }
     .map_err(|e| format!("--events {input}: {e}"))?;
     eprintln!("{n} decisions traced");

@@ -1,0 +1,110 @@
+//! Where a run's embeddings come from (docs/ALGORITHM.md, "Perception").
+//!
+//! The authors' code built its encoder and autoencoder from the same freshly initialised Keras
+//! layers, then replaced only the autoencoder with the trained model it loaded. So every
+//! embedding their SEC and MFEC-ae stored and compared came from an untrained, Glorot-initialised
+//! encoder, while the trained model fed only the reconstruction gate. `Untrained` does the same
+//! (the "code" preset, the default); `Trained` embeds with the trained model as the paper's text
+//! says (the "paper" preset).
+
+use super::{bundled, Autoencoder, Scratch, EMBEDDING};
+use crate::arena::ConfigError;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+/// The ChaCha stream of a run's seed that draws its untrained encoder (the agent has stream 1,
+/// MFEC's random projection stream 2).
+pub const UNTRAINED_STREAM: u64 = 3;
+
+/// Which encoder makes the embeddings.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PerceptionKind {
+    /// A Glorot-initialised, never-trained encoder drawn from the run's seed (the authors' code).
+    #[default]
+    Untrained,
+    /// The task's trained encoder with its calibrated scale (the paper's text).
+    Trained,
+}
+
+impl PerceptionKind {
+    pub const ALL: [(&'static str, PerceptionKind); 2] =
+        [("untrained", PerceptionKind::Untrained), ("trained", PerceptionKind::Trained)];
+}
+
+/// Allowed embedding scales: positive, and small enough that 20 scaled ReLU outputs stay finite.
+pub const SCALE_RANGE: (f32, f32) = (0.0, 1.0e6);
+
+/// Checks an `embeddingScale`: finite, in (0, 1e6].
+pub fn check_scale(scale: f32) -> Result<(), ConfigError> {
+    if scale.is_finite() && scale > SCALE_RANGE.0 && scale <= SCALE_RANGE.1 {
+        Ok(())
+    } else {
+        Err(ConfigError::new(
+            "embeddingScale",
+            format!("{scale} is out of range ({}, {}]", SCALE_RANGE.0, SCALE_RANGE.1),
+        ))
+    }
+}
+
+/// A run's perceptual layer: the trained autoencoder (always: it runs the reconstruction gate
+/// and the page's reconstruction) and, for `Untrained`, the encoder that embeds.
+#[derive(Clone, Debug)]
+pub struct Perception {
+    kind: PerceptionKind,
+    trained: Autoencoder,
+    untrained: Option<Autoencoder>,
+}
+
+impl Perception {
+    /// The perception of a run of `task` with `seed`; `scale` replaces the embedding scale
+    /// (`None`: the trained model's calibrated scale, or 1 for the untrained encoder, whose raw
+    /// units are the authors').
+    pub fn new(kind: PerceptionKind, task: &str, scale: Option<f32>, seed: u64) -> Result<Self, ConfigError> {
+        if let Some(s) = scale {
+            check_scale(s)?;
+        }
+        let mut trained = bundled::autoencoder(task)?;
+        let untrained = match kind {
+            PerceptionKind::Trained => {
+                if let Some(s) = scale {
+                    trained.embedding_scale = s;
+                }
+                None
+            }
+            PerceptionKind::Untrained => {
+                let mut rng = ChaCha8Rng::seed_from_u64(seed);
+                rng.set_stream(UNTRAINED_STREAM);
+                let mut e = Autoencoder::untrained_encoder(&mut rng);
+                e.task = task.to_string();
+                e.embedding_scale = scale.unwrap_or(1.0);
+                Some(e)
+            }
+        };
+        Ok(Perception { kind, trained, untrained })
+    }
+
+    pub fn kind(&self) -> PerceptionKind {
+        self.kind
+    }
+
+    /// The trained autoencoder: the gate's model.
+    pub fn trained(&self) -> &Autoencoder {
+        &self.trained
+    }
+
+    /// The encoder whose outputs are the embeddings.
+    pub fn embedder(&self) -> &Autoencoder {
+        self.untrained.as_ref().unwrap_or(&self.trained)
+    }
+
+    /// The embedding of an image, times the embedding scale.
+    pub fn embed(&self, image: &[f32], s: &mut Scratch, out: &mut [f32; EMBEDDING]) {
+        self.embedder().encode(image, s, out);
+    }
+
+    /// Whether an embedding is also the gate model's (then the gate need not encode again).
+    pub fn embeds_with_gate_model(&self) -> bool {
+        self.untrained.is_none()
+    }
+}
