@@ -68,5 +68,21 @@ fn full_decision(c: &mut Criterion) {
     });
 }
 
-criterion_group!(decision, full_decision);
+/// A run's decision as `Run::decision` makes it, the reconstruction gate included, over a full
+/// LTM, for both perceptions: the untrained encoder's activations are denser (fewer zeros to
+/// skip) and its embeddings are not the gate model's, so the gate encodes on its own.
+fn run_decision(c: &mut Criterion) {
+    use sec_playground::encoder::PerceptionKind;
+    use sec_playground::experiment::{Run, RunConfig};
+    for (label, perception) in [("untrained", PerceptionKind::Untrained), ("trained", PerceptionKind::Trained)] {
+        let mut run = Run::new(RunConfig { perception, ..RunConfig::default() }, 1).unwrap();
+        run.fill_ltm_for_benchmark(500);
+        for _ in 0..200 {
+            run.decision();
+        }
+        c.bench_function(&format!("run decision, {label} encoder, LTM 500x50"), |b| b.iter(|| run.decision()));
+    }
+}
+
+criterion_group!(decision, full_decision, run_decision);
 criterion_main!(benches, decision);

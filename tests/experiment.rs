@@ -263,3 +263,26 @@ fn the_per_episode_mfec_bookkeeping_gives_the_old_golden_runs() {
     let want = include_str!("golden/mfec-per-episode.txt");
     assert_eq!(got, want.lines().collect::<Vec<_>>());
 }
+
+/// `perception: trained` is the run from before the untrained perception existed: the trained
+/// golden SEC episodes equal the log of that time (`tests/golden/sec-trained-before.txt`) in
+/// every field but the entropies, which changed in their last digits only when the entropy's sum
+/// took numpy's pairwise order.
+#[test]
+fn the_trained_perception_gives_the_sec_run_of_before() {
+    let now = golden_run(PerceptionKind::Trained);
+    let before = include_str!("golden/sec-trained-before.txt");
+    for (a, b) in now.lines().zip(before.lines()) {
+        let (mut a, mut b): (serde_json::Value, serde_json::Value) =
+            (serde_json::from_str(a).unwrap(), serde_json::from_str(b).unwrap());
+        for key in ["entropy", "entropyFresh"] {
+            let (x, y) = (a[key].take(), b[key].take());
+            match (x.as_f64(), y.as_f64()) {
+                (Some(x), Some(y)) => assert!((x - y).abs() <= 1e-9 * y.abs().max(1e-9), "{key}: {x} vs {y}"),
+                _ => assert_eq!(x, y),
+            }
+        }
+        assert_eq!(a, b);
+    }
+    assert_eq!(before.lines().count(), 16);
+}

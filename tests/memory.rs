@@ -375,3 +375,134 @@ fn reconfiguring_keeps_the_memory_and_refuses_a_new_stm_length() {
     assert!(mem.store(5.0, &mut rng));
     assert_eq!(mem.rewards(), &[3.0, 4.0, 5.0]);
 }
+
+/// A one-couplet memory holding `x`, bias on or off, with forgetting `f` and capacity `m`.
+fn single(x: [f32; EMBEDDING], bias: bool, f: Forgetting, m: usize) -> Memory {
+    let cfg = MemoryConfig { n: 1, m, sequential_bias: bias, forgetting: f, ..MemoryConfig::default() };
+    let mut mem = Memory::new(cfg).unwrap();
+    mem.update(Couplet { embedding: x, action: 1 });
+    assert!(mem.store(1.0, &mut rng()));
+    mem
+}
+
+#[test]
+fn without_the_bias_g_is_compared_with_theta_abs_in_f32_as_numpy_does() {
+    // A stored couplet whose 1 - MAE is exactly f32(0.98) = 0.98000001907...: above 0.98 in f64,
+    // not above 0.98 cast to f32. numpy (f32 arrays, a Python float threshold) does the latter
+    // without the bias; with it G = that x T is f64 and compared in f64.
+    let v = (0..100_000)
+        .map(|i| 0.39 + i as f32 * 1e-7)
+        .find(|&v| 1.0f32 - v / EMBEDDING as f32 == 0.98f32)
+        .expect("some component gives 1 - MAE = f32(0.98)");
+    let mut x = [0.0; EMBEDDING];
+    x[0] = v;
+    let q = [0.0; EMBEDDING];
+    let mut nsec = single(x, false, Forgetting::None, 10);
+    nsec.advance(&q, &mut rng());
+    assert_eq!(nsec.similarity(), &[0.98f32 as f64]);
+    assert!(nsec.selected().is_empty(), "f32(0.98) > f32(0.98) is false");
+    let mut sec = single(x, true, Forgetting::None, 10);
+    sec.advance(&q, &mut rng());
+    assert_eq!(sec.selected().len(), 1, "0.98000001907 > 0.98 in f64");
+}
+
+#[test]
+fn without_the_bias_g_over_gmax_is_rounded_to_f32_as_numpy_does() {
+    // Two couplets: the best at G1, another at G2 with G2 / G1 just at theta_prop: find a pair
+    // whose ratio passes in one precision and fails in the other.
+    let g = |v: f32| 1.0f32 - v / EMBEDDING as f32;
+    let mut found = None;
+    'outer: for i in 0..200 {
+        let a = 0.001 + i as f32 * 1e-6;
+        for j in 0..2000 {
+            let b = 0.0995 + j as f32 * 1e-6;
+            let (g1, g2) = (g(a), g(b));
+            if g2 <= 0.98f32 {
+                continue;
+            }
+            let f32_pass = g2 / g1 > 0.995f32;
+            let f64_pass = g2 as f64 / g1 as f64 > 0.995;
+            if f32_pass != f64_pass {
+                found = Some((a, b, f32_pass));
+                break 'outer;
+            }
+        }
+    }
+    let (a, b, f32_pass) = found.expect("a pair on the edge exists");
+    let cfg = MemoryConfig { n: 2, sequential_bias: false, ..MemoryConfig::default() };
+    let mut mem = Memory::new(cfg).unwrap();
+    let at = |v: f32| {
+        let mut x = [0.0; EMBEDDING];
+        x[0] = v;
+        Couplet { embedding: x, action: 1 }
+    };
+    mem.update(at(a));
+    mem.update(at(b));
+    assert!(mem.store(1.0, &mut rng()));
+    mem.advance(&[0.0; EMBEDDING], &mut rng());
+    let cols: Vec<u32> = mem.selected().iter().map(|s| s.col).collect();
+    assert_eq!(cols, if f32_pass { vec![0, 1] } else { vec![0] }, "a = {a}, b = {b}");
+}
+
+#[test]
+fn after_any_forgetting_the_similarity_is_computed_in_f64() {
+    // Components whose f32 and f64 sums differ.
+    let mut r = ChaCha8Rng::seed_from_u64(4);
+    let x: [f32; EMBEDDING] = std::array::from_fn(|_| r.gen_range(0.0..3.0));
+    let q: [f32; EMBEDDING] = std::array::from_fn(|_| r.gen_range(0.0..3.0));
+    let f32_sim = 1.0 - x.iter().zip(&q).map(|(a, b)| (b - a).abs()).sum::<f32>() / EMBEDDING as f32;
+    let f64_sum = x.iter().zip(&q).map(|(&a, &b)| (b as f64 - a as f64).abs()).sum::<f64>();
+    let f64_sim = 1.0 - f64_sum / EMBEDDING as f64;
+    assert_ne!(f32_sim as f64, f64_sim, "the example shows the difference");
+    for bias in [false, true] {
+        let mut mem = single(x, bias, Forgetting::Fifo, 2);
+        mem.advance(&q, &mut rng());
+        assert_eq!(mem.similarity(), &[f32_sim as f64], "before forgetting: f32");
+        // A second store fills the LTM (m = 2): FIFO drops the oldest; the LTM is now floats.
+        mem.update(Couplet { embedding: x, action: 1 });
+        assert!(mem.store(1.0, &mut rng()));
+        assert_eq!(mem.len(), 1);
+        mem.advance(&q, &mut rng());
+        assert_eq!(mem.similarity(), &[f64_sim], "after forgetting: f64 (bias {bias})");
+    }
+    // Without forgetting a full LTM stays f32.
+    let mut mem = single(x, false, Forgetting::None, 1);
+    mem.update(Couplet { embedding: x, action: 1 });
+    assert!(!mem.store(1.0, &mut rng()));
+    mem.advance(&q, &mut rng());
+    assert_eq!(mem.similarity(), &[f32_sim as f64]);
+}
+
+#[test]
+fn the_similarity_sums_in_numpys_pairwise_order() {
+    // numpy's np.sum over the last axis of 20 f32 values: eight pairs, a tree, then four more.
+    let numpy = |a: &[f32; EMBEDDING]| {
+        let r: Vec<f32> = (0..8).map(|l| a[l] + a[8 + l]).collect();
+        let mut s = ((r[0] + r[1]) + (r[2] + r[3])) + ((r[4] + r[5]) + (r[6] + r[7]));
+        for &v in &a[16..] {
+            s += v;
+        }
+        s
+    };
+    let mut r = ChaCha8Rng::seed_from_u64(8);
+    let (mut differs_from_sequential, n) = (0, 13);
+    let cfg = MemoryConfig { n, sequential_bias: false, ..MemoryConfig::default() };
+    let mut mem = Memory::new(cfg).unwrap();
+    let stored: Vec<[f32; EMBEDDING]> = (0..n).map(|_| std::array::from_fn(|_| r.gen_range(0.0..4.0))).collect();
+    for x in &stored {
+        mem.update(Couplet { embedding: *x, action: 1 });
+    }
+    assert!(mem.store(1.0, &mut rng()));
+    for _ in 0..50 {
+        let q: [f32; EMBEDDING] = std::array::from_fn(|_| r.gen_range(0.0..4.0));
+        mem.advance(&q, &mut rng());
+        for (j, x) in stored.iter().enumerate() {
+            let terms: [f32; EMBEDDING] = std::array::from_fn(|k| (q[k] - x[k]).abs());
+            let want = 1.0 - numpy(&terms) / EMBEDDING as f32;
+            assert_eq!(mem.similarity()[j], want as f64, "couplet {j}");
+            let sequential = 1.0 - terms.iter().sum::<f32>() / EMBEDDING as f32;
+            differs_from_sequential += (sequential != want) as u32;
+        }
+    }
+    assert!(differs_from_sequential > 0, "the example tells the orders apart");
+}

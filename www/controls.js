@@ -8,7 +8,7 @@ export const SPEEDS = [1, 2, 5, 10, 25, 50, 100, 250, 1000, 'max'];
 
 function rangeText(kind) {
   switch (kind.type) {
-    case 'number': return `${kind.minOpen ? '(' : '['}${kind.min}, ${kind.max}]`;
+    case 'number': return `${kind.minOpen ? '(' : '['}${kind.min}, ${kind.max}]${kind.auto ? ' or auto' : ''}`;
     case 'integer': return `${kind.min} – ${kind.max.toLocaleString('en')}`;
     case 'choice': return `${kind.options.length} choices`;
     default: return 'on / off';
@@ -25,6 +25,11 @@ function input(p) {
   const el = document.createElement('input');
   if (kind.type === 'switch') {
     el.type = 'checkbox';
+  } else if (kind.auto) {
+    // A number or the word "auto" (empty shows auto): a text box, checked by the core.
+    el.type = 'text';
+    el.inputMode = 'decimal';
+    el.placeholder = 'auto';
   } else {
     el.type = 'number';
     el.min = String(kind.min);
@@ -54,10 +59,14 @@ export function buildControls(root, params, onChange) {
     el.id = `p-${p.key}`;
     el.dataset.key = p.key;
     el.setAttribute('aria-describedby', `h-${p.key}`);
-    const value = () => (el.type === 'checkbox' ? (el.checked ? '1' : '0') : el.value.trim());
+    const value = () => {
+      if (el.type === 'checkbox') return el.checked ? '1' : '0';
+      const v = el.value.trim();
+      return v === '' && p.kind.auto ? 'auto' : v;
+    };
     el.addEventListener('change', () => onChange(p.key, value()));
     row.append(label, el);
-    if (p.kind.type === 'number') {
+    if (p.kind.type === 'number' && !p.kind.auto) {
       // A slider next to the number box for the real-valued knobs.
       const slider = document.createElement('input');
       slider.type = 'range';
@@ -87,7 +96,7 @@ export function buildControls(root, params, onChange) {
         const el = fields.get(k);
         if (!el) continue;
         if (el.type === 'checkbox') el.checked = v === '1';
-        else el.value = v;
+        else el.value = v === 'auto' && el.placeholder === 'auto' ? '' : v;
         const s = sliders.get(k);
         if (s) s.value = v;
       }

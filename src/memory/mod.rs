@@ -4,8 +4,8 @@
 //!
 //! Memory is laid out for retrieval: each LTM row keeps its n embeddings transposed (embedding
 //! component major, couplet minor), so the similarity of all couplets of a row is a loop over
-//! couplets that vectorises, and each couplet still sums its 20 terms in component order on every
-//! target. Nothing is allocated per decision: every buffer is sized for the capacity m up front.
+//! couplets that vectorises, and each couplet still sums its 20 terms in the same order (numpy's,
+//! `pairwise20`) on every target. Nothing is allocated per decision: every buffer is sized for the capacity m up front.
 
 pub mod file;
 
@@ -65,7 +65,8 @@ impl ValueFn {
     /// `dist` = exp(-d / tau).
     pub fn value(self, g: f64, rr: f64, dist: f64) -> f64 {
         match self {
-            ValueFn::Default => g * rr * dist,
+            // As numpy evaluates `collectors * (rewards * np.exp(-distances / tau))`.
+            ValueFn::Default => g * (rr * dist),
             ValueFn::NoGi => rr * dist,
             ValueFn::NoDist => g * rr,
             ValueFn::NoRr => g * dist,
@@ -412,15 +413,16 @@ impl Memory {
             let a = self.actions[s.row as usize * n + s.col as usize] as usize;
             self.q[a] += self.cfg.value_function.value(s.g, rr, dist);
         }
-        let total: f64 = self.q.iter().sum();
-        let mut entropy = 0.0;
-        for (p, &q) in self.p.iter_mut().zip(&self.q) {
+        // numpy's sums of 9 (pairwise); a p of 0 adds nothing (the authors' nan_to_num term is -0).
+        let total = pairwise9(&self.q);
+        let mut terms = [0.0; ACTIONS];
+        for ((p, &q), t) in self.p.iter_mut().zip(&self.q).zip(&mut terms) {
             *p = q / total;
             if *p > 0.0 {
-                entropy -= *p * libm::log2(*p);
+                *t = *p * libm::log2(*p);
             }
         }
-        self.entropy = entropy;
+        self.entropy = 0.0 - pairwise9(&terms);
         Some(sample(&self.p, rng) as u8)
     }
 
@@ -547,9 +549,9 @@ impl Memory {
 }
 
 /// 1 - MAE between `e` and every stored couplet: `ltm` holds rows of n couplets transposed
-/// (`[k][j]`), `out` gets one value per couplet, row-major. Each couplet sums |e_k - x_k| over k
-/// ascending, so vectorising across couplets changes no bits; on x86-64 with AVX2 the same code
-/// runs 8 couplets per instruction.
+/// (`[k][j]`), `out` gets one value per couplet, row-major. Each couplet sums its 20 terms
+/// |e_k - x_k| in numpy's pairwise order (`pairwise20`), so vectorising across couplets changes no
+/// bits; on x86-64 with AVX2 the same code runs 8 couplets per instruction.
 fn similarity(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f32]) {
     #[cfg(target_arch = "x86_64")]
     if std::is_x86_feature_detected!("avx2") {
@@ -565,17 +567,47 @@ unsafe fn similarity_avx2(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut
     similarity_any(e, ltm, n, out)
 }
 
+/// numpy's sum of 20 values (`pairwise_sum` for n <= 128): eight partial sums r_l = a_l + a_{8+l},
+/// combined as ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7)), then a_16..a_19 added in turn.
+/// `term(k)` gives a_k; generic so the same order serves f32 and f64, scalars and lanes.
+#[inline(always)]
+pub fn pairwise20<T: Copy + std::ops::Add<Output = T>>(term: impl Fn(usize) -> T) -> T {
+    const _: () = assert!(EMBEDDING == 20, "the order below is numpy's for 20 terms");
+    let r: [T; 8] = std::array::from_fn(|l| term(l) + term(8 + l));
+    let mut s = ((r[0] + r[1]) + (r[2] + r[3])) + ((r[4] + r[5]) + (r[6] + r[7]));
+    for k in 16..20 {
+        s = s + term(k);
+    }
+    s
+}
+
+/// numpy's sum of 9 values: eight partial sums (the values themselves) combined as a tree, then
+/// the ninth added.
+#[inline]
+pub fn pairwise9(a: &[f64; 9]) -> f64 {
+    (((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]))) + a[8]
+}
+
+/// Eight couplets' 20 absolute differences as lanes, summed in `pairwise20`'s order.
+#[derive(Clone, Copy)]
+struct Lanes([f32; 8]);
+
+impl std::ops::Add for Lanes {
+    type Output = Lanes;
+    #[inline(always)]
+    fn add(self, o: Lanes) -> Lanes {
+        Lanes(std::array::from_fn(|l| self.0[l] + o.0[l]))
+    }
+}
+
 #[inline(always)]
 fn similarity_any(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f32]) {
-    /// Couplets summed together, their sums held in registers across the 20 dimensions.
+    /// Couplets summed together, their sums held in registers.
     const C: usize = 8;
     for (row, o) in ltm.chunks_exact(EMBEDDING * n).zip(out.chunks_exact_mut(n)) {
         if n < C {
             for (j, o) in o.iter_mut().enumerate() {
-                let mut acc = 0.0f32;
-                for (k, &ek) in e.iter().enumerate() {
-                    acc += (ek - row[k * n + j]).abs();
-                }
+                let acc = pairwise20(|k| (e[k] - row[k * n + j]).abs());
                 *o = 1.0 - acc / EMBEDDING as f32;
             }
             continue;
@@ -584,15 +616,12 @@ fn similarity_any(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f32]) 
         loop {
             // The last chunk overlaps the one before when C does not divide n (same values).
             let j = j0.min(n - C);
-            let mut acc = [0.0f32; C];
-            for (k, &ek) in e.iter().enumerate() {
+            let acc = pairwise20(|k| {
                 let x: &[f32; C] = row[k * n + j..][..C].try_into().unwrap();
-                for l in 0..C {
-                    acc[l] += (ek - x[l]).abs();
-                }
-            }
+                Lanes(std::array::from_fn(|l| (e[k] - x[l]).abs()))
+            });
             for l in 0..C {
-                o[j + l] = 1.0 - acc[l] / EMBEDDING as f32;
+                o[j + l] = 1.0 - acc.0[l] / EMBEDDING as f32;
             }
             if j + C >= n {
                 break;
@@ -603,18 +632,13 @@ fn similarity_any(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f32]) 
 }
 
 /// `similarity` in f64, as numpy computes it once the LTM holds Python floats: each couplet
-/// sums |e_k - x_k| in f64 over k ascending, then 1 - sum / 20.
+/// sums |e_k - x_k| in f64 in `pairwise20`'s order, then 1 - sum / 20.
 fn similarity_f64(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f64]) {
     let e = e.map(f64::from);
     for (row, o) in ltm.chunks_exact(EMBEDDING * n).zip(out.chunks_exact_mut(n)) {
-        o.fill(0.0);
-        for (k, &ek) in e.iter().enumerate() {
-            for (acc, &x) in o.iter_mut().zip(&row[k * n..(k + 1) * n]) {
-                *acc += (ek - x as f64).abs();
-            }
-        }
-        for v in o.iter_mut() {
-            *v = 1.0 - *v / EMBEDDING as f64;
+        for (j, o) in o.iter_mut().enumerate() {
+            let acc = pairwise20(|k| (e[k] - row[k * n + j] as f64).abs());
+            *o = 1.0 - acc / EMBEDDING as f64;
         }
     }
 }

@@ -55,7 +55,7 @@ export interface EpisodeMetrics {
 /** One of the page's settings, with its range. */
 export interface Param {
   key: string; symbol: string; help: string; live: boolean;
-  kind: { type: "number"; min: number; max: number; minOpen: boolean; step: number }
+  kind: { type: "number"; min: number; max: number; minOpen: boolean; step: number; auto: boolean }
     | { type: "integer"; min: number; max: number }
     | { type: "choice"; options: string[] }
     | { type: "switch" };
