@@ -57,6 +57,11 @@ test('the page loads, plays, draws its views and fills the reward chart', async 
   const hash = await hashOf(page);
   assert.equal(hash.task, 'double-t-maze');
   assert.equal(hash.alpha, '0.01');
+  // The code preset: the authors' untrained encoder embeds, at its raw scale.
+  assert.equal(hash.perception, 'untrained');
+  assert.equal(hash.embeddingScale, 'auto');
+  assert.equal(await page.inputValue('#p-perception'), 'untrained');
+  assert.equal(await page.getAttribute('#p-embeddingScale', 'placeholder'), 'auto');
   // Episodes of the double T-maze take up to 250 decisions: give it a few seconds.
   await page.waitForFunction(() => window.secPlayground.points >= 2, null, { timeout: 30000 });
   const view = await page.evaluate(() => window.secPlayground.view);
@@ -165,5 +170,28 @@ test('a panic in the simulation shows an error, and reset starts a fresh run', a
   // The panic's own console message is expected here; nothing else.
   assert.ok(problems.slice(count).every((p) => /panicForTest|unreachable/.test(p)), problems.slice(count).join('\n'));
   problems.length = count;
+  await page.close();
+});
+
+test('perception and embedding scale are controls of a new run, refused by name when bad', async () => {
+  const page = await open();
+  await page.fill('#p-embeddingScale', '0');
+  await page.press('#p-embeddingScale', 'Enter');
+  await page.waitForFunction(() => document.getElementById('error').textContent.includes('embeddingScale'));
+  assert.match(await page.textContent('#error'), /embeddingScale: '0' is out of range \(0, 1000000\] or auto/);
+  assert.equal((await hashOf(page)).embeddingScale, 'auto', 'the run keeps its scale');
+  await page.waitForFunction(() => document.getElementById('p-embeddingScale').value === '');
+  await page.selectOption('#p-perception', 'trained');
+  await page.waitForFunction(() => new URLSearchParams(location.hash.slice(1)).get('perception') === 'trained');
+  await page.fill('#p-embeddingScale', '1');
+  await page.press('#p-embeddingScale', 'Enter');
+  await page.waitForFunction(() => new URLSearchParams(location.hash.slice(1)).get('embeddingScale') === '1');
+  // The paper preset sets the trained encoder; the code preset the untrained one, scale auto.
+  await page.click('#preset-code');
+  await page.waitForFunction(() => new URLSearchParams(location.hash.slice(1)).get('perception') === 'untrained');
+  assert.equal((await hashOf(page)).embeddingScale, 'auto');
+  await page.click('#preset-paper');
+  await page.waitForFunction(() => new URLSearchParams(location.hash.slice(1)).get('perception') === 'trained');
+  assert.deepEqual(problems, []);
   await page.close();
 });

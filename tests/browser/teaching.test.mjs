@@ -153,7 +153,7 @@ test('driving: arrow keys move the agent, and a recorded rewarded episode raises
 
 test('CSV export has a header and one row per episode; memory files save, load, and a corrupt one is refused', async () => {
   const problems = [];
-  const page = await open('#task=object-permanence&seed=7', problems);
+  const page = await open('#task=object-permanence&seed=2', problems);
   await ready(page);
   await page.waitForFunction(() => window.secPlayground.view.ltm >= 2, null, { timeout: 60000 });
   await page.keyboard.press(' ');
@@ -163,12 +163,12 @@ test('CSV export has a header and one row per episode; memory files save, load, 
   const text = readFileSync(await csv.path(), 'utf8').trimEnd().split('\n');
   assert.equal(text[0], 'run,seed,episode,layout,reward,rawReward,goal,envSteps,decisions,entropy,entropyFresh,ltm,contextualShare,human');
   assert.equal(text.length, n + 1, 'one row per episode');
-  assert.match(text[1], /^main,7,0,8-7-\d,/);
+  assert.match(text[1], /^main,2,0,8-7-\d,/);
   const [json] = await Promise.all([page.waitForEvent('download'), page.click('#export-json')]);
   const cfg = JSON.parse(readFileSync(await json.path(), 'utf8'));
   assert.equal(cfg.settings.task, 'object-permanence');
   assert.equal(cfg.config.agent.memory.alpha, 0.01);
-  assert.equal(cfg.seed, 7);
+  assert.equal(cfg.seed, 2);
   // Save the memory, then load it back.
   const ltm = await page.evaluate(() => window.secPlayground.view.ltm);
   const [mem] = await Promise.all([page.waitForEvent('download'), page.click('#save-memory')]);

@@ -29,6 +29,8 @@ pub fn upscale(rgba: &[u8], width: usize, height: usize, k: usize) -> Vec<u8> {
     out
 }
 
+pub mod matching;
+pub mod orderings;
 pub mod plot;
 pub mod report;
 pub mod runner;

@@ -116,3 +116,69 @@ pub fn curves(stem: &Path, title: &str, ylabel: &str, series: &[Series]) -> Resu
     let rgba: Vec<u8> = rgb.chunks_exact(3).flat_map(|p| [p[0], p[1], p[2], 255]).collect();
     crate::write_png(&stem.with_extension("png"), SIZE.0 as usize, SIZE.1 as usize, &rgba)
 }
+
+fn draw_scatter<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    title: &str,
+    xlabel: &str,
+    ylabel: &str,
+    points: &[(String, f64, f64)],
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    root.fill(&WHITE).map_err(err)?;
+    let fold = |f: fn(&(String, f64, f64)) -> f64| {
+        points.iter().map(f).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)))
+    };
+    let (xlo, xhi) = fold(|p| p.1);
+    let (ylo, yhi) = fold(|p| p.2);
+    let (ylo, yhi) = (ylo.min(1.0) - 0.1, yhi.max(1.0) + 0.1);
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 22))
+        .margin(16)
+        .x_label_area_size(44)
+        .y_label_area_size(60)
+        .build_cartesian_2d((xlo / 1.5..xhi * 1.5).log_scale(), ylo..yhi)
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc(xlabel)
+        .y_desc(ylabel)
+        .label_style(("sans-serif", 14))
+        .max_light_lines(0)
+        .draw()
+        .map_err(err)?;
+    // SEC = NSEC.
+    chart
+        .draw_series(LineSeries::new([(xlo / 1.5, 1.0), (xhi * 1.5, 1.0)], BLACK.mix(0.4).stroke_width(1)))
+        .map_err(err)?;
+    for (i, (label, x, y)) in points.iter().enumerate() {
+        let colour = COLOURS[i % COLOURS.len()];
+        chart.draw_series(std::iter::once(Circle::new((*x, *y), 6, colour.filled()))).map_err(err)?;
+        chart
+            .draw_series(std::iter::once(Text::new(label.clone(), (*x, *y), ("sans-serif", 14).into_font())))
+            .map_err(err)?;
+    }
+    root.present().map_err(err)
+}
+
+/// Writes `<stem>.svg` and `<stem>.png`: labelled points on a log-scale x axis, with y = 1 marked.
+pub fn scatter(
+    stem: &Path,
+    title: &str,
+    xlabel: &str,
+    ylabel: &str,
+    points: &[(String, f64, f64)],
+) -> Result<(), String> {
+    register_font();
+    let svg = stem.with_extension("svg");
+    draw_scatter(SVGBackend::new(&svg, SIZE).into_drawing_area(), title, xlabel, ylabel, points)
+        .map_err(|e| format!("{}: {e}", svg.display()))?;
+    let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
+    draw_scatter(BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area(), title, xlabel, ylabel, points)
+        .map_err(|e| format!("{}.png: {e}", stem.display()))?;
+    let rgba: Vec<u8> = rgb.chunks_exact(3).flat_map(|p| [p[0], p[1], p[2], 255]).collect();
+    crate::write_png(&stem.with_extension("png"), SIZE.0 as usize, SIZE.1 as usize, &rgba)
+}

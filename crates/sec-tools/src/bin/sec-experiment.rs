@@ -5,6 +5,9 @@
 //!                      [--shard i/N] [--out results/experiments] [--only GROUP/MODEL,...]
 //!   sec-experiment run --config FILE.json --name GROUP/MODEL [same options]
 //!   sec-experiment report EXPERIMENT [--out results/experiments]
+//!   sec-experiment orderings [--out results/experiments] [--trained results/experiments-trained]
+//!                            [--to results]
+//!   sec-experiment matching [--out results/experiments] [--frames 2000] [--seeds 3]
 //!   sec-experiment list
 //!   sec-experiment record --config FILE.json --seed S --episodes N --events OUT.jsonl
 //!   sec-experiment trace --config FILE.json --seed S --events IN.jsonl [--trace OUT.jsonl]
@@ -25,6 +28,8 @@ const USAGE: &str = "usage:
                      [--only PREFIX,PREFIX]
   sec-experiment run --config FILE.json --name GROUP/MODEL [the same options]
   sec-experiment report EXPERIMENT [--out DIR]
+  sec-experiment orderings [--out DIR] [--trained DIR] [--to DIR]
+  sec-experiment matching [--out DIR] [--frames N] [--seeds N|A..B|A,B,C]
   sec-experiment list
   sec-experiment record --config FILE.json --seed S --episodes N --events OUT.jsonl
   sec-experiment trace --config FILE.json --seed S --events IN.jsonl [--trace OUT.jsonl]
@@ -88,6 +93,20 @@ fn dispatch(args: &[String]) -> Result<(), String> {
     match cmd.as_str() {
         "run" => run(rest),
         "report" => report(rest),
+        "orderings" => {
+            let (pos, o) = options(rest, &["out", "trained", "to"])?;
+            if !pos.is_empty() {
+                return Err(format!("orderings takes no positional argument\n{USAGE}"));
+            }
+            let dir = |k: &str, d: &str| PathBuf::from(o.get(k).copied().unwrap_or(d));
+            let md = sec_tools::orderings::orderings(
+                &dir("out", "results/experiments"),
+                &dir("trained", "results/experiments-trained"),
+                &dir("to", "results"),
+            )?;
+            print!("{md}");
+            Ok(())
+        }
         "list" => {
             for (name, what) in EXPERIMENTS {
                 println!("{name}: {what}");
@@ -95,6 +114,14 @@ fn dispatch(args: &[String]) -> Result<(), String> {
                     println!("  {}", c.name);
                 }
             }
+            Ok(())
+        }
+        "matching" => {
+            let (_, o) = options(rest, &["out", "frames", "seeds"])?;
+            let frames = number("frames", o.get("frames").copied().unwrap_or("2000"), 100usize, 20_000)?;
+            let seeds = runner::parse_seeds(o.get("seeds").copied().unwrap_or("3"))?;
+            let out = PathBuf::from(o.get("out").copied().unwrap_or("results/experiments"));
+            print!("{}", sec_tools::matching::report(&out.join("perception"), frames, &seeds)?);
             Ok(())
         }
         "record" => record(rest),

@@ -1,0 +1,230 @@
+//! Why perception decides SEC's advantage over NSEC: which views each perception's embeddings
+//! let match, measured over a reactive walk of the double T-maze, joined with the SEC/NSEC ratio
+//! and contextual share the `perception` experiment measured with each.
+//!
+//! Without the bias a stored couplet is selected when G = 1 - MAE exceeds theta_abs 0.98 and
+//! theta_prop 0.995 times the best G. Applying that rule with the walk's other views as the
+//! memory (views fewer than 25 decisions apart excluded), the **matching breadth** (the effective
+//! matching radius) is how many of the walk's views a view selects, and the distances say how far
+//! from the view those are. A broad match lets NSEC act on memories of other places; the bias then
+//! narrows recall to the successors of what was just recalled.
+
+use crate::orderings::arms;
+use crate::plot;
+use crate::stats::mean;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use sec_playground::agent::Reactive;
+use sec_playground::arena::{Action, Env, EnvConfig, Task};
+use sec_playground::encoder::{Perception, Scratch, EMBEDDING, IMAGE};
+use sec_playground::experiment::presets;
+use std::fmt::Write as _;
+use std::fs;
+use std::path::Path;
+
+/// Frames closer than this many decisions in the walk are not compared (near copies).
+const EXCLUDE: usize = 25;
+/// theta_abs 0.98 at T = 1.
+const RADIUS_MAE: f64 = 0.02;
+/// theta_prop 0.995.
+const THETA_PROP: f64 = 0.995;
+/// Matched views farther apart than this (metres) count as another place.
+const FAR: f64 = 5.0;
+
+/// One perception's matching over the walks, pooled over seeds.
+#[derive(Clone, Debug)]
+pub struct Matching {
+    pub arm: String,
+    /// Median and 90 % quantile of each view's nearest-neighbour MAE.
+    pub nn: [f64; 2],
+    /// Share of views that select at least one other view.
+    pub matched_views: f64,
+    /// Views selected per view, mean.
+    pub matches_per_view: f64,
+    /// Median and 90 % quantile of the arena distance between a view and those it selects (m).
+    pub radius: [f64; 2],
+    /// Share of selected views farther than `FAR`.
+    pub far: f64,
+}
+
+/// The walk's frames and where they were taken: `frames` decisions of the reactive walk (4 env
+/// steps each) from `seed`.
+fn walk(task: &str, frames: usize, seed: u64) -> Vec<(Vec<f32>, (f64, f64))> {
+    let task = Task::preset(task).expect("a task preset");
+    let mut env = Env::new(EnvConfig::new(task), seed).expect("a preset's env");
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut reactive = Reactive::new(&mut rng);
+    let mut out = Vec::with_capacity(frames);
+    while out.len() < frames {
+        if env.is_over() {
+            env.reset(None);
+        }
+        let a = Action::new(reactive.step(&mut rng) as u32).expect("reactive actions are valid");
+        env.advance(a, 4).expect("the episode is not over");
+        let mut image = vec![0.0; IMAGE];
+        env.observation().to_rgb_f32(&mut image);
+        let p = env.world().agent.pos;
+        out.push((image, (p.x as f64, p.y as f64)));
+    }
+    out
+}
+
+fn mae(a: &[f32; EMBEDDING], b: &[f32; EMBEDDING]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| (x - y).abs() as f64).sum::<f64>() / EMBEDDING as f64
+}
+
+fn quantile(sorted: &[f64], q: f64) -> f64 {
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
+}
+
+/// The matching of every arm of the `perception` experiment.
+pub fn matching(frames: usize, seeds: &[u64]) -> Result<Vec<Matching>, String> {
+    let arms = presets::experiment("perception").map_err(|e| e.to_string())?;
+    let walks: Vec<_> = seeds.iter().map(|&s| walk("double-t-maze", frames, s)).collect();
+    let mut out = Vec::new();
+    for c in arms.iter().filter(|c| c.name.ends_with("/SEC")) {
+        let (mut nn, mut dist) = (Vec::new(), Vec::new());
+        let (mut matched, mut views, mut pairs) = (0usize, 0usize, 0usize);
+        for (walk, &seed) in walks.iter().zip(seeds) {
+            let p = Perception::new(c.config.perception, &c.config.task, c.config.scale_override(), seed)
+                .map_err(|e| e.to_string())?;
+            let mut s = Scratch::default();
+            let e: Vec<[f32; EMBEDDING]> = walk
+                .iter()
+                .map(|(img, _)| {
+                    let mut e = [0.0; EMBEDDING];
+                    p.embed(img, &mut s, &mut e);
+                    e
+                })
+                .collect();
+            let mut row = vec![0.0; e.len()];
+            for i in 0..e.len() {
+                for (j, r) in row.iter_mut().enumerate() {
+                    *r = if i.abs_diff(j) > EXCLUDE { mae(&e[i], &e[j]) } else { f64::INFINITY };
+                }
+                let best = row.iter().copied().fold(f64::INFINITY, f64::min);
+                // NSEC's selection over the walk's other views: G = 1 - MAE above theta_abs and
+                // above theta_prop times the best G.
+                let gmax = 1.0 - best;
+                let mut any = false;
+                for (j, &m) in row.iter().enumerate() {
+                    if m < RADIUS_MAE && 1.0 - m > THETA_PROP * gmax {
+                        any = true;
+                        pairs += 1;
+                        let ((xi, zi), (xj, zj)) = (walk[i].1, walk[j].1);
+                        dist.push(((xi - xj).powi(2) + (zi - zj).powi(2)).sqrt());
+                    }
+                }
+                nn.push(best);
+                matched += any as usize;
+                views += 1;
+            }
+        }
+        nn.sort_by(f64::total_cmp);
+        dist.sort_by(f64::total_cmp);
+        out.push(Matching {
+            arm: c.name.trim_end_matches("/SEC").to_string(),
+            nn: [quantile(&nn, 0.5), quantile(&nn, 0.9)],
+            matched_views: matched as f64 / views as f64,
+            matches_per_view: pairs as f64 / views as f64,
+            radius: [quantile(&dist, 0.5), quantile(&dist, 0.9)],
+            far: dist.iter().filter(|&&d| d > FAR).count() as f64 / dist.len().max(1) as f64,
+        });
+    }
+    Ok(out)
+}
+
+/// Writes `matching.md`, `matching.csv` and `plots/ratio-vs-breadth.{svg,png}` into
+/// `dir` (the `perception` experiment's directory), joining the distributions with the runs
+/// there; returns the markdown.
+pub fn report(dir: &Path, frames: usize, seeds: &[u64]) -> Result<String, String> {
+    let m = matching(frames, seeds)?;
+    let runs = arms(dir);
+    let arm = |label: &str, model: &str| runs.iter().find(|a| a.name == format!("{label}/{model}"));
+    let mut md = format!(
+        "# Perception and matching\n\n{frames} views of a reactive walk of the double T-maze (one every 4 env steps) per \
+         seed, seeds {seeds:?} pooled (the untrained encoder is drawn from the seed), embedded by each perception of \
+         the `perception` experiment. Each view selects the walk's other views (fewer than {EXCLUDE} decisions apart \
+         excluded) as NSEC would select stored couplets: G = 1 - MAE above 0.98 and above 0.995 times the best G. \
+         Matching breadth (the effective matching radius): the views a view selects, mean; their distance: the \
+         median (and 90 %) arena distance between a view and the views it selects. SEC, NSEC: mean reward per episode of the \
+         `perception` experiment's runs; contextual share: the share of decisions the contextual layer took over \
+         each run's last 10 % of episodes, mean over runs.\n\n\
+         | perception | NN MAE median / 90 % | views selecting one | matching breadth (views selected) | their distance median / 90 % (m) | selected > {FAR} m away | runs | SEC | NSEC | SEC/NSEC | contextual share SEC / NSEC |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|\n"
+    );
+    let mut csv = String::from(
+        "perception,nn_median,nn_q90,matched_views,matches_per_view,radius_median,radius_q90,far_share,runs,sec,nsec,ratio,ctx_sec,ctx_nsec\n",
+    );
+    let mut points = Vec::new();
+    let loaded = crate::report::load(dir).ok();
+    let ctx = |name: &str| -> Option<f64> {
+        let c = loaded.as_ref()?.1.iter().find(|c| c.condition.name == name)?;
+        Some(mean(&c.span_means(0.9, 1.0, |m| m.contextual_share)))
+    };
+    for x in &m {
+        let (s, n) = (arm(&x.arm, "SEC"), arm(&x.arm, "NSEC"));
+        let ratio = s.zip(n).map(|(s, n)| s.per_episode / n.per_episode);
+        let (cs, cn) = (ctx(&format!("{}/SEC", x.arm)), ctx(&format!("{}/NSEC", x.arm)));
+        let f = |v: Option<f64>, d: usize| v.map_or("-".to_string(), |v| format!("{v:.d$}"));
+        writeln!(
+            md,
+            "| {} | {:.4} / {:.4} | {:.1} % | {:.1} | {:.1} / {:.1} | {:.1} % | {} | {} | {} | {} | {} / {} |",
+            x.arm,
+            x.nn[0],
+            x.nn[1],
+            100.0 * x.matched_views,
+            x.matches_per_view,
+            x.radius[0],
+            x.radius[1],
+            100.0 * x.far,
+            s.map_or("-".into(), |a| format!("{} x {}", a.runs, a.episodes)),
+            f(s.map(|a| a.per_episode), 3),
+            f(n.map(|a| a.per_episode), 3),
+            f(ratio, 2),
+            f(cs, 2),
+            f(cn, 2),
+        )
+        .unwrap();
+        let o = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
+        writeln!(
+            csv,
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            x.arm,
+            x.nn[0],
+            x.nn[1],
+            x.matched_views,
+            x.matches_per_view,
+            x.radius[0],
+            x.radius[1],
+            x.far,
+            s.map_or(0, |a| a.runs),
+            o(s.map(|a| a.per_episode)),
+            o(n.map(|a| a.per_episode)),
+            o(ratio),
+            o(cs),
+            o(cn)
+        )
+        .unwrap();
+        if let Some(r) = ratio.filter(|_| x.matches_per_view > 0.0) {
+            points.push((x.arm.clone(), x.matches_per_view, r));
+        }
+    }
+    fs::create_dir_all(dir.join("plots")).map_err(|e| format!("{}: {e}", dir.display()))?;
+    if !points.is_empty() {
+        plot::scatter(
+            &dir.join("plots").join("ratio-vs-breadth"),
+            "SEC/NSEC against the matching breadth",
+            "matching breadth: views of the walk a view selects without the bias (log scale)",
+            "SEC / NSEC reward",
+            &points,
+        )?;
+        md += "\n![SEC/NSEC against the matching breadth](plots/ratio-vs-breadth.svg)\n";
+    }
+    fs::write(dir.join("matching.md"), &md).map_err(|e| format!("{}: {e}", dir.display()))?;
+    fs::write(dir.join("matching.csv"), csv).map_err(|e| format!("{}: {e}", dir.display()))?;
+    Ok(md)
+}
