@@ -1,5 +1,5 @@
-// SEC decisions per second in wasm with a full LTM (500 x 50) at the default settings, in Node
-// and in headless Chromium, and the playground page's frame rate while its worker runs at max
+// SEC decisions per second in wasm with a full LTM (500 x 50) at the default settings (and, in
+// Node, with the trained encoder), in Node and in headless Chromium, and the playground page's frame rate while its worker runs at max
 // speed. Targets (BENCHMARKS.md): >= 600 decisions/s, >= 50 fps. Run `npm run bench:decisions`
 // after `scripts/build.sh`.
 import { readFileSync } from 'node:fs';
@@ -19,11 +19,11 @@ const DECISIONS = 2000;
  * machine's speed drifts over minutes and hours, so both numbers are reported. Self-contained:
  * it runs in Node and, as source, in the page.
  */
-function measure(wasm, batches, decisions, now) {
+function measure(wasm, batches, decisions, now, config = {}) {
   const rates = [];
   let ltm = 0;
   for (let i = 0; i < batches; i++) {
-    const run = new wasm.SecRun({}, 1);
+    const run = new wasm.SecRun(config, 1);
     run.benchFillMemory(500);
     run.advance(200);
     const t0 = now();
@@ -43,6 +43,10 @@ wasm.initSync({ module: readFileSync(`${root}pkg/sec_playground_bg.wasm`) });
 wasm.registerModel(readFileSync(`${root}assets/encoders/double-t-maze.secae`));
 const node = measure(wasm, BATCHES, DECISIONS, () => performance.now());
 console.log(`node ${process.version}: ${show(node)}`);
+// The paper preset's perception, for comparison: the trained encoder embeds and its embedding
+// doubles as the gate's, where the default's untrained encoder leaves the gate its own encode.
+const trained = measure(wasm, BATCHES, DECISIONS, () => performance.now(), { perception: 'trained' });
+console.log(`node ${process.version}, trained encoder: ${show(trained)}`);
 
 const server = await serve(0);
 const base = `http://127.0.0.1:${server.address().port}/`;

@@ -1,18 +1,38 @@
 #!/usr/bin/env bash
-# Runs the paper's four experiments at full scale (20 seeds x 5000 episodes, as the paper) on all
-# cores, then writes each report (report.md, summary.csv, plots/) under results/experiments/.
-# Resumable: run it again after an interruption and it skips the finished runs.
-#   SEEDS=5 EPISODES=500 ./scripts/reproduce.sh     # a smaller scale
-#   SHARD=2/4 ./scripts/reproduce.sh                # one machine's quarter of the grid
+# Runs the reproduction grid of results/PROTOCOL.md on all cores (or one shard of it), then writes
+# every report: each experiment's report.md, summary.csv and plots/, results/orderings.md and the
+# perception analysis. Resumable: run it again after an interruption and it skips finished runs.
+#   SCALE=2 ./scripts/reproduce.sh      # every seeds x episodes of the protocol multiplied by 2
+#   SHARD=2/4 ./scripts/reproduce.sh    # one machine's quarter of the grid (copy the trees together)
+#   JOBS=1 nice -n 19 ./scripts/reproduce.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
-SEEDS="${SEEDS:-1..20}"
-EPISODES="${EPISODES:-5000}"
 SHARD="${SHARD:-1/1}"
 OUT="${OUT:-results/experiments}"
+SCALE="${SCALE:-1}"
+JOBS="${JOBS:-$(nproc)}"
 cargo build --release -p sec-tools --bin sec-experiment
-for exp in ${EXPERIMENTS:-exp1 exp2 exp3 exp4}; do
-    ./target/release/sec-experiment run "$exp" --seeds "$SEEDS" --episodes "$EPISODES" --shard "$SHARD" --out "$OUT"
-    ./target/release/sec-experiment report "$exp" --out "$OUT" > /dev/null
+bin=./target/release/sec-experiment
+run() { # EXPERIMENT SEEDS EPISODES [--only ...]
+    local exp=$1 seeds=$(( $2 * SCALE )) episodes=$(( $3 * SCALE ))
+    shift 3
+    "$bin" run "$exp" --seeds "1..$seeds" --episodes "$episodes" --shard "$SHARD" --jobs "$JOBS" --out "$OUT" "$@"
+}
+run exp1 20 2000 --only double-t-maze/SEC,double-t-maze/NSEC
+run exp1 5 2000 --only double-t-maze/MFEC-ae,double-t-maze/MFEC-rp,double-t-maze/reactive
+run heading 5 2000
+run exp2 10 2000
+others=""
+for task in detour cylinder object-permanence; do
+    for model in SEC NSEC MFEC-ae; do others="$others,$task/$model"; done
 done
+run exp1 10 1000 --only "${others#,}"
+run exp3 10 2000
+run exp4 10 2000
+run perception 6 2000
+for exp in exp1 exp2 exp3 exp4 heading perception; do
+    "$bin" report "$exp" --out "$OUT" > /dev/null
+done
+"$bin" orderings --out "$OUT" > /dev/null
+"$bin" matching --out "$OUT" > /dev/null

@@ -2,6 +2,7 @@
 //! rewarded episode is stored in SEC's LTM only when recorded, and a memory file loads only into
 //! a run whose embeddings mean the same; anything else is refused and changes nothing.
 
+use sec_playground::encoder::PerceptionKind;
 use sec_playground::experiment::{AgentKind, Driver, EpisodeMetrics, Run, RunConfig};
 
 /// Object permanence: the small goal (+0.999) stands in the open at (20, 25).
@@ -84,8 +85,8 @@ fn a_bad_action_is_refused() {
 }
 
 /// A run whose LTM holds a few sequences.
-fn learnt(seed: u64) -> Run {
-    let mut run = Run::new(permanence(), seed).unwrap();
+fn learnt(cfg: RunConfig, seed: u64) -> Run {
+    let mut run = Run::new(cfg, seed).unwrap();
     while sec_ltm(&run) < 3 {
         run.episode();
     }
@@ -94,9 +95,19 @@ fn learnt(seed: u64) -> Run {
 
 #[test]
 fn a_saved_memory_loads_into_a_new_run_and_saves_back_identically() {
-    let a = learnt(7);
+    // The untrained encoder is the seed's: its memory loads into a new run of the same seed.
+    let a = learnt(permanence(), 2);
+    let mut b = Run::new(permanence(), 2).unwrap();
     let file = a.save_memory().unwrap();
-    let mut b = Run::new(permanence(), 99).unwrap();
+    assert_eq!(b.load_memory(&file).unwrap(), sec_ltm(&a));
+    assert_eq!(b.save_memory().unwrap(), file);
+    let e = Run::new(permanence(), 3).unwrap().load_memory(&file).unwrap_err().to_string();
+    assert!(e.contains("another encoder"), "{e}");
+    // The trained encoder is the task's: its memory loads into a run of any seed.
+    let trained = RunConfig { perception: PerceptionKind::Trained, ..permanence() };
+    let a = learnt(trained.clone(), 7);
+    let file = a.save_memory().unwrap();
+    let mut b = Run::new(trained, 99).unwrap();
     assert_eq!(b.load_memory(&file).unwrap(), sec_ltm(&a));
     assert_eq!(sec_ltm(&b), sec_ltm(&a));
     assert_eq!(b.save_memory().unwrap(), file);
@@ -110,8 +121,8 @@ fn a_saved_memory_loads_into_a_new_run_and_saves_back_identically() {
 
 #[test]
 fn corrupt_foreign_and_mismatched_memory_files_are_refused_and_change_nothing() {
-    let file = learnt(7).save_memory().unwrap();
-    let mut run = learnt(8);
+    let file = learnt(permanence(), 2).save_memory().unwrap();
+    let mut run = learnt(permanence(), 2);
     let before = run.save_memory().unwrap();
     let refused = |run: &mut Run, bytes: &[u8], words: &[&str]| {
         let e = run.load_memory(bytes).unwrap_err().to_string();
@@ -128,15 +139,16 @@ fn corrupt_foreign_and_mismatched_memory_files_are_refused_and_change_nothing() 
     // Another task, another model scale, another n, too small an m.
     let detour = Run::new(RunConfig { task: "detour".into(), ..RunConfig::default() }, 1).unwrap();
     refused(&mut run, &detour.save_memory().unwrap(), &["memory", "detour", "object-permanence"]);
-    let raw = Run::new(RunConfig { raw_embeddings: true, ..permanence() }, 1).unwrap();
-    refused(&mut run, &raw.save_memory().unwrap(), &["memory", "encoder"]);
+    let scaled = Run::new(RunConfig { embedding_scale: Some(2.0), ..permanence() }, 2).unwrap();
+    refused(&mut run, &scaled.save_memory().unwrap(), &["memory", "encoder"]);
+    refused(&mut run, &Run::new(permanence(), 5).unwrap().save_memory().unwrap(), &["memory", "encoder", "per seed"]);
     let mut short = permanence();
     short.agent.memory.n = 20;
-    refused(&mut run, &Run::new(short, 1).unwrap().save_memory().unwrap(), &["n", "20", "50"]);
+    refused(&mut run, &Run::new(short, 2).unwrap().save_memory().unwrap(), &["n", "20", "50"]);
     let mut small = permanence();
     small.agent.memory.m = 2;
     small.agent.min_sequences = 1;
-    refused(&mut Run::new(small, 1).unwrap(), &file, &["m", "2"]);
+    refused(&mut Run::new(small, 2).unwrap(), &file, &["m", "2"]);
     // Agents without SEC's memory.
     let mut mfec = Run::new(RunConfig { kind: AgentKind::Mfec, ..permanence() }, 1).unwrap();
     refused(&mut mfec, &file, &["agent", "SEC"]);

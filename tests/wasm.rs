@@ -197,7 +197,7 @@ fn the_run_api_refuses_bad_configurations_by_name_and_keeps_running() {
 fn live_changes_and_restarts_through_the_js_api() {
     models();
     use sec_playground::web::SecRun;
-    let mut run = SecRun::new(js(r#"{"task": "object-permanence"}"#), 7.0).unwrap();
+    let mut run = SecRun::new(js(r#"{"task": "object-permanence"}"#), 2.0).unwrap();
     for _ in 0..8 {
         run.step_episode().unwrap();
     }
@@ -221,7 +221,7 @@ fn live_changes_and_restarts_through_the_js_api() {
     assert_eq!(run.memory_map("t").unwrap().length() as u64, rows * run.stm_length() as u64);
     let restart = r#"{"task": "detour", "agent": {"memory": {"n": 20}}}"#;
     assert_eq!(run.configure(js(restart)).unwrap(), "restart");
-    assert_eq!((ltm(&mut run), run.stm_length(), run.seed()), (0, 20, 7.0), "a new run with the same seed");
+    assert_eq!((ltm(&mut run), run.stm_length(), run.seed()), (0, 20, 2.0), "a new run with the same seed");
 }
 
 #[wasm_bindgen_test]
@@ -242,10 +242,19 @@ fn models_are_registered_and_checked() {
 fn memory_files_and_driving_through_the_js_api() {
     use sec_playground::web::SecRun;
     models();
-    let mut a = SecRun::new(js(r#"{"task": "object-permanence"}"#), 7.0).unwrap();
+    let mut a = SecRun::new(js(r#"{"task": "object-permanence"}"#), 2.0).unwrap();
     while metrics(a.step_episode().unwrap()).ltm < 2 {}
     let file = a.save_memory().unwrap();
-    let mut b = SecRun::new(js(r#"{"task": "object-permanence"}"#), 8.0).unwrap();
+    // The untrained encoder is the seed's: another seed's run refuses the file, a run of the same
+    // seed (or, with the trained perception, of any seed) takes it.
+    let mut other = SecRun::new(js(r#"{"task": "object-permanence"}"#), 8.0).unwrap();
+    let e = message(other.load_memory(&file).err().unwrap());
+    assert!(e.starts_with("memory:") && e.contains("another encoder"), "{e}");
+    let trained = r#"{"task": "object-permanence", "perception": "trained"}"#;
+    let mut t = SecRun::new(js(trained), 2.0).unwrap();
+    while metrics(t.step_episode().unwrap()).ltm < 1 {}
+    SecRun::new(js(trained), 9.0).unwrap().load_memory(&t.save_memory().unwrap()).unwrap();
+    let mut b = SecRun::new(js(r#"{"task": "object-permanence"}"#), 2.0).unwrap();
     assert_eq!(b.load_memory(&file).unwrap(), metrics_ltm(&mut a));
     assert_eq!(b.save_memory().unwrap(), file);
     // Corrupt and foreign files: refused, the run unchanged and still running.

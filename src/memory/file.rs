@@ -108,7 +108,7 @@ impl Memory {
         if model != id.model {
             return Err(err(format!(
                 "the file was made with another encoder of '{task}' (fingerprint {model:016x}, this run's {:016x}), \
-                 so its embeddings mean something else",
+                 so its embeddings mean something else (the untrained perception draws an encoder per seed)",
                 id.model
             )));
         }

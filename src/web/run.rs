@@ -41,8 +41,14 @@ export interface RunConfig {
   mfec?: {
     embedding?: "autoencoder" | "random-projection"; k?: number; capacity?: number; gamma?: number;
     epsilon?: number; warmupDecisions?: number; warmupRewardedEpisodes?: number; sumRewards?: boolean;
+    bookkeeping?: "authors" | "per-episode";
   };
+  /** Which encoder embeds the frames: untrained (the authors' code, the default) or trained. */
+  perception?: "untrained" | "trained";
+  /** Replaces the embedding scale, in (0, 1e6] (null: 1 untrained, the calibrated scale trained). */
+  embeddingScale?: number | null;
   rawEmbeddings?: boolean;
+  startHeading?: "random" | "fixed";
 }
 /** One finished episode, as the paper's tables count it. */
 export interface EpisodeMetrics {

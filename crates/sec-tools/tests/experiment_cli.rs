@@ -95,7 +95,8 @@ fn bad_input_is_refused_by_name() {
         assert!(!ok, "{args:?} should fail");
         e
     };
-    assert!(err(&["run", "exp9"]).contains("experiment: 'exp9' is not one of exp1, exp2, exp3, exp4, presets, smoke"));
+    assert!(err(&["run", "exp9"])
+        .contains("experiment: 'exp9' is not one of exp1, exp2, exp3, exp4, presets, heading, perception, smoke"));
     assert!(err(&["run", "smoke", "--episodes", "0"]).contains("--episodes: '0' is not a whole number in 1..=1000000"));
     assert!(err(&["run", "smoke", "--shard", "3/2"]).contains("--shard: '3/2' is not i/N"));
     assert!(err(&["run", "smoke", "--seeds", "5..2"]).contains("--seeds: '5..2'"));
@@ -122,5 +123,27 @@ fn runs_of_parts_of_an_experiment_add_up_in_its_report() {
     assert!(md.contains("| SEC | 1 |") && md.contains("| NSEC | 1 |") && !md.contains("| reactive |"), "{md}");
     let (ok, _, err) = cli(&["run", "smoke", "--only", "cylinder/", "--out", out]);
     assert!(!ok && err.contains("--only: 'cylinder/' matches no condition of smoke"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The committed orderings table is what `sec-experiment orderings` makes of the committed runs,
+/// and REPRODUCTION.md quotes it as it is.
+#[test]
+fn the_committed_orderings_are_regenerated_from_the_committed_runs() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let dir = temp("orderings");
+    let (ok, md, err) = cli(&[
+        "orderings",
+        "--out",
+        root.join("results/experiments").to_str().unwrap(),
+        "--trained",
+        root.join("results/experiments-trained").to_str().unwrap(),
+        "--to",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert_eq!(md, std::fs::read_to_string(root.join("results/orderings.md")).unwrap());
+    let reproduction = std::fs::read_to_string(root.join("REPRODUCTION.md")).unwrap();
+    assert!(reproduction.contains(&md), "REPRODUCTION.md quotes results/orderings.md");
     let _ = std::fs::remove_dir_all(&dir);
 }
