@@ -506,3 +506,44 @@ fn the_similarity_sums_in_numpys_pairwise_order() {
     }
     assert!(differs_from_sequential > 0, "the example tells the orders apart");
 }
+
+#[test]
+fn after_forgetting_the_similarity_sums_in_f64_in_numpys_order_for_long_rows_too() {
+    // n = 13: the vectorised path (four couplets side by side) with an overlapping last block.
+    let numpy = |a: &[f64; EMBEDDING]| {
+        let r: Vec<f64> = (0..8).map(|l| a[l] + a[8 + l]).collect();
+        let mut s = ((r[0] + r[1]) + (r[2] + r[3])) + ((r[4] + r[5]) + (r[6] + r[7]));
+        for &v in &a[16..] {
+            s += v;
+        }
+        s
+    };
+    let mut r = ChaCha8Rng::seed_from_u64(12);
+    let n = 13;
+    let cfg = MemoryConfig { n, m: 1, forgetting: Forgetting::Fifo, sequential_bias: false, ..MemoryConfig::default() };
+    let mut mem = Memory::new(cfg).unwrap();
+    let stored: Vec<[f32; EMBEDDING]> = (0..n).map(|_| std::array::from_fn(|_| r.gen_range(0.0..4.0))).collect();
+    for x in &stored {
+        mem.update(Couplet { embedding: *x, action: 1 });
+    }
+    // m = 1 with FIFO: storing fills the LTM and forgets at once, so store twice to keep one row.
+    mem.store(1.0, &mut rng());
+    assert!(mem.store(1.0, &mut rng()));
+    assert_eq!(mem.len(), 0, "FIFO at m = 1 drops the row it just stored");
+    let cfg = MemoryConfig { n, m: 2, forgetting: Forgetting::Fifo, sequential_bias: false, ..MemoryConfig::default() };
+    let mut mem = Memory::new(cfg).unwrap();
+    for x in &stored {
+        mem.update(Couplet { embedding: *x, action: 1 });
+    }
+    mem.store(1.0, &mut rng());
+    mem.store(1.0, &mut rng());
+    assert_eq!(mem.len(), 1, "the second store filled m = 2 and forgot the oldest");
+    for _ in 0..20 {
+        let q: [f32; EMBEDDING] = std::array::from_fn(|_| r.gen_range(0.0..4.0));
+        mem.advance(&q, &mut rng());
+        for (j, x) in stored.iter().enumerate() {
+            let terms: [f64; EMBEDDING] = std::array::from_fn(|k| (q[k] as f64 - x[k] as f64).abs());
+            assert_eq!(mem.similarity()[j], 1.0 - numpy(&terms) / EMBEDDING as f64, "couplet {j}");
+        }
+    }
+}

@@ -387,20 +387,28 @@ impl Memory {
         // undefined); otherwise G > theta_abs and G / Gmax > theta_prop, the ratio rounded as
         // numpy rounds it.
         let (ta, tp) = (self.cfg.theta_abs, self.cfg.theta_prop);
+        // A vectorised pass marks a superset: G > theta_abs and G above theta_prop * Gmax lowered
+        // by far more than the division's and the product's rounding (1e-12 in f64, 1e-6 in
+        // f32), so every couplet with G / Gmax > theta_prop is in it; the few marked ones are
+        // then checked with the division itself.
+        let (g, selected) = (&self.g, &mut self.selected);
         if gmax <= 0.0 {
             self.sel.fill(false);
         } else if t.is_empty() && !self.forgot {
             let (ta, tp, gmax) = (ta as f32, tp as f32, gmax as f32);
+            let lo = tp * gmax * (1.0 - 1e-6);
             for (s, &g) in self.sel.iter_mut().zip(&self.sim) {
-                *s = (g > ta) & (g / gmax > tp);
+                *s = (g > ta) & (g > lo);
             }
+            let sim = &self.sim;
+            refine(&mut self.sel, |idx| sim[idx] / gmax > tp, |idx| push(selected, n, idx, g[idx]));
         } else {
-            for (s, &g) in self.sel.iter_mut().zip(&self.g) {
-                *s = (g > ta) & (g / gmax > tp);
+            let lo = tp * gmax * (1.0 - 1e-12);
+            for (s, &g) in self.sel.iter_mut().zip(g) {
+                *s = (g > ta) & (g > lo);
             }
+            refine(&mut self.sel, |idx| g[idx] / gmax > tp, |idx| push(selected, n, idx, g[idx]));
         }
-        let (g, selected) = (&self.g, &mut self.selected);
-        each_set(&self.sel, |idx| selected.push(Selected { row: (idx / n) as u32, col: (idx % n) as u32, g: g[idx] }));
         if self.selected.is_empty() {
             return None;
         }
@@ -550,26 +558,24 @@ impl Memory {
 
 /// 1 - MAE between `e` and every stored couplet: `ltm` holds rows of n couplets transposed
 /// (`[k][j]`), `out` gets one value per couplet, row-major. Each couplet sums its 20 terms
-/// |e_k - x_k| in numpy's pairwise order (`pairwise20`), so vectorising across couplets changes no
-/// bits; on x86-64 with AVX2 the same code runs 8 couplets per instruction.
+/// |e_k - x_k| in numpy's pairwise order (`pairwise20`), whether one couplet at a time or eight
+/// (AVX2) or four (wasm simd128) side by side, so every target gives the same bits.
 fn similarity(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f32]) {
     #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") {
+    if std::is_x86_feature_detected!("avx2") && n >= 8 {
         // SAFETY: the CPU supports AVX2, checked just above.
-        return unsafe { similarity_avx2(e, ltm, n, out) };
+        return unsafe { simd_avx2::similarity(e, ltm, n, out) };
     }
-    similarity_any(e, ltm, n, out)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn similarity_avx2(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f32]) {
-    similarity_any(e, ltm, n, out)
+    #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+    if n >= 4 {
+        return simd128::similarity(e, ltm, n, out);
+    }
+    similarity_scalar(e, ltm, n, out)
 }
 
 /// numpy's sum of 20 values (`pairwise_sum` for n <= 128): eight partial sums r_l = a_l + a_{8+l},
 /// combined as ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7)), then a_16..a_19 added in turn.
-/// `term(k)` gives a_k; generic so the same order serves f32 and f64, scalars and lanes.
+/// `term(k)` gives a_k; generic so the same order serves f32 and f64.
 #[inline(always)]
 pub fn pairwise20<T: Copy + std::ops::Add<Output = T>>(term: impl Fn(usize) -> T) -> T {
     const _: () = assert!(EMBEDDING == 20, "the order below is numpy's for 20 terms");
@@ -588,52 +594,141 @@ pub fn pairwise9(a: &[f64; 9]) -> f64 {
     (((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]))) + a[8]
 }
 
-/// Eight couplets' 20 absolute differences as lanes, summed in `pairwise20`'s order.
-#[derive(Clone, Copy)]
-struct Lanes([f32; 8]);
-
-impl std::ops::Add for Lanes {
-    type Output = Lanes;
-    #[inline(always)]
-    fn add(self, o: Lanes) -> Lanes {
-        Lanes(std::array::from_fn(|l| self.0[l] + o.0[l]))
+fn similarity_scalar(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f32]) {
+    for (row, o) in ltm.chunks_exact(EMBEDDING * n).zip(out.chunks_exact_mut(n)) {
+        for (j, o) in o.iter_mut().enumerate() {
+            let acc = pairwise20(|k| (e[k] - row[k * n + j]).abs());
+            *o = 1.0 - acc / EMBEDDING as f32;
+        }
     }
 }
 
+/// `similarity` for rows of at least L couplets, L side by side: the last block overlaps the one
+/// before when L does not divide n (the same values are written twice). `block(row, j)` gives
+/// the L sums of couplets j..j + L; `put` writes them.
 #[inline(always)]
-fn similarity_any(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f32]) {
-    /// Couplets summed together, their sums held in registers.
-    const C: usize = 8;
+fn blocks<const L: usize>(ltm: &[f32], n: usize, out: &mut [f32], mut block: impl FnMut(&[f32], usize, &mut [f32])) {
     for (row, o) in ltm.chunks_exact(EMBEDDING * n).zip(out.chunks_exact_mut(n)) {
-        if n < C {
-            for (j, o) in o.iter_mut().enumerate() {
-                let acc = pairwise20(|k| (e[k] - row[k * n + j]).abs());
-                *o = 1.0 - acc / EMBEDDING as f32;
-            }
-            continue;
-        }
         let mut j0 = 0;
         loop {
-            // The last chunk overlaps the one before when C does not divide n (same values).
-            let j = j0.min(n - C);
-            let acc = pairwise20(|k| {
-                let x: &[f32; C] = row[k * n + j..][..C].try_into().unwrap();
-                Lanes(std::array::from_fn(|l| (e[k] - x[l]).abs()))
-            });
-            for l in 0..C {
-                o[j + l] = 1.0 - acc.0[l] / EMBEDDING as f32;
-            }
-            if j + C >= n {
+            let j = j0.min(n - L);
+            block(row, j, &mut o[j..j + L]);
+            if j + L >= n {
                 break;
             }
-            j0 += C;
+            j0 += L;
         }
+    }
+}
+
+/// The AVX2 copy: eight couplets per instruction. Written with intrinsics because the compiler
+/// kept the pairwise order's eight partial sums in memory and ran at half the speed of a plain
+/// sum.
+#[cfg(target_arch = "x86_64")]
+mod simd_avx2 {
+    use super::{blocks, EMBEDDING};
+    use std::arch::x86_64::*;
+
+    #[target_feature(enable = "avx2")]
+    pub unsafe fn similarity(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f32]) {
+        let abs = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fff_ffff));
+        let (one, twenty) = (_mm256_set1_ps(1.0), _mm256_set1_ps(EMBEDDING as f32));
+        blocks::<8>(ltm, n, out, |row, j, o| {
+            debug_assert!(row.len() >= (EMBEDDING - 1) * n + j + 8 && o.len() == 8);
+            // SAFETY: every load reads 8 floats of `row` at k * n + j with j + 8 <= n (blocks),
+            // and the store writes the 8 of `o`.
+            unsafe {
+                let d = |k: usize| {
+                    let x = _mm256_loadu_ps(row.as_ptr().add(k * n + j));
+                    _mm256_and_ps(_mm256_sub_ps(_mm256_set1_ps(e[k]), x), abs)
+                };
+                let r = |k: usize| _mm256_add_ps(d(k), d(k + 8));
+                let left = _mm256_add_ps(_mm256_add_ps(r(0), r(1)), _mm256_add_ps(r(2), r(3)));
+                let right = _mm256_add_ps(_mm256_add_ps(r(4), r(5)), _mm256_add_ps(r(6), r(7)));
+                let mut acc = _mm256_add_ps(left, right);
+                for k in 16..EMBEDDING {
+                    acc = _mm256_add_ps(acc, d(k));
+                }
+                _mm256_storeu_ps(o.as_mut_ptr(), _mm256_sub_ps(one, _mm256_div_ps(acc, twenty)));
+            }
+        });
+    }
+
+    /// `super::similarity_f64`, four couplets per instruction.
+    #[target_feature(enable = "avx2")]
+    pub unsafe fn similarity_f64(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f64]) {
+        let abs = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fff_ffff_ffff_ffff));
+        let (one, twenty) = (_mm256_set1_pd(1.0), _mm256_set1_pd(EMBEDDING as f64));
+        for (row, o) in ltm.chunks_exact(EMBEDDING * n).zip(out.chunks_exact_mut(n)) {
+            let mut j0 = 0;
+            loop {
+                let j = j0.min(n - 4);
+                // SAFETY: every load reads 4 floats of `row` at k * n + j with j + 4 <= n, and
+                // the store writes o[j..j + 4].
+                unsafe {
+                    let d = |k: usize| {
+                        let x = _mm256_cvtps_pd(_mm_loadu_ps(row.as_ptr().add(k * n + j)));
+                        _mm256_and_pd(_mm256_sub_pd(_mm256_set1_pd(e[k] as f64), x), abs)
+                    };
+                    let r = |k: usize| _mm256_add_pd(d(k), d(k + 8));
+                    let left = _mm256_add_pd(_mm256_add_pd(r(0), r(1)), _mm256_add_pd(r(2), r(3)));
+                    let right = _mm256_add_pd(_mm256_add_pd(r(4), r(5)), _mm256_add_pd(r(6), r(7)));
+                    let mut acc = _mm256_add_pd(left, right);
+                    for k in 16..EMBEDDING {
+                        acc = _mm256_add_pd(acc, d(k));
+                    }
+                    _mm256_storeu_pd(o[j..j + 4].as_mut_ptr(), _mm256_sub_pd(one, _mm256_div_pd(acc, twenty)));
+                }
+                if j + 4 >= n {
+                    break;
+                }
+                j0 += 4;
+            }
+        }
+    }
+}
+
+/// The wasm simd128 copy: four couplets per instruction.
+#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+mod simd128 {
+    use super::{blocks, EMBEDDING};
+    use std::arch::wasm32::*;
+
+    pub fn similarity(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f32]) {
+        let (one, twenty) = (f32x4_splat(1.0), f32x4_splat(EMBEDDING as f32));
+        blocks::<4>(ltm, n, out, |row, j, o| {
+            let d = |k: usize| {
+                let x: &[f32; 4] = row[k * n + j..][..4].try_into().unwrap();
+                f32x4_abs(f32x4_sub(f32x4_splat(e[k]), f32x4(x[0], x[1], x[2], x[3])))
+            };
+            let r = |k: usize| f32x4_add(d(k), d(k + 8));
+            let left = f32x4_add(f32x4_add(r(0), r(1)), f32x4_add(r(2), r(3)));
+            let right = f32x4_add(f32x4_add(r(4), r(5)), f32x4_add(r(6), r(7)));
+            let mut acc = f32x4_add(left, right);
+            for k in 16..EMBEDDING {
+                acc = f32x4_add(acc, d(k));
+            }
+            let v = f32x4_sub(one, f32x4_div(acc, twenty));
+            for (l, o) in o.iter_mut().enumerate() {
+                *o = match l {
+                    0 => f32x4_extract_lane::<0>(v),
+                    1 => f32x4_extract_lane::<1>(v),
+                    2 => f32x4_extract_lane::<2>(v),
+                    _ => f32x4_extract_lane::<3>(v),
+                };
+            }
+        });
     }
 }
 
 /// `similarity` in f64, as numpy computes it once the LTM holds Python floats: each couplet
 /// sums |e_k - x_k| in f64 in `pairwise20`'s order, then 1 - sum / 20.
 fn similarity_f64(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f64]) {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") && n >= 4 {
+        // SAFETY: the CPU supports AVX2, checked just above.
+        return unsafe { simd_avx2::similarity_f64(e, ltm, n, out) };
+    }
     let e = e.map(f64::from);
     for (row, o) in ltm.chunks_exact(EMBEDDING * n).zip(out.chunks_exact_mut(n)) {
         for (j, o) in o.iter_mut().enumerate() {
@@ -688,6 +783,27 @@ fn biased_any(sim: &[f32], t: &[f64], g: &mut [f64]) -> f64 {
         }
     }
     tail.iter().chain(&m).fold(f64::NEG_INFINITY, |a, &b| if b > a { b } else { a })
+}
+
+/// Keeps a true of `mask` only where `keep(index)` holds, calling `kept` with each kept index in
+/// ascending order. Few are true, so it skips eight at a time.
+fn refine(mask: &mut [bool], keep: impl Fn(usize) -> bool, mut kept: impl FnMut(usize)) {
+    for (w, chunk) in mask.chunks_mut(8).enumerate() {
+        if chunk.iter().any(|&s| s) {
+            for (l, s) in chunk.iter_mut().enumerate() {
+                if *s {
+                    *s = keep(w * 8 + l);
+                    if *s {
+                        kept(w * 8 + l);
+                    }
+                }
+            }
+        }
+    }
+}
+
+fn push(selected: &mut Vec<Selected>, n: usize, idx: usize, g: f64) {
+    selected.push(Selected { row: (idx / n) as u32, col: (idx % n) as u32, g });
 }
 
 /// Calls `f` with the index of every true in `mask`, ascending. Few couplets are selected, so

@@ -143,11 +143,13 @@ pub fn prepare(out: &Path, manifest: &Manifest) -> Result<(), String> {
     fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// The jobs of `conditions` x `seeds`, in a fixed order, keeping shard `shard` of `of`.
+/// The jobs of `conditions` x `seeds`, seed by seed (every condition's seed 1, then seed 2, ...)
+/// so that an interrupted grid has runs of every condition to compare, keeping shard `shard` of
+/// `of`.
 pub fn jobs(conditions: &[Condition], seeds: &[u64], (shard, of): (usize, usize)) -> Vec<Job> {
-    let all = conditions
-        .iter()
-        .flat_map(|c| seeds.iter().map(|&seed| Job { condition: c.name.clone(), config: c.config.clone(), seed }));
+    let all = seeds.iter().flat_map(|&seed| {
+        conditions.iter().map(move |c| Job { condition: c.name.clone(), config: c.config.clone(), seed })
+    });
     all.enumerate().filter(|(i, _)| i % of == shard - 1).map(|(_, j)| j).collect()
 }
 
