@@ -1,5 +1,5 @@
 //! Encoder and decoder speed per frame (issue 3 targets: encoder <= 0.6 ms natively).
-//! Run: `cargo bench --bench encoder`. Uses the bundled T-maze model.
+//! Run: `cargo bench --bench encoder`. Uses the bundled T-maze model and an untrained encoder.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use sec_playground::arena::{Env, EnvConfig, Task};
@@ -15,6 +15,11 @@ fn encoder(c: &mut Criterion) {
     c.bench_function("encode", |b| b.iter(|| ae.encode(black_box(&img), &mut s, &mut e)));
     let mut rec = Vec::new();
     c.bench_function("decode", |b| b.iter(|| ae.decode(black_box(&e), &mut s, &mut rec)));
+    // The code preset's perception: a Glorot-initialised encoder, whose activations have fewer
+    // zeros for the sparse kernels to skip.
+    use sec_playground::encoder::{Perception, PerceptionKind};
+    let p = Perception::new(PerceptionKind::Untrained, "double-t-maze", None, 1).unwrap();
+    c.bench_function("encode, untrained encoder", |b| b.iter(|| p.embed(black_box(&img), &mut s, &mut e)));
 }
 
 criterion_group!(benches, encoder);

@@ -697,9 +697,12 @@ mod simd128 {
     pub fn similarity(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f32]) {
         let (one, twenty) = (f32x4_splat(1.0), f32x4_splat(EMBEDDING as f32));
         blocks::<4>(ltm, n, out, |row, j, o| {
+            assert!(row.len() >= (EMBEDDING - 1) * n + j + 4);
             let d = |k: usize| {
-                let x: &[f32; 4] = row[k * n + j..][..4].try_into().unwrap();
-                f32x4_abs(f32x4_sub(f32x4_splat(e[k]), f32x4(x[0], x[1], x[2], x[3])))
+                // SAFETY: k * n + j + 4 <= row.len() (asserted above; blocks keep j + 4 <= n), and
+                // wasm loads need no alignment.
+                let x = unsafe { v128_load(row.as_ptr().add(k * n + j) as *const v128) };
+                f32x4_abs(f32x4_sub(f32x4_splat(e[k]), x))
             };
             let r = |k: usize| f32x4_add(d(k), d(k + 8));
             let left = f32x4_add(f32x4_add(r(0), r(1)), f32x4_add(r(2), r(3)));
@@ -709,14 +712,9 @@ mod simd128 {
                 acc = f32x4_add(acc, d(k));
             }
             let v = f32x4_sub(one, f32x4_div(acc, twenty));
-            for (l, o) in o.iter_mut().enumerate() {
-                *o = match l {
-                    0 => f32x4_extract_lane::<0>(v),
-                    1 => f32x4_extract_lane::<1>(v),
-                    2 => f32x4_extract_lane::<2>(v),
-                    _ => f32x4_extract_lane::<3>(v),
-                };
-            }
+            assert_eq!(o.len(), 4);
+            // SAFETY: `o` holds the block's 4 floats (asserted above).
+            unsafe { v128_store(o.as_mut_ptr() as *mut v128, v) };
         });
     }
 }
