@@ -604,8 +604,9 @@ fn similarity_scalar(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f32
 }
 
 /// `similarity` for rows of at least L couplets, L side by side: the last block overlaps the one
-/// before when L does not divide n (the same values are written twice). `block(row, j)` gives
-/// the L sums of couplets j..j + L; `put` writes them.
+/// before when L does not divide n (the same values are written twice). `block(row, j, o)`
+/// writes the similarities of couplets j..j + L into `o`.
+#[cfg(any(target_arch = "x86_64", all(target_arch = "wasm32", target_feature = "simd128")))]
 #[inline(always)]
 fn blocks<const L: usize>(ltm: &[f32], n: usize, out: &mut [f32], mut block: impl FnMut(&[f32], usize, &mut [f32])) {
     for (row, o) in ltm.chunks_exact(EMBEDDING * n).zip(out.chunks_exact_mut(n)) {
