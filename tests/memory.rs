@@ -31,6 +31,17 @@ fn with_sequence(cfg: MemoryConfig, values: &[f32], action: u8, r: f64) -> Memor
     m
 }
 
+/// numpy's `np.sum` of 20 values along a contiguous axis: eight pairs, a tree, then four more
+/// (written independently of the library's order).
+fn numpy_sum20<T: Copy + std::ops::Add<Output = T>>(a: &[T; EMBEDDING]) -> T {
+    let r: Vec<T> = (0..8).map(|l| a[l] + a[8 + l]).collect();
+    let mut s = ((r[0] + r[1]) + (r[2] + r[3])) + ((r[4] + r[5]) + (r[6] + r[7]));
+    for &v in &a[16..] {
+        s = s + v;
+    }
+    s
+}
+
 fn cfg(n: usize) -> MemoryConfig {
     MemoryConfig { n, ..MemoryConfig::default() }
 }
@@ -475,15 +486,6 @@ fn after_any_forgetting_the_similarity_is_computed_in_f64() {
 
 #[test]
 fn the_similarity_sums_in_numpys_pairwise_order() {
-    // numpy's np.sum over the last axis of 20 f32 values: eight pairs, a tree, then four more.
-    let numpy = |a: &[f32; EMBEDDING]| {
-        let r: Vec<f32> = (0..8).map(|l| a[l] + a[8 + l]).collect();
-        let mut s = ((r[0] + r[1]) + (r[2] + r[3])) + ((r[4] + r[5]) + (r[6] + r[7]));
-        for &v in &a[16..] {
-            s += v;
-        }
-        s
-    };
     let mut r = ChaCha8Rng::seed_from_u64(8);
     let (mut differs_from_sequential, n) = (0, 13);
     let cfg = MemoryConfig { n, sequential_bias: false, ..MemoryConfig::default() };
@@ -498,7 +500,7 @@ fn the_similarity_sums_in_numpys_pairwise_order() {
         mem.advance(&q, &mut rng());
         for (j, x) in stored.iter().enumerate() {
             let terms: [f32; EMBEDDING] = std::array::from_fn(|k| (q[k] - x[k]).abs());
-            let want = 1.0 - numpy(&terms) / EMBEDDING as f32;
+            let want = 1.0 - numpy_sum20(&terms) / EMBEDDING as f32;
             assert_eq!(mem.similarity()[j], want as f64, "couplet {j}");
             let sequential = 1.0 - terms.iter().sum::<f32>() / EMBEDDING as f32;
             differs_from_sequential += (sequential != want) as u32;
@@ -510,28 +512,11 @@ fn the_similarity_sums_in_numpys_pairwise_order() {
 #[test]
 fn after_forgetting_the_similarity_sums_in_f64_in_numpys_order_for_long_rows_too() {
     // n = 13: the vectorised path (four couplets side by side) with an overlapping last block.
-    let numpy = |a: &[f64; EMBEDDING]| {
-        let r: Vec<f64> = (0..8).map(|l| a[l] + a[8 + l]).collect();
-        let mut s = ((r[0] + r[1]) + (r[2] + r[3])) + ((r[4] + r[5]) + (r[6] + r[7]));
-        for &v in &a[16..] {
-            s += v;
-        }
-        s
-    };
     let mut r = ChaCha8Rng::seed_from_u64(12);
     let n = 13;
-    let cfg = MemoryConfig { n, m: 1, forgetting: Forgetting::Fifo, sequential_bias: false, ..MemoryConfig::default() };
-    let mut mem = Memory::new(cfg).unwrap();
-    let stored: Vec<[f32; EMBEDDING]> = (0..n).map(|_| std::array::from_fn(|_| r.gen_range(0.0..4.0))).collect();
-    for x in &stored {
-        mem.update(Couplet { embedding: *x, action: 1 });
-    }
-    // m = 1 with FIFO: storing fills the LTM and forgets at once, so store twice to keep one row.
-    mem.store(1.0, &mut rng());
-    assert!(mem.store(1.0, &mut rng()));
-    assert_eq!(mem.len(), 0, "FIFO at m = 1 drops the row it just stored");
     let cfg = MemoryConfig { n, m: 2, forgetting: Forgetting::Fifo, sequential_bias: false, ..MemoryConfig::default() };
     let mut mem = Memory::new(cfg).unwrap();
+    let stored: Vec<[f32; EMBEDDING]> = (0..n).map(|_| std::array::from_fn(|_| r.gen_range(0.0..4.0))).collect();
     for x in &stored {
         mem.update(Couplet { embedding: *x, action: 1 });
     }
@@ -543,7 +528,7 @@ fn after_forgetting_the_similarity_sums_in_f64_in_numpys_order_for_long_rows_too
         mem.advance(&q, &mut rng());
         for (j, x) in stored.iter().enumerate() {
             let terms: [f64; EMBEDDING] = std::array::from_fn(|k| (q[k] as f64 - x[k] as f64).abs());
-            assert_eq!(mem.similarity()[j], 1.0 - numpy(&terms) / EMBEDDING as f64, "couplet {j}");
+            assert_eq!(mem.similarity()[j], 1.0 - numpy_sum20(&terms) / EMBEDDING as f64, "couplet {j}");
         }
     }
 }

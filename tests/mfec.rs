@@ -31,6 +31,18 @@ fn state(x: f32) -> [f32; EMBEDDING] {
     e
 }
 
+/// Decisions on states 1, 2, 3 (every Q equal: action 0 each), each after a -0.001 decision
+/// frame, then the goal (+1, episode reward 1) on a decision frame with a terminal decision on 4.
+fn three_decisions_then_goal(m: &mut Mfec, r: &mut ChaCha8Rng) {
+    for x in [1.0, 2.0, 3.0] {
+        m.frame(-0.001, 0.0, false, true);
+        m.decide(&state(x), false, r);
+    }
+    m.frame(1.0, 1.0, true, true);
+    m.decide(&state(4.0), true, r);
+    m.episode_end(true);
+}
+
 fn rng() -> ChaCha8Rng {
     ChaCha8Rng::seed_from_u64(1)
 }
@@ -51,13 +63,7 @@ fn returns_are_discounted_backwards_and_looked_up_exactly_or_by_nearest_neighbou
     let mut r = rng();
     let mut m = Mfec::new(greedy(2, 10, 0.5), &mut r).unwrap();
     // Three decisions (all action 0: every Q is -10), the goal on the third's following frame.
-    for x in [1.0, 2.0, 3.0] {
-        m.frame(-0.001, 0.0, false, true);
-        m.decide(&state(x), false, &mut r);
-    }
-    m.frame(1.0, 1.0, true, true);
-    m.decide(&state(4.0), true, &mut r);
-    m.episode_end(true);
+    three_decisions_then_goal(&mut m, &mut r);
     // The first frame's penalty came before any decision and reaches nothing; the next two
     // decision frames give -0.001 each, the goal frame the episode reward: g = r + 0.5 g'.
     let q = |m: &mut Mfec, x: f32, r: &mut ChaCha8Rng| {
@@ -202,13 +208,7 @@ fn the_authors_buffers_hold_capacity_minus_one_written_newest_first() {
     // Capacity 3 keeps 2 entries per buffer. Decisions on 1, 2, 3 (equal -10s: action 0 each),
     // the goal on a decision frame with a terminal decision on 4.
     let mut m = Mfec::new(authors(1, 3, 1.0), &mut r).unwrap();
-    for x in [1.0, 2.0, 3.0] {
-        m.frame(-0.001, 0.0, false, true);
-        m.decide(&state(x), false, &mut r);
-    }
-    m.frame(1.0, 1.0, true, true);
-    m.decide(&state(4.0), true, &mut r);
-    m.episode_end(true);
+    three_decisions_then_goal(&mut m, &mut r);
     // Transitions dummy(0) -> 1 -> 2 -> 3 with returns 0.997, 0.998, 0.999, 1. Written 3, 2,
     // 1, 0, each new state evicting the oldest: buffer 0 keeps the last two written, 1 and 0.
     assert_eq!(m.len(), 2 + 8);
