@@ -1,4 +1,4 @@
-//! Arbitration between the contextual and reactive layers (sec-algorithm.md section 4) and the
+//! Arbitration between the contextual and reactive layers (docs/ALGORITHM.md) and the
 //! agent's documented deviations.
 
 use rand::SeedableRng;

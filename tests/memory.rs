@@ -1,4 +1,4 @@
-//! The contextual layer against hand-computed values (sec-algorithm.md sections 5-8) and its
+//! The contextual layer against hand-computed values (docs/ALGORITHM.md, "The contextual layer") and its
 //! invariants over random operation sequences.
 
 use rand::{Rng, SeedableRng};

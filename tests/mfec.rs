@@ -1,4 +1,4 @@
-//! The MFEC baseline (sec-algorithm.md section 13) on hand-made states.
+//! The MFEC baseline (docs/ALGORITHM.md, "MFEC") on hand-made states.
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;

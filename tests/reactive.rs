@@ -1,4 +1,4 @@
-//! The reactive layer's cycles (sec-algorithm.md section 10).
+//! The reactive layer's cycles (docs/ALGORITHM.md).
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;

@@ -1,4 +1,4 @@
-//! The MFEC baseline as the authors ran it (sec-algorithm.md section 13): nine per-action buffers
+//! The MFEC baseline as the authors ran it (docs/ALGORITHM.md, "MFEC"): nine per-action buffers
 //! of (embedding, value), Q by exact match or the mean of the k nearest, argmax, the reactive walk
 //! for exploration, and discounted returns written back at episode end.
 //!

@@ -1,4 +1,4 @@
-//! The SEC agent (sec-algorithm.md section 4): at every decision the contextual layer of
+//! The SEC agent (docs/ALGORITHM.md, "The contextual layer", arbitration): at every decision the contextual layer of
 //! `crate::memory` and the reactive layer both answer, and the contextual action is taken only
 //! when it selected something, the LTM holds enough sequences and the reconstruction gate is open.
 
@@ -181,7 +181,7 @@ impl Agent {
         Decision { action, layer, selected: contextual.is_some() }
     }
 
-    /// A goal was reached with episode reward `r`: store the STM (section 6). By default the
+    /// A goal was reached with episode reward `r`: store the STM (docs/ALGORITHM.md, storage). By default the
     /// couplet of the last decision is not part of it (D4).
     pub fn goal(&mut self, r: f64, rng: &mut ChaCha8Rng) -> bool {
         if self.cfg.store_last_couplet && !self.previous_pushed {

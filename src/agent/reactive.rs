@@ -1,4 +1,4 @@
-//! The reactive layer (sec-algorithm.md section 10): a random walk of straight runs and turns in
+//! The reactive layer (docs/ALGORITHM.md, "The reactive layer"): a random walk of straight runs and turns in
 //! place, the only exploration SEC has. It advances at every decision, even when the contextual
 //! layer's action is the one taken, and keeps its state across episodes.
 

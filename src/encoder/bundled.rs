@@ -1,4 +1,4 @@
-//! The trained models, one per task (sec-algorithm.md section 11). Native builds compile all six
+//! The trained models, one per task (docs/ALGORITHM.md, "Perception"). Native builds compile all six
 //! in (`sec-train` writes them; `encoder-report` calibrates their embedding scale,
 //! docs/ENCODER.md). The wasm build does not: the page fetches the one model its task needs
 //! (`assets/encoders/<task>.secae`, about 394 KB) and registers it, which keeps the download

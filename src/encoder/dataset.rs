@@ -1,4 +1,4 @@
-//! Autoencoder training data exactly as the authors made it (sec-algorithm.md section 11, D10):
+//! Autoencoder training data exactly as the authors made it (docs/ALGORITHM.md, D10):
 //! single first-frame views from uniformly random agent poses in the task's arena, not
 //! trajectories. Their generator drew x, z with `randint(5, 35)` (whole numbers 5..=34) and the
 //! heading with `randint(0, 359)` (0..=358 degrees).

@@ -12,7 +12,7 @@ pub use model::{Autoencoder, Scratch, EMBEDDING, IMAGE, PARAMETERS};
 pub use perception::{Perception, PerceptionKind};
 pub use weights::{DType, Weights};
 
-/// The gate of sec-algorithm.md section 4: the reconstruction MSE of the current frame,
+/// The reconstruction gate (docs/ALGORITHM.md, "Perception"): the reconstruction MSE of the current frame,
 /// re-measured on every 16th env step, starting at 100 so the contextual layer stays off until
 /// the first measurement.
 ///

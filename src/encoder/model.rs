@@ -1,4 +1,4 @@
-//! The paper's autoencoder, layer for layer (sec-algorithm.md section 11): 196,663 parameters,
+//! The paper's autoencoder, layer for layer (docs/ALGORITHM.md, "Perception"): 196,663 parameters,
 //! a Dense(20, ReLU) bottleneck, and a decoder with one `valid` convolution.
 //!
 //! Tensors use Keras layouts: convolutions HWIO `[3][3][in][out]`, dense `[in][out]`, and the

@@ -34,7 +34,7 @@ pub struct Tensor {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Weights {
     pub task: String,
-    /// Multiplies the embedding; 1.0 is the authors' raw ReLU output (sec-algorithm.md D17).
+    /// Multiplies the embedding; 1.0 is the authors' raw ReLU output (docs/ALGORITHM.md, D17).
     pub embedding_scale: f32,
     pub tensors: Vec<Tensor>,
 }

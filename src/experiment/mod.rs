@@ -1,7 +1,7 @@
-//! A run of SEC, or of a baseline (MFEC, the reactive walk), in a task (sec-algorithm.md section
-//! 3): the environment, the frozen encoder, the reconstruction gate and the agent, one env step at
-//! a time with a decision every 4, and the per-episode metrics the paper's tables count (section
-//! 8), one JSON line per episode.
+//! A run of SEC, or of a baseline (MFEC, the reactive walk), in a task (docs/ALGORITHM.md, "The
+//! run loop"): the environment, the perception, the reconstruction gate and the agent, one env
+//! step at a time with a decision every 4, and the per-episode metrics the paper's tables count,
+//! one JSON line per episode.
 
 use crate::agent::mfec::{Embedding, Mfec, MfecConfig, RandomProjection};
 use crate::agent::{Agent, AgentConfig, Decision, Layer, Reactive};

@@ -1,5 +1,6 @@
-//! The paper's four experiments as named grids of run configurations (sec-algorithm.md section 9
-//! holds the numbers they are compared with). Shared by the native runner and the page.
+//! The paper's four experiments as named grids of run configurations, with the paper's totals over
+//! 5000 episodes (from the authors' notebooks) they are compared with, and the project's own
+//! experiments on the start heading and the perception. Shared by the native runner and the page.
 
 use super::{AgentKind, RunConfig};
 use crate::agent::mfec::Embedding;

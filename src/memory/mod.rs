@@ -1,4 +1,4 @@
-//! SEC's contextual layer (sec-algorithm.md sections 2 and 5-8): the short-term memory (STM) of
+//! SEC's contextual layer (docs/ALGORITHM.md, "The contextual layer"): the short-term memory (STM) of
 //! the last n couplets, the long-term memory (LTM) of rewarded sequences, the sequential-bias
 //! matrix T, retrieval and action selection.
 //!

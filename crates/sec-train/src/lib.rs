@@ -1,4 +1,4 @@
-//! Training of the paper's autoencoder with burn (sec-algorithm.md section 11): RMSprop
+//! Training of the paper's autoencoder with burn (docs/ENCODER.md): RMSprop
 //! (Keras' defaults: rho 0.9, no momentum, epsilon 1e-7), lr 1e-3, MSE, batch 64, Glorot-uniform
 //! initialisation, data reshuffled every epoch. Deterministic given the seed: the initial weights
 //! and the shuffles come from the project's ChaCha generator, not from burn's.

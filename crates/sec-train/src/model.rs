@@ -1,4 +1,4 @@
-//! The paper's autoencoder (sec-algorithm.md section 11) as a burn module, channel-first as burn
+//! The paper's autoencoder (docs/ENCODER.md) as a burn module, channel-first as burn
 //! wants it, with exact conversions to and from the project's weights (Keras layouts: conv kernels
 //! HWIO, dense [in][out], flatten in (y, x, c) order).
 

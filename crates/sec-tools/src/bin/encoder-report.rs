@@ -1,4 +1,4 @@
-//! The autoencoders' calibration report (issue 3, sec-algorithm.md D17): per task the held-out
+//! The autoencoders' calibration report (issue 3, docs/ALGORITHM.md D17): per task the held-out
 //! reconstruction MSE, the similarity 1 - MAE between embeddings of the same place slightly
 //! perturbed and of different places, the nearest-neighbour MAE, a gallery of reconstructions and
 //! the training curves. With `--calibrate` it also stores the embedding scale that puts the 0.98
