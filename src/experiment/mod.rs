@@ -441,7 +441,7 @@ impl Run {
         self.current.as_ref()
     }
 
-    /// One env step of section 3's loop: the reward of the step just taken, storage on the goal
+    /// One env step of the run loop (docs/ALGORITHM.md): the reward of the step just taken, storage on the goal
     /// event, the gate, the decision every `decisionPeriod` steps; then the next env step, or the
     /// episode's end (its metrics) and the reset for the next one. `episode` is built on this, so
     /// stepping by ticks, decisions or episodes gives the same run.

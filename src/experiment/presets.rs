@@ -31,7 +31,7 @@ pub const EXPERIMENTS: [(&str, &str); 8] = [
 ];
 
 const TASKS: [(&str, [f64; 4]); 4] = [
-    // SEC, NSEC, MFEC-ae, MFEC-rp totals of section 9.
+    // SEC, NSEC, MFEC-ae, MFEC-rp totals over 5000 episodes, from the authors' notebooks.
     ("double-t-maze", [11604.88, 5024.53, 3525.48, 1860.34]),
     ("cylinder", [5829.88, 5130.67, 4065.24, 5254.58]),
     ("detour", [1181.82, 3.48, 3.74, 4.02]),
@@ -88,7 +88,7 @@ pub fn experiment(name: &str) -> Result<Vec<Condition>, ConfigError> {
             }
         }
         "exp3" => {
-            // The paper's first ablation table (section 9); the solo variants' are not public.
+            // The paper's first ablation table; the solo variants' are not public.
             let paper = |v: &str| match v {
                 "default" => Some(11840.32),
                 "noDist" => Some(10841.95),
@@ -103,7 +103,7 @@ pub fn experiment(name: &str) -> Result<Vec<Condition>, ConfigError> {
             }
         }
         "exp4" => {
-            // SEC-rwd's published data is the PRIOR run (section 9); NSEC-rwd's is RWD.
+            // SEC-rwd's published data is the PRIOR run (the authors' notebooks); NSEC-rwd's is RWD.
             let paper: [(Forgetting, &str, Option<f64>, Option<f64>); 4] = [
                 (Forgetting::None, "none", Some(11604.88), Some(5024.53)),
                 (Forgetting::Fifo, "fifo", Some(12401.42), Some(5173.49)),

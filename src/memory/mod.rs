@@ -26,7 +26,7 @@ fn parse_named<T: Copy>(param: &str, table: &[(&str, T)], s: &str) -> Result<T, 
 }
 
 /// How a selected couplet's value combines its similarity g, relative reward rr and distance d
-/// (section 7). `Default` is the paper's SEC; the others are the ablations of experiment 3.
+/// (docs/ALGORITHM.md, retrieval). `Default` is the paper's SEC; the others are the ablations of experiment 3.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "camelCase")]
 pub enum ValueFn {
@@ -77,7 +77,7 @@ impl ValueFn {
     }
 }
 
-/// What happens when a sequence is stored into a full LTM (section 6).
+/// What happens when a sequence is stored into a full LTM (docs/ALGORITHM.md, storage and forgetting).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Forgetting {
@@ -198,7 +198,7 @@ impl Couplet {
     pub const ZERO: Couplet = Couplet { embedding: [0.0; EMBEDDING], action: 0 };
 }
 
-/// A selected couplet (section 7): LTM row, column, and its G (bias included).
+/// A selected couplet (docs/ALGORITHM.md, retrieval): LTM row, column, and its G (bias included).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Selected {
     pub row: u32,
@@ -275,7 +275,7 @@ impl Memory {
     }
 
     /// The last computed entropy in bits: 0 before the first selection, and stale (kept) when
-    /// nothing was selected (section 8).
+    /// nothing was selected (D14).
     pub fn entropy(&self) -> f64 {
         self.entropy
     }
@@ -489,7 +489,7 @@ impl Memory {
         self.rewards.iter().map(|r| (top - r) / sum).collect()
     }
 
-    /// End of episode: T back to 1 everywhere. The STM and the masks stay (section 3).
+    /// End of episode: T back to 1 everywhere. The STM and the masks stay (D5).
     pub fn refresh(&mut self) {
         self.t.fill(1.0);
     }
