@@ -130,7 +130,7 @@ impl Agent {
         Ok(())
     }
 
-    /// Section 4: push the previous couplet (updating T), let both layers answer, arbitrate.
+    /// Push the previous couplet (updating T), let both layers answer, arbitrate.
     /// `rec_mse` is the reconstruction gate's last measurement.
     pub fn decide(&mut self, e: &[f32; EMBEDDING], rec_mse: f32, rng: &mut ChaCha8Rng) -> Decision {
         self.decide_with(e, || rec_mse, rng)

@@ -323,7 +323,7 @@ impl Memory {
         self.actions[i * self.cfg.n + j]
     }
 
-    /// Section 5: push the previous decision into the STM, then update T from the mask of the
+    /// Push the previous decision into the STM, then update T from the mask of the
     /// last `advance` (decay, clamp, reset the selected, boost their successors: in this order).
     pub fn update(&mut self, couplet: Couplet) {
         self.push(couplet);
@@ -358,7 +358,7 @@ impl Memory {
         });
     }
 
-    /// Section 7: similarity to every stored couplet, selection by both thresholds, Q over the
+    /// Retrieval: similarity to every stored couplet, selection by both thresholds, Q over the
     /// actions of the selected, and an action drawn in proportion to Q. `None` when nothing
     /// passes (the authors' [-1, -1]); the entropy is then left as it was.
     ///
@@ -434,7 +434,7 @@ impl Memory {
         Some(sample(&self.p, rng) as u8)
     }
 
-    /// Section 6: store the STM as a sequence with reward `r` when r > 0 and there is room, then
+    /// Storage: the STM as a sequence with reward `r` when r > 0 and there is room, then
     /// forget if the LTM is full. Returns whether the sequence was stored (it may have been
     /// forgotten again at once by RWD or PRIOR).
     pub fn store(&mut self, r: f64, rng: &mut ChaCha8Rng) -> bool {
