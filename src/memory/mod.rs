@@ -434,7 +434,7 @@ impl Memory {
         Some(sample(&self.p, rng) as u8)
     }
 
-    /// Storage: the STM as a sequence with reward `r` when r > 0 and there is room, then
+    /// Storage: stores the STM as a sequence with reward `r` when r > 0 and there is room, then
     /// forget if the LTM is full. Returns whether the sequence was stored (it may have been
     /// forgotten again at once by RWD or PRIOR).
     pub fn store(&mut self, r: f64, rng: &mut ChaCha8Rng) -> bool {
