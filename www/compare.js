@@ -83,6 +83,8 @@ export class Compare {
       if (data.type === 'ready') {
         w.postMessage({ type: 'start', settings: arm.settings, seeds: this.seeds() });
         if (this.running && this.visible) w.postMessage({ type: 'play' });
+      } else if (data.type === 'started') {
+        arm.resolved = data.settings; // every setting the arm's runs use, defaults included
       } else if (data.type === 'episodes') {
         arm.runs.get(data.seed)?.push(...data.list);
         this.chart.touch();
@@ -205,6 +207,8 @@ export class Compare {
       get drawn() { return me.chart.drawn; },
       get episodes() { return me.arms.map(finished); },
       get caption() { return me.$('compare-caption').textContent; },
+      /** Each arm's settings as its runs use them (null until its worker has started). */
+      get resolved() { return me.arms.map((a) => a.resolved ?? null); },
     };
   }
 }

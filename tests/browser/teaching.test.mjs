@@ -72,6 +72,16 @@ test('compare mode: a preset starts its runs; two configurations draw two series
     assert.equal((await c()).arms, 3);
     assert.ok((await c()).running);
     assert.match((await c()).caption, /paper/i);
+    // The preset runs what its caption says: the double T-maze, the authors' untrained encoder,
+    // SEC, NSEC and MFEC.
+    assert.match((await c()).caption, /untrained encoder/);
+    await page.waitForFunction(() => window.secPlayground.compare.resolved.every((s) => s), null, { timeout: 60000 });
+    const arms = (await c()).resolved.map((s) => [s.task, s.perception, s.agent, s.bias]);
+    assert.deepEqual(arms, [
+      ['double-t-maze', 'untrained', 'sec', '1'],
+      ['double-t-maze', 'untrained', 'sec', '0'],
+      ['double-t-maze', 'untrained', 'mfec-ae', '1'],
+    ]);
     await page.waitForFunction(() => window.secPlayground.compare.drawn.series === 3, null, { timeout: 120000, polling: 500 });
     // Two configurations of object permanence (goals come early) with two seeds each.
     await page.click('#compare-clear');
