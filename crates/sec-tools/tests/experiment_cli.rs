@@ -127,7 +127,8 @@ fn runs_of_parts_of_an_experiment_add_up_in_its_report() {
 }
 
 /// The committed orderings table is what `sec-experiment orderings` makes of the committed runs,
-/// and REPRODUCTION.md quotes it as it is.
+/// and REPRODUCTION.md quotes it as it is. (It reads the working tree: while a grid is running
+/// here, its new runs make it fail until `sec-experiment orderings` is run and the table quoted.)
 #[test]
 fn the_committed_orderings_are_regenerated_from_the_committed_runs() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
