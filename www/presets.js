@@ -11,8 +11,9 @@ export const COMPARE_PRESETS = {
     caption: 'The paper (figure 4, table 1): in the double T-maze SEC collects the most reward, 2.3 times NSEC\'s, '
       + 'with a low policy entropy; NSEC, the same model without the sequential bias, collects less with a higher '
       + 'entropy; MFEC far less. Our runs at these settings (the authors\' untrained encoder, 20 runs x 2000 '
-      + 'episodes each, REPRODUCTION.md): SEC 1.75 per episode against NSEC\'s 1.08 (1.62 times, p < 0.0001), '
-      + 'entropy 0.65 against 1.19 bits late in the runs; MFEC\'s long runs are still to come. '
+      + 'episodes each, REPRODUCTION.md): SEC 1.75 per episode against NSEC\'s 1.08 (1.62 times, p = 0.0001), '
+      + 'entropy 0.65 against 1.19 bits late in the runs. MFEC does not reproduce here: 0.02 per episode (5 runs), '
+      + 'below the reactive walk\'s 0.11, trapped by its greedy rule (REPRODUCTION.md). '
       + 'Live, give it time: SEC acts from memory only once 5 sequences are stored (episode 96 in the median run) '
       + 'and its curve separates from NSEC\'s after about 200 episodes, so the first minutes show the reactive walk in all three.',
     arms: [
