@@ -608,7 +608,7 @@ fn similarity_scalar(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f32
 /// writes the similarities of couplets j..j + L into `o`.
 #[cfg(any(target_arch = "x86_64", all(target_arch = "wasm32", target_feature = "simd128")))]
 #[inline(always)]
-fn blocks<const L: usize>(ltm: &[f32], n: usize, out: &mut [f32], mut block: impl FnMut(&[f32], usize, &mut [f32])) {
+fn blocks<const L: usize, T>(ltm: &[f32], n: usize, out: &mut [T], mut block: impl FnMut(&[f32], usize, &mut [T])) {
     for (row, o) in ltm.chunks_exact(EMBEDDING * n).zip(out.chunks_exact_mut(n)) {
         let mut j0 = 0;
         loop {
@@ -634,7 +634,7 @@ mod simd_avx2 {
     pub unsafe fn similarity(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f32]) {
         let abs = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fff_ffff));
         let (one, twenty) = (_mm256_set1_ps(1.0), _mm256_set1_ps(EMBEDDING as f32));
-        blocks::<8>(ltm, n, out, |row, j, o| {
+        blocks::<8, f32>(ltm, n, out, |row, j, o| {
             debug_assert!(row.len() >= (EMBEDDING - 1) * n + j + 8 && o.len() == 8);
             // SAFETY: every load reads 8 floats of `row` at k * n + j with j + 8 <= n (blocks),
             // and the store writes the 8 of `o`.
@@ -660,32 +660,25 @@ mod simd_avx2 {
     pub unsafe fn similarity_f64(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f64]) {
         let abs = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fff_ffff_ffff_ffff));
         let (one, twenty) = (_mm256_set1_pd(1.0), _mm256_set1_pd(EMBEDDING as f64));
-        for (row, o) in ltm.chunks_exact(EMBEDDING * n).zip(out.chunks_exact_mut(n)) {
-            let mut j0 = 0;
-            loop {
-                let j = j0.min(n - 4);
-                // SAFETY: every load reads 4 floats of `row` at k * n + j with j + 4 <= n, and
-                // the store writes o[j..j + 4].
-                unsafe {
-                    let d = |k: usize| {
-                        let x = _mm256_cvtps_pd(_mm_loadu_ps(row.as_ptr().add(k * n + j)));
-                        _mm256_and_pd(_mm256_sub_pd(_mm256_set1_pd(e[k] as f64), x), abs)
-                    };
-                    let r = |k: usize| _mm256_add_pd(d(k), d(k + 8));
-                    let left = _mm256_add_pd(_mm256_add_pd(r(0), r(1)), _mm256_add_pd(r(2), r(3)));
-                    let right = _mm256_add_pd(_mm256_add_pd(r(4), r(5)), _mm256_add_pd(r(6), r(7)));
-                    let mut acc = _mm256_add_pd(left, right);
-                    for k in 16..EMBEDDING {
-                        acc = _mm256_add_pd(acc, d(k));
-                    }
-                    _mm256_storeu_pd(o[j..j + 4].as_mut_ptr(), _mm256_sub_pd(one, _mm256_div_pd(acc, twenty)));
+        blocks::<4, f64>(ltm, n, out, |row, j, o| {
+            debug_assert!(row.len() >= (EMBEDDING - 1) * n + j + 4 && o.len() == 4);
+            // SAFETY: every load reads 4 floats of `row` at k * n + j with j + 4 <= n (blocks),
+            // and the store writes the 4 of `o`.
+            unsafe {
+                let d = |k: usize| {
+                    let x = _mm256_cvtps_pd(_mm_loadu_ps(row.as_ptr().add(k * n + j)));
+                    _mm256_and_pd(_mm256_sub_pd(_mm256_set1_pd(e[k] as f64), x), abs)
+                };
+                let r = |k: usize| _mm256_add_pd(d(k), d(k + 8));
+                let left = _mm256_add_pd(_mm256_add_pd(r(0), r(1)), _mm256_add_pd(r(2), r(3)));
+                let right = _mm256_add_pd(_mm256_add_pd(r(4), r(5)), _mm256_add_pd(r(6), r(7)));
+                let mut acc = _mm256_add_pd(left, right);
+                for k in 16..EMBEDDING {
+                    acc = _mm256_add_pd(acc, d(k));
                 }
-                if j + 4 >= n {
-                    break;
-                }
-                j0 += 4;
+                _mm256_storeu_pd(o.as_mut_ptr(), _mm256_sub_pd(one, _mm256_div_pd(acc, twenty)));
             }
-        }
+        });
     }
 }
 
@@ -697,7 +690,7 @@ mod simd128 {
 
     pub fn similarity(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut [f32]) {
         let (one, twenty) = (f32x4_splat(1.0), f32x4_splat(EMBEDDING as f32));
-        blocks::<4>(ltm, n, out, |row, j, o| {
+        blocks::<4, f32>(ltm, n, out, |row, j, o| {
             assert!(row.len() >= (EMBEDDING - 1) * n + j + 4);
             let d = |k: usize| {
                 // SAFETY: k * n + j + 4 <= row.len() (asserted above; blocks keep j + 4 <= n), and

@@ -32,7 +32,6 @@ pub struct Arm {
     pub entropy_late_mean: f64,
     /// The corrected and uncorrected p against the group's first model (summary.csv only).
     pub p_vs_reference: Option<f64>,
-    pub paper_total: Option<f64>,
 }
 
 fn from_runs(c: &ConditionRuns) -> Arm {
@@ -48,7 +47,6 @@ fn from_runs(c: &ConditionRuns) -> Arm {
         totals: Some(totals),
         entropy_late: Some(late),
         p_vs_reference: None,
-        paper_total: c.condition.paper_total,
     }
 }
 
@@ -79,7 +77,6 @@ pub fn arms(dir: &Path) -> Vec<Arm> {
                 entropy_late: None,
                 entropy_late_mean: num("entropy_last10").unwrap_or(f64::NAN),
                 p_vs_reference: num("p_uncorrected"),
-                paper_total: num("paper_total"),
             }
         })
         .collect()
