@@ -1,7 +1,7 @@
 // SEC decisions per second in wasm with a full LTM (500 x 50) at the default settings (and, in
 // Node, with the trained encoder), in Node and in headless Chromium, and the playground page's frame rate while its worker runs at max
 // speed. Targets (BENCHMARKS.md): >= 600 decisions/s, >= 50 fps. Run `npm run bench:decisions`
-// after `scripts/build.sh`.
+// after `scripts/build.sh` and `scripts/build-hooks.sh`.
 import { readFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import { performance } from 'node:perf_hooks';
@@ -25,9 +25,9 @@ function measure(wasm, batches, decisions, now, config = {}) {
   for (let i = 0; i < batches; i++) {
     const run = new wasm.SecRun(config, 1);
     run.benchFillMemory(500);
-    run.advance(200);
+    run.runDecisions(200);
     const t0 = now();
-    run.advance(decisions);
+    run.runDecisions(decisions);
     rates.push((decisions * 1000) / (now() - t0));
     ltm = run.view().ltm;
     run.free();
@@ -38,8 +38,8 @@ function measure(wasm, batches, decisions, now, config = {}) {
 
 const show = (r) => `best ${r.best}, median ${r.median} decisions/s over ${BATCHES} batches of ${DECISIONS} (LTM ${r.ltm} sequences)`;
 
-const wasm = await import(`${root}pkg/sec_playground.js`);
-wasm.initSync({ module: readFileSync(`${root}pkg/sec_playground_bg.wasm`) });
+const wasm = await import(`${root}pkg/hooks/sec_playground.js`);
+wasm.initSync({ module: readFileSync(`${root}pkg/hooks/sec_playground_bg.wasm`) });
 wasm.registerModel(readFileSync(`${root}assets/encoders/double-t-maze.secae`));
 const node = measure(wasm, BATCHES, DECISIONS, () => performance.now());
 console.log(`node ${process.version}: ${show(node)}`);
@@ -64,7 +64,7 @@ try {
     const measure = new Function(`return ${measureSrc}`)();
     return measure(wasm, batches, decisions, () => performance.now());
   }, {
-    src: `${base}pkg/sec_playground.js`,
+    src: `${base}pkg/hooks/sec_playground.js`,
     model: `${base}assets/encoders/double-t-maze.secae`,
     measureSrc: measure.toString(),
     batches: BATCHES,

@@ -1,13 +1,14 @@
-// Arena speed in Node, running the release wasm build (pkg/): env steps/s and 84x84 renders/s
+// Arena speed in Node, running the release wasm build (pkg/hooks: the published build plus its
+// timing loops): env steps/s and 84x84 renders/s
 // per task, the same work as `cargo bench --bench arena`. Run `npm run bench:wasm` after
-// `scripts/build.sh`. Targets (BENCHMARKS.md): >= 2,000 renders/s.
+// `scripts/build-hooks.sh`. Targets (BENCHMARKS.md): >= 2,000 renders/s.
 import { readFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import { performance } from 'node:perf_hooks';
 
 const root = fileURLToPath(new URL('..', import.meta.url));
-const wasm = await import(`${root}pkg/sec_playground.js`);
-wasm.initSync({ module: readFileSync(`${root}pkg/sec_playground_bg.wasm`) });
+const wasm = await import(`${root}pkg/hooks/sec_playground.js`);
+wasm.initSync({ module: readFileSync(`${root}pkg/hooks/sec_playground_bg.wasm`) });
 wasm.registerModel(readFileSync(`${root}assets/encoders/double-t-maze.secae`));
 
 /** Best of `repeats` timings of fn(), in seconds. */

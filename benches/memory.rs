@@ -24,7 +24,7 @@ fn retrieval(c: &mut Criterion) {
     // A query next to a stored couplet, so that some couplets are selected.
     let mut q = m.ltm_embedding(250, 20);
     q[0] += 0.01;
-    c.bench_function("retrieval 500x50", |b| b.iter(|| m.advance(black_box(&q), &mut rng)));
+    c.bench_function("retrieval 500x50", |b| b.iter(|| m.retrieve(black_box(&q), &mut rng)));
 }
 
 criterion_group!(benches, retrieval);
@@ -76,7 +76,7 @@ fn run_decision(c: &mut Criterion) {
     use sec_playground::experiment::{Run, RunConfig};
     for (label, perception) in [("untrained", PerceptionKind::Untrained), ("trained", PerceptionKind::Trained)] {
         let mut run = Run::new(RunConfig { perception, ..RunConfig::default() }, 1).unwrap();
-        run.fill_ltm_for_benchmark(500);
+        sec_playground::experiment::fixtures::fill_ltm(&mut run, 500);
         for _ in 0..200 {
             run.decision();
         }

@@ -8,6 +8,7 @@ pub mod encoder;
 pub mod experiment;
 pub mod memory;
 pub mod render;
+pub mod seed;
 pub mod util;
 
 #[cfg(target_arch = "wasm32")]

@@ -193,11 +193,11 @@ fn the_gate_starts_closed_and_measures_every_16th_step() {
     let mut s = Scratch::default();
     let mut gate = ReconstructionGate::new();
     for _ in 0..15 {
-        gate.advance(&img);
+        gate.watch(&img);
         assert_eq!(gate.mse(&ae, &mut s), 100.0);
         assert!(!gate.open(0.01, &ae, &mut s));
     }
-    gate.advance(&img);
+    gate.watch(&img);
     assert_eq!(gate.last_mse(), 100.0, "measured lazily");
     let mse = ae.reconstruction_mse(&img, &mut s);
     assert_eq!(gate.mse(&ae, &mut s), mse);
@@ -205,10 +205,10 @@ fn the_gate_starts_closed_and_measures_every_16th_step() {
     // Later frames do not change the value until the next 16th step, which measures its own.
     let other = frame("cylinder");
     for _ in 0..15 {
-        gate.advance(&other);
+        gate.watch(&other);
     }
     assert_eq!(gate.mse(&ae, &mut s), mse);
-    gate.advance(&other);
+    gate.watch(&other);
     // With the frame's embedding shared, the same value without a second encoder pass.
     let mut e = [0.0; EMBEDDING];
     ae.encode(&other, &mut s, &mut e);

@@ -2,7 +2,8 @@
 
 use sec_playground::agent::mfec::Embedding;
 use sec_playground::encoder::PerceptionKind;
-use sec_playground::experiment::{golden_run, AgentKind, Run, RunConfig};
+use sec_playground::experiment::fixtures::golden_run;
+use sec_playground::experiment::{AgentKind, Run, RunConfig};
 
 fn episodes(cfg: &RunConfig, seed: u64, n: usize) -> Vec<String> {
     let mut run = Run::new(cfg.clone(), seed).unwrap();

@@ -51,7 +51,7 @@ fn both_thresholds_are_strict() {
     // One stored couplet at MAE 2^-6 from the query: G = 1 - 0.015625 = 0.984375 exactly.
     let probe = |theta_abs: f64, theta_prop: f64| {
         let mut m = with_sequence(MemoryConfig { theta_abs, theta_prop, ..cfg(1) }, &[0.0], 1, 1.0);
-        m.advance(&emb(0.015625), &mut rng())
+        m.retrieve(&emb(0.015625), &mut rng())
     };
     assert_eq!(probe(0.984, 0.995), Some(1));
     assert_eq!(probe(0.984375, 0.995), None, "G equal to theta_abs must not pass");
@@ -64,9 +64,9 @@ fn both_thresholds_are_strict() {
 fn gmax_at_or_below_zero_selects_nothing() {
     // MAE 2 > 1: every G is negative; even a theta_abs of 0 cannot select (D16).
     let mut m = with_sequence(MemoryConfig { theta_abs: 0.0, theta_prop: 0.0, ..cfg(3) }, &[0.0, 0.0, 0.0], 1, 1.0);
-    assert_eq!(m.advance(&emb(2.0), &mut rng()), None);
+    assert_eq!(m.retrieve(&emb(2.0), &mut rng()), None);
     assert!(m.selected().is_empty());
-    assert!(m.similarity().iter().all(|&g| g == -1.0));
+    assert!(m.biased_similarity().iter().all(|&g| g == -1.0));
 }
 
 #[test]
@@ -77,7 +77,7 @@ fn relative_reward_is_over_the_selected_couplets_only() {
         m.update(couplet(v, a));
         m.store(r, &mut rng());
     }
-    m.advance(&emb(0.0), &mut rng());
+    m.retrieve(&emb(0.0), &mut rng());
     let sel: Vec<u32> = m.selected().iter().map(|s| s.row).collect();
     assert_eq!(sel, [0, 1]);
     // rr = 1/2 and 2/2 (rmax over the selected = 2, not 4); g = 1; d = (1 - 0)/1 = 1.
@@ -98,7 +98,7 @@ fn distance_weights_run_from_the_newest_to_the_oldest_couplet() {
         m.update(couplet(0.0, a));
     }
     m.store(3.0, &mut rng());
-    m.advance(&emb(0.0), &mut rng());
+    m.retrieve(&emb(0.0), &mut rng());
     for j in 0..4 {
         let d = (4 - j) as f64 / 4.0;
         let want = libm::exp(-d / 0.9);
@@ -132,13 +132,13 @@ fn t_update_order_decay_clamp_reset_then_boost() {
     let vals = [0.0, 0.5, 1.0, 1.5];
     let mut m = with_sequence(cfg(4), &vals, 1, 1.0);
     // Select column 1; the next update boosts column 2 and resets column 1.
-    m.advance(&emb(0.5), &mut rng());
+    m.retrieve(&emb(0.5), &mut rng());
     assert_eq!(m.selected().iter().map(|s| s.col).collect::<Vec<_>>(), [1]);
     m.update(couplet(0.0, 0));
     assert_eq!(m.bias(), &[1.0, 1.0, 1.01, 1.0]);
     // Keep selecting column 1: T[2] follows x -> 0.95 x + 0.05 + 0.01, whose fixed point is 1.2.
     for _ in 0..2000 {
-        m.advance(&emb(0.5), &mut rng());
+        m.retrieve(&emb(0.5), &mut rng());
         m.update(couplet(0.0, 0));
     }
     let t2 = m.bias()[2];
@@ -152,13 +152,13 @@ fn j_and_j_plus_1_both_selected_ends_at_1_01() {
     let mut m = with_sequence(c, &[1.0, 0.0, 0.5, 1.0], 1, 1.0);
     // Select column 1 alone a few times, so that T[2] builds up above 1.
     for _ in 0..3 {
-        m.advance(&emb(0.0), &mut rng());
+        m.retrieve(&emb(0.0), &mut rng());
         assert_eq!(m.selected().iter().map(|s| s.col).collect::<Vec<_>>(), [1]);
         m.update(couplet(0.0, 0));
     }
     assert!(m.bias()[2] > 1.02, "{:?}", m.bias());
     // A query between columns 1 and 2 selects both.
-    m.advance(&emb(0.25), &mut rng());
+    m.retrieve(&emb(0.25), &mut rng());
     assert_eq!(m.selected().iter().map(|s| s.col).collect::<Vec<_>>(), [1, 2]);
     m.update(couplet(0.0, 0));
     // Column 2 is decayed, reset to 1 (selected), then boosted (successor of 1): 1.01, not 1
@@ -177,7 +177,7 @@ fn column_0_is_never_boosted_and_there_is_no_wrap_around() {
         }
         m.store(1.0, &mut rng());
     }
-    m.advance(&emb(0.0), &mut rng());
+    m.retrieve(&emb(0.0), &mut rng());
     assert_eq!(m.selected().iter().map(|s| (s.row, s.col)).collect::<Vec<_>>(), [(0, 2), (1, 2)]);
     m.update(couplet(0.0, 0));
     assert!(m.bias().iter().all(|&t| t == 1.0), "{:?}", m.bias());
@@ -187,7 +187,7 @@ fn column_0_is_never_boosted_and_there_is_no_wrap_around() {
 fn nsec_never_touches_t() {
     let mut m = with_sequence(MemoryConfig { sequential_bias: false, ..cfg(4) }, &[0.0, 0.5, 1.0, 1.5], 1, 1.0);
     for _ in 0..10 {
-        m.advance(&emb(0.5), &mut rng());
+        m.retrieve(&emb(0.5), &mut rng());
         m.update(couplet(0.0, 0));
     }
     assert!(m.bias().iter().all(|&t| t == 1.0));
@@ -200,10 +200,10 @@ fn entropy_is_zero_at_first_and_stale_when_nothing_is_selected() {
     m.update(couplet(0.0, 1));
     m.update(couplet(0.0, 2));
     m.store(1.0, &mut rng());
-    m.advance(&emb(0.0), &mut rng());
+    m.retrieve(&emb(0.0), &mut rng());
     let h = m.entropy();
     assert!(h > 0.9 && h < 1.0, "two actions with unequal weights: {h}");
-    assert_eq!(m.advance(&emb(5.0), &mut rng()), None);
+    assert_eq!(m.retrieve(&emb(5.0), &mut rng()), None);
     assert_eq!(m.entropy(), h, "stale: the last computed value");
 }
 
@@ -217,10 +217,10 @@ fn the_stored_sequence_is_the_stm_oldest_first_and_t_resets_at_episode_end() {
     assert_eq!((0..3).map(|j| m.ltm_embedding(0, j)[7]).collect::<Vec<_>>(), [0.5, 0.75, 1.0]);
     assert_eq!((0..3).map(|j| m.ltm_action(0, j)).collect::<Vec<_>>(), [2, 3, 4]);
     assert_eq!(m.rewards(), &[2.5]);
-    m.advance(&emb(0.5), &mut rng());
+    m.retrieve(&emb(0.5), &mut rng());
     m.update(couplet(0.0, 0));
     assert!(m.bias().iter().any(|&t| t > 1.0));
-    m.refresh();
+    m.reset_bias();
     assert!(m.bias().iter().all(|&t| t == 1.0));
     // R <= 0 is never stored.
     assert!(!m.store(0.0, &mut rng()));
@@ -333,7 +333,7 @@ fn invariants_hold_over_random_runs() {
         for step in 0..400 {
             // A few distinct places (multiples of 1/64) so that retrieval selects often.
             let e = [src.gen_range(0..4) as f32 / 64.0; EMBEDDING];
-            let a = m.advance(&e, &mut r);
+            let a = m.retrieve(&e, &mut r);
             if let Some(a) = a {
                 let sum: f64 = m.p().iter().sum();
                 assert!((sum - 1.0).abs() < 1e-12, "p sums to {sum}");
@@ -346,7 +346,7 @@ fn invariants_hold_over_random_runs() {
                 m.store(src.gen_range(-1.0..3.0), &mut r);
             }
             if step % 53 == 52 {
-                m.refresh();
+                m.reset_bias();
             }
             assert!(m.len() <= cfg.m);
             assert!(m.bias().len() == m.len() * cfg.n);
@@ -366,7 +366,7 @@ fn reconfiguring_keeps_the_memory_and_refuses_a_new_stm_length() {
         assert!(mem.store(r as f64, &mut rng));
     }
     // The bias switched off and on starts again from T = 1.
-    mem.advance(&[3.0; 20], &mut rng);
+    mem.retrieve(&[3.0; 20], &mut rng);
     mem.update_bias();
     assert!(mem.bias().iter().any(|&t| t > 1.0), "a selection boosts its successor");
     let err = mem.reconfigure(MemoryConfig { n: 4, ..cfg.clone() }).unwrap_err();
@@ -409,11 +409,11 @@ fn without_the_bias_g_is_compared_with_theta_abs_in_f32_as_numpy_does() {
     x[0] = v;
     let q = [0.0; EMBEDDING];
     let mut nsec = single(x, false, Forgetting::None, 10);
-    nsec.advance(&q, &mut rng());
-    assert_eq!(nsec.similarity(), &[0.98f32 as f64]);
+    nsec.retrieve(&q, &mut rng());
+    assert_eq!(nsec.biased_similarity(), &[0.98f32 as f64]);
     assert!(nsec.selected().is_empty(), "f32(0.98) > f32(0.98) is false");
     let mut sec = single(x, true, Forgetting::None, 10);
-    sec.advance(&q, &mut rng());
+    sec.retrieve(&q, &mut rng());
     assert_eq!(sec.selected().len(), 1, "0.98000001907 > 0.98 in f64");
 }
 
@@ -450,7 +450,7 @@ fn without_the_bias_g_over_gmax_is_rounded_to_f32_as_numpy_does() {
     mem.update(at(a));
     mem.update(at(b));
     assert!(mem.store(1.0, &mut rng()));
-    mem.advance(&[0.0; EMBEDDING], &mut rng());
+    mem.retrieve(&[0.0; EMBEDDING], &mut rng());
     let cols: Vec<u32> = mem.selected().iter().map(|s| s.col).collect();
     assert_eq!(cols, if f32_pass { vec![0, 1] } else { vec![0] }, "a = {a}, b = {b}");
 }
@@ -467,21 +467,21 @@ fn after_any_forgetting_the_similarity_is_computed_in_f64() {
     assert_ne!(f32_sim as f64, f64_sim, "the example shows the difference");
     for bias in [false, true] {
         let mut mem = single(x, bias, Forgetting::Fifo, 2);
-        mem.advance(&q, &mut rng());
-        assert_eq!(mem.similarity(), &[f32_sim as f64], "before forgetting: f32");
+        mem.retrieve(&q, &mut rng());
+        assert_eq!(mem.biased_similarity(), &[f32_sim as f64], "before forgetting: f32");
         // A second store fills the LTM (m = 2): FIFO drops the oldest; the LTM is now floats.
         mem.update(Couplet { embedding: x, action: 1 });
         assert!(mem.store(1.0, &mut rng()));
         assert_eq!(mem.len(), 1);
-        mem.advance(&q, &mut rng());
-        assert_eq!(mem.similarity(), &[f64_sim], "after forgetting: f64 (bias {bias})");
+        mem.retrieve(&q, &mut rng());
+        assert_eq!(mem.biased_similarity(), &[f64_sim], "after forgetting: f64 (bias {bias})");
     }
     // Without forgetting a full LTM stays f32.
     let mut mem = single(x, false, Forgetting::None, 1);
     mem.update(Couplet { embedding: x, action: 1 });
     assert!(!mem.store(1.0, &mut rng()));
-    mem.advance(&q, &mut rng());
-    assert_eq!(mem.similarity(), &[f32_sim as f64]);
+    mem.retrieve(&q, &mut rng());
+    assert_eq!(mem.biased_similarity(), &[f32_sim as f64]);
 }
 
 #[test]
@@ -497,11 +497,11 @@ fn the_similarity_sums_in_numpys_pairwise_order() {
     assert!(mem.store(1.0, &mut rng()));
     for _ in 0..50 {
         let q: [f32; EMBEDDING] = std::array::from_fn(|_| r.gen_range(0.0..4.0));
-        mem.advance(&q, &mut rng());
+        mem.retrieve(&q, &mut rng());
         for (j, x) in stored.iter().enumerate() {
             let terms: [f32; EMBEDDING] = std::array::from_fn(|k| (q[k] - x[k]).abs());
             let want = 1.0 - numpy_sum20(&terms) / EMBEDDING as f32;
-            assert_eq!(mem.similarity()[j], want as f64, "couplet {j}");
+            assert_eq!(mem.biased_similarity()[j], want as f64, "couplet {j}");
             let sequential = 1.0 - terms.iter().sum::<f32>() / EMBEDDING as f32;
             differs_from_sequential += (sequential != want) as u32;
         }
@@ -525,10 +525,10 @@ fn after_forgetting_the_similarity_sums_in_f64_in_numpys_order_for_long_rows_too
     assert_eq!(mem.len(), 1, "the second store filled m = 2 and forgot the oldest");
     for _ in 0..20 {
         let q: [f32; EMBEDDING] = std::array::from_fn(|_| r.gen_range(0.0..4.0));
-        mem.advance(&q, &mut rng());
+        mem.retrieve(&q, &mut rng());
         for (j, x) in stored.iter().enumerate() {
             let terms: [f64; EMBEDDING] = std::array::from_fn(|k| (q[k] as f64 - x[k] as f64).abs());
-            assert_eq!(mem.similarity()[j], 1.0 - numpy_sum20(&terms) / EMBEDDING as f64, "couplet {j}");
+            assert_eq!(mem.biased_similarity()[j], 1.0 - numpy_sum20(&terms) / EMBEDDING as f64, "couplet {j}");
         }
     }
 }

@@ -131,3 +131,59 @@ fn perception_scale_and_heading_are_settings_of_a_new_run() {
         assert_eq!(c, defaults().0);
     }
 }
+
+/// A value of `p` other than `current`, inside its range.
+fn another_value(p: &Kind, current: &str) -> String {
+    match p {
+        Kind::Number { min, max, .. } => {
+            let mid = (min + max) / 2.0;
+            if mid.to_string() == current {
+                max.to_string()
+            } else {
+                mid.to_string()
+            }
+        }
+        Kind::Integer { min, max } => {
+            let v = if min.to_string() == current { max } else { min };
+            // m = min would fail SEC's minimum of 5 sequences as a whole configuration.
+            v.max(&5).to_string()
+        }
+        Kind::Choice { options } => options.iter().find(|o| *o != current).expect("two options").clone(),
+        Kind::Switch => if current == "1" { "0" } else { "1" }.to_string(),
+    }
+}
+
+#[test]
+fn every_live_flag_agrees_with_needs_restart() {
+    for p in params() {
+        let (before, seed) = defaults();
+        let current = to_settings(&before, seed)[p.key].clone();
+        let (mut after, mut seed2) = (before.clone(), seed);
+        let v = another_value(&p.kind, &current);
+        apply(&mut after, &mut seed2, p.key, &v).unwrap_or_else(|e| panic!("{} = {v}: {e}", p.key));
+        assert!(after.validate().is_ok(), "{} = {v} makes a valid run", p.key);
+        assert!((after.clone(), seed2) != (before.clone(), seed), "{} = {v} changes something", p.key);
+        if p.key == "seed" {
+            assert!(!p.live, "a new seed is a new run");
+            continue;
+        }
+        assert_eq!(
+            before.needs_restart(&after),
+            !p.live,
+            "{}: live {} but needs_restart says otherwise",
+            p.key,
+            p.live
+        );
+    }
+}
+
+#[test]
+fn value_function_names_are_one_spelling_everywhere() {
+    use sec_playground::memory::ValueFn;
+    for (name, f) in ValueFn::ALL {
+        let json = serde_json::to_string(&f).unwrap();
+        assert_eq!(json, format!("\"{name}\""), "RunConfig JSON spells {f:?} as the settings do");
+        assert_eq!(serde_json::from_str::<ValueFn>(&json).unwrap(), f);
+    }
+    assert!(serde_json::from_str::<ValueFn>("\"noRr\"").is_err(), "one spelling: noRR");
+}

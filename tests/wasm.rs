@@ -108,7 +108,7 @@ fn wasm_gives_the_native_golden_episode_log() {
         (PerceptionKind::Trained, include_str!("golden/run.txt")),
         (PerceptionKind::Untrained, include_str!("golden/run-untrained.txt")),
     ] {
-        let log = sec_playground::experiment::golden_run(perception);
+        let log = sec_playground::experiment::fixtures::golden_run(perception);
         for (i, (a, b)) in log.lines().zip(golden.lines()).enumerate() {
             assert_eq!(a, b, "{perception:?}: episode {i} differs between wasm and native");
         }
@@ -146,7 +146,7 @@ fn a_run_through_the_js_api_gives_the_native_golden_episode_log() {
         got.push(metrics(run.step_episode().unwrap()));
     }
     while got.len() < 20 {
-        let batch: Vec<EpisodeMetrics> = serde_wasm_bindgen::from_value(run.advance(37).unwrap()).unwrap();
+        let batch: Vec<EpisodeMetrics> = serde_wasm_bindgen::from_value(run.run_decisions(37).unwrap()).unwrap();
         got.extend(batch);
     }
     // Exact f64 comparison: bit for bit with the native run.
@@ -177,20 +177,20 @@ fn the_run_api_refuses_bad_configurations_by_name_and_keeps_running() {
     assert!(e.contains("[0, 1]"), "the range is named: {e}");
 
     let mut run = SecRun::new(js(r#"{"task": "object-permanence", "t": 300}"#), 3.0).unwrap();
-    run.advance(100).unwrap();
+    run.run_decisions(100).unwrap();
     let before: serde_json::Value = serde_wasm_bindgen::from_value(run.config().unwrap()).unwrap();
     for (cfg, name) in bad {
         let e = message(run.configure(js(cfg)).err().unwrap_or_else(|| panic!("{cfg} was accepted")));
         assert!(e.starts_with(name), "{cfg}: {e}");
     }
-    assert!(message(run.advance(0).err().unwrap()).starts_with("decisions:"));
+    assert!(message(run.run_decisions(0).err().unwrap()).starts_with("decisions:"));
     assert!(message(run.memory_map("q").err().unwrap()).starts_with("which:"));
     assert!(message(run.top_down(8).err().unwrap()).starts_with("size:"));
     let after: serde_json::Value = serde_wasm_bindgen::from_value(run.config().unwrap()).unwrap();
     assert_eq!(before, after, "a refused configuration changed nothing");
     let view: serde_json::Value = serde_wasm_bindgen::from_value(run.view().unwrap()).unwrap();
     assert!(view["step"].as_u64().unwrap() > 0, "the run kept its state: {view}");
-    run.advance(10).unwrap();
+    run.run_decisions(10).unwrap();
 }
 
 #[wasm_bindgen_test]

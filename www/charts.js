@@ -8,6 +8,26 @@ export const WINDOW = 20;
 const REDRAW_MS = 100;
 const MARK = '#b3261e';
 
+/** The mean of the last `WINDOW` values pushed (fewer at the start). */
+export class RollingMean {
+  constructor() {
+    this.clear();
+  }
+
+  /** Adds `v`; returns the mean of the window ending with it. */
+  push(v) {
+    this.window.push(v);
+    this.sum += v;
+    if (this.window.length > WINDOW) this.sum -= this.window.shift();
+    return this.sum / this.window.length;
+  }
+
+  clear() {
+    this.window = [];
+    this.sum = 0;
+  }
+}
+
 /** What each chart shows: a per-episode value, and whether to add its 20-episode mean. */
 const CHARTS = [
   { id: 'reward', title: 'Reward per episode', value: (m) => m.reward, mean: true },
@@ -55,7 +75,7 @@ export class Charts {
   constructor(root) {
     this.marks = [];
     this.episodes = [];
-    this.columns = CHARTS.map(() => ({ values: [], means: [], sum: 0 }));
+    this.columns = CHARTS.map(() => ({ values: [], means: [], rolling: new RollingMean() }));
     this.dirty = false;
     const width = Math.max(300, Math.min(560, Math.floor((root.clientWidth || 900) / 2) - 16));
     this.plots = CHARTS.map((c) => {
@@ -96,9 +116,7 @@ export class Charts {
         const col = this.columns[k];
         const v = c.value(m);
         col.values.push(v);
-        col.sum += v;
-        if (col.values.length > WINDOW) col.sum -= col.values[col.values.length - 1 - WINDOW];
-        col.means.push(col.sum / Math.min(col.values.length, WINDOW));
+        col.means.push(col.rolling.push(v));
       });
     }
     this.dirty ||= list.length > 0;
@@ -118,7 +136,7 @@ export class Charts {
     for (const col of this.columns) {
       col.values.length = 0;
       col.means.length = 0;
-      col.sum = 0;
+      col.rolling.clear();
     }
     this.dirty = true;
   }
@@ -150,12 +168,8 @@ function rgba(hex, a) {
  */
 export function meanAndError(runs) {
   const smooth = runs.map((v) => {
-    let sum = 0;
-    return v.map((x, i) => {
-      sum += x;
-      if (i >= WINDOW) sum -= v[i - WINDOW];
-      return sum / Math.min(i + 1, WINDOW);
-    });
+    const rolling = new RollingMean();
+    return v.map((x) => rolling.push(x));
   });
   const len = Math.min(...smooth.map((s) => s.length));
   const mean = [];

@@ -4,28 +4,25 @@
 // Messages in:  {type: 'start', settings, seeds}, {type: 'play'}, {type: 'pause'}
 // Messages out: {type: 'started', settings}, {type: 'episodes', seed, list}, {type: 'error', message}
 import init, { ensureModel, SecRun, parseSettings } from './wasm.js';
+import { AdaptiveBatch, serveMessages } from './slices.js';
 
-const SLICE_MS = 12;
 let runs = [];
 let playing = false;
-let batch = 16;
+// Each call steps every seed, so it aims at half a slice.
+const batch = new AdaptiveBatch(16, 5000, 1 / 2);
 
 const post = (msg) => self.postMessage(msg);
 
 function loop() {
   if (!playing || !runs.length) return;
   try {
-    const t0 = performance.now();
-    while (performance.now() - t0 < SLICE_MS) {
-      const s0 = performance.now();
+    batch.fillSlice((n) => {
       // Round robin, so that the seeds advance together.
       for (const r of runs) {
-        const list = r.run.advance(batch);
+        const list = r.run.runDecisions(n);
         if (list.length) post({ type: 'episodes', seed: r.seed, list });
       }
-      const took = performance.now() - s0;
-      batch = Math.max(1, Math.min(5000, Math.round(batch * (SLICE_MS / 2 / Math.max(took, 0.05)))));
-    }
+    });
   } catch (e) {
     playing = false;
     post({ type: 'error', message: `The simulation stopped: ${e?.message ?? e}` });
@@ -52,11 +49,7 @@ const handlers = {
   pause() { playing = false; },
 };
 
-let queue = Promise.resolve();
-self.onmessage = ({ data }) => {
-  queue = queue.then(() => handlers[data?.type]?.(data))
-    .catch((e) => post({ type: 'error', message: String(e?.message ?? e) }));
-};
+serveMessages(handlers, (e) => post({ type: 'error', message: String(e?.message ?? e) }));
 
 await init();
 post({ type: 'ready' });

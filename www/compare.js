@@ -1,7 +1,7 @@
 // The comparison panel: several configurations at once, each in its own worker running the
 // same seeds, their curves overlaid in one chart with standard-error bands; one-click presets
 // for the paper's experiments 1-4.
-import { ARM_COLOURS, CompareChart } from './charts.js';
+import { ARM_COLOURS, CompareChart, WINDOW } from './charts.js';
 import { COMPARE_PRESETS, PRESET_BASE } from './presets.js';
 
 /** Most configurations at once (each is a worker). */
@@ -151,7 +151,7 @@ export class Compare {
     const arms = this.arms.filter((a) => a.runs.size).map((a) => ({
       label: a.label, colour: a.colour, runs: [...a.runs.values()].map((eps) => eps.map(f)),
     }));
-    return { title: `${this.title}: ${this.$('compare-metric').value} (mean of ${20} episodes)`, arms };
+    return { title: `${this.title}: ${this.$('compare-metric').value} (mean of ${WINDOW} episodes)`, arms };
   }
 
   /** For the CSV export: one entry per configuration and seed. */

@@ -12,7 +12,7 @@ import { TEMPLATE } from './template.js';
 
 /** Decisions per second while a person drives (the speed slider's value above it is capped). */
 const DRIVE_SPEED = 8;
-/** `?wasm=scalar` in the page's address: the worker loads the fallback build. */
+/** `?wasm=scalar` (the fallback build) or `?wasm=hooks` (the test flavour) in the page's address. */
 const WASM = new URLSearchParams(location.search).get('wasm');
 
 const LAYERS = { C: 'contextual (memory)', R: 'reactive (random walk)', H: 'you (driving)' };

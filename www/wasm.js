@@ -1,7 +1,8 @@
 // Loads the simulation's wasm: the SIMD build (simd128) where the browser runs wasm SIMD, the
 // scalar build otherwise. Both give the same bits (the kernels sum in the same order), so a run
 // is the same on either. `?wasm=scalar` in the page's address forces the fallback (for tests and
-// for comparing speed).
+// for comparing speed). `?wasm=hooks` loads the test flavour (scripts/build-hooks.sh), the SIMD
+// build with the test hooks; the published page has no such folder.
 
 /** A function returning a v128 (i8x16.splat, i8x16.popcnt): valid only where SIMD is. */
 const SIMD_PROBE = new Uint8Array([0, 97, 115, 109, 1, 0, 0, 0, 1, 5, 1, 96, 0, 1, 123, 3, 2, 1, 0, 10, 10, 1, 8, 0,
@@ -12,11 +13,13 @@ const loading = new Map();
 const fetched = new Map();
 
 const params = new URLSearchParams(self.location?.search ?? '');
-/** Which build runs: 'simd' or 'scalar'. */
-export const build = params.get('wasm') === 'scalar' || !WebAssembly.validate(SIMD_PROBE) ? 'scalar' : 'simd';
+/** Which build runs: 'simd', 'scalar' or 'hooks'. */
+export const build = params.get('wasm') === 'hooks' ? 'hooks'
+  : params.get('wasm') === 'scalar' || !WebAssembly.validate(SIMD_PROBE) ? 'scalar' : 'simd';
+const GLUE = { simd: '../pkg/sec_playground.js', scalar: '../pkg/scalar/sec_playground.js', hooks: '../pkg/hooks/sec_playground.js' };
 // The worker is told its first task: fetch its model while the wasm loads.
 if (params.get('task')) prefetchModel(params.get('task'));
-const glue = await import(build === 'simd' ? '../pkg/sec_playground.js' : '../pkg/scalar/sec_playground.js');
+const glue = await import(GLUE[build]);
 
 export default glue.default;
 export const { SecRun, parameters, parseSettings, applySettings, presetSettings, panicForTest, registerModel, hasModel,

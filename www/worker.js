@@ -10,9 +10,8 @@
 //               {type: 'episodes', list}, {type: 'view', ...}, {type: 'state', playing},
 //               {type: 'memory', bytes}, {type: 'loaded', sequences}, {type: 'error', message, fatal}
 import init, { build, ensureModel, SecRun, parameters, parseSettings, applySettings, presetSettings, panicForTest } from './wasm.js';
+import { AdaptiveBatch, SLICE_MS, serveMessages } from './slices.js';
 
-/** Longest time slice of simulation before yielding to messages (ms). */
-const SLICE_MS = 12;
 /** Most view posts per second. */
 const VIEW_HZ = 30;
 
@@ -21,7 +20,8 @@ let settings = null;
 let playing = false;
 let speed = Infinity; // decisions per second; Infinity is "max"
 let want = { camera: true, heat: 'g' };
-let batch = 8; // decisions per advance() call at max speed, adapted to the slice
+// Decisions per call at max speed; each call aims at a quarter of the slice.
+const batch = new AdaptiveBatch(8, 10000, 1 / 4);
 let lastView = 0;
 let owed = 0; // decisions owed at a watch speed
 let lastTick = 0;
@@ -68,13 +68,7 @@ function loop() {
     const t0 = performance.now();
     if (speed === Infinity) {
       const done = [];
-      while (performance.now() - t0 < SLICE_MS) {
-        const s0 = performance.now();
-        done.push(...run.advance(batch));
-        const took = performance.now() - s0;
-        // Aim each call at a quarter of the slice.
-        batch = Math.max(1, Math.min(10000, Math.round(batch * (SLICE_MS / 4 / Math.max(took, 0.05)))));
-      }
+      batch.fillSlice((n) => done.push(...run.runDecisions(n)));
       episodes(done);
       postView();
     } else {
@@ -198,25 +192,19 @@ const handlers = {
     post({ type: 'loaded', sequences });
     postView(true);
   },
-  /** Test hook: a panic in the simulation, as a bug would cause. */
-  crash() { panicForTest(); },
+  /** Test hook (the test flavour only, `?wasm=hooks`): a panic in the simulation, as a bug would cause. */
+  crash() {
+    if (!panicForTest) throw new Error('crash: a test hook, in the test flavour only (?wasm=hooks)');
+    panicForTest();
+  },
   views({ camera, heat }) {
     want = { camera: !!camera, heat: heat === 't' || heat === 'g' ? heat : null };
     postView(true);
   },
 };
 
-// One message at a time, in order: a handler that fetches a model finishes before the next runs.
-let queue = Promise.resolve();
-self.onmessage = ({ data }) => {
-  const h = handlers[data?.type];
-  if (!h) return fail(`unknown message '${data?.type}'`);
-  queue = queue.then(() => h(data)).catch((e) => {
-    // A bad value: the message names it; the run is as it was. A trap: the run is gone.
-    if (e instanceof WebAssembly.RuntimeError) trapped(e);
-    else fail(e);
-  });
-};
+// A bad value: the message names it; the run is as it was. A trap: the run is gone.
+serveMessages(handlers, (e) => (e instanceof WebAssembly.RuntimeError ? trapped(e) : fail(e)));
 
 init()
   .then(() => {

@@ -8,6 +8,7 @@
 //! starts with a dummy couplet, the terminal frame's decision is taken, and an episode's last
 //! couplet is carried into the next.
 
+use super::controller::{Controller, EpisodeEnd, Input, MemoryUse, Observation, Step};
 use super::{Decision, Layer, Reactive};
 use crate::arena::ConfigError;
 use crate::encoder::{EMBEDDING, IMAGE};
@@ -214,6 +215,8 @@ pub struct Mfec {
     q: [f64; ACTIONS],
     entropy: f64,
     dist: Vec<(f32, u32)>,
+    /// MFEC-rp's projection of the image (`None`: the perception's embedding, MFEC-ae).
+    projection: Option<RandomProjection>,
 }
 
 impl Mfec {
@@ -241,7 +244,13 @@ impl Mfec {
             q: [0.0; ACTIONS],
             entropy: 0.0,
             dist: Vec::new(),
+            projection: None,
         })
+    }
+
+    /// MFEC-rp: its states are `projection`'s of the image instead of the perception's.
+    pub fn with_projection(self, projection: RandomProjection) -> Self {
+        Mfec { projection: Some(projection), ..self }
     }
 
     pub fn config(&self) -> &MfecConfig {
@@ -373,6 +382,48 @@ impl Mfec {
         if self.cfg.bookkeeping == Bookkeeping::PerEpisode {
             self.rewarded_episodes += rewarded as u64;
         }
+    }
+}
+
+impl Controller for Mfec {
+    fn input(&self) -> Input {
+        match self.projection {
+            Some(_) => Input::Image,
+            None => Input::Embedding,
+        }
+    }
+
+    fn on_step(&mut self, step: &Step, _: &mut ChaCha8Rng) -> bool {
+        self.frame(step.reward, step.episode_reward, step.good_goal, step.decides);
+        false
+    }
+
+    fn decide(&mut self, obs: &Observation, _: &mut dyn FnMut() -> f32, rng: &mut ChaCha8Rng) -> Decision {
+        match &self.projection {
+            Some(p) => {
+                let mut e = [0.0; EMBEDDING];
+                p.project(obs.image, &mut e);
+                Mfec::decide(self, &e, obs.terminal, rng)
+            }
+            None => Mfec::decide(self, obs.embedding, obs.terminal, rng),
+        }
+    }
+
+    /// An episode a person drove in part is not MFEC's experience.
+    fn on_episode_end(&mut self, end: &EpisodeEnd) {
+        if end.driven {
+            self.discard_episode();
+        } else {
+            self.episode_end(end.goal);
+        }
+    }
+
+    fn entropy(&self) -> f64 {
+        self.entropy
+    }
+
+    fn memory_use(&self) -> MemoryUse {
+        MemoryUse { used: self.len(), capacity: self.cfg.capacity * ACTIONS }
     }
 }
 

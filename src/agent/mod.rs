@@ -2,12 +2,14 @@
 //! `crate::memory` and the reactive layer both answer, and the contextual action is taken only
 //! when it selected something, the LTM holds enough sequences and the reconstruction gate is open.
 
+pub mod controller;
 pub mod mfec;
 pub mod reactive;
 
 use crate::arena::ConfigError;
 use crate::encoder::EMBEDDING;
 use crate::memory::{Couplet, Memory, MemoryConfig};
+use controller::{Controller, EpisodeEnd, Input, MemoryUse, Observation, Step};
 use rand_chacha::ChaCha8Rng;
 pub use reactive::Reactive;
 
@@ -168,7 +170,7 @@ impl Agent {
         self.memory.update_bias();
         self.previous_pushed = false;
         let reactive = self.reactive.step(rng);
-        let contextual = self.memory.advance(e, rng);
+        let contextual = self.memory.retrieve(e, rng);
         let gate = self.cfg.gate;
         let (action, layer) = match (forced, contextual) {
             (Some(a), _) => (a, Layer::Human),
@@ -193,11 +195,62 @@ impl Agent {
 
     /// Episode end: T back to 1; the STM too with `reset_stm_on_episode`.
     pub fn episode_end(&mut self) {
-        self.memory.refresh();
+        self.memory.reset_bias();
         if self.cfg.reset_stm_on_episode {
             self.memory.reset_stm();
             self.previous = Couplet::ZERO;
             self.previous_pushed = true;
         }
+    }
+}
+
+impl Controller for Agent {
+    fn input(&self) -> Input {
+        Input::Embedding
+    }
+
+    fn uses_gate(&self) -> bool {
+        true
+    }
+
+    fn learns_from_person(&self) -> bool {
+        true
+    }
+
+    /// Storage on the goal event, before this frame's decision, so the last decision's couplet
+    /// is not in the sequence (D4, D12).
+    fn on_step(&mut self, step: &Step, rng: &mut ChaCha8Rng) -> bool {
+        if step.goal_event {
+            self.goal(step.episode_reward, rng);
+        }
+        step.goal_event
+    }
+
+    fn decide(&mut self, obs: &Observation, gate_mse: &mut dyn FnMut() -> f32, rng: &mut ChaCha8Rng) -> Decision {
+        match obs.person {
+            Some(action) => self.follow(obs.embedding, action, rng),
+            None => self.decide_with(obs.embedding, gate_mse, rng),
+        }
+    }
+
+    fn on_episode_end(&mut self, _: &EpisodeEnd) {
+        self.episode_end();
+    }
+
+    /// The stale-inclusive value (D14).
+    fn entropy(&self) -> f64 {
+        self.memory.entropy()
+    }
+
+    fn memory_use(&self) -> MemoryUse {
+        MemoryUse { used: self.memory.len(), capacity: self.memory.config().m }
+    }
+
+    fn sec(&self) -> Option<&Agent> {
+        Some(self)
+    }
+
+    fn sec_mut(&mut self) -> Option<&mut Agent> {
+        Some(self)
     }
 }

@@ -2,13 +2,16 @@
 //! place, the only exploration SEC has. It advances at every decision, even when the contextual
 //! layer's action is the one taken, and keeps its state across episodes.
 
+use super::controller::{Controller, EpisodeEnd, Input, MemoryUse, Observation, Step};
+use super::{Decision, Layer};
+use crate::arena::Action;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
-/// Action indices (3 * a0 + a1): forward (1, 0), and the two turns in place (0, 1) and (0, 2).
-pub const FORWARD: u8 = 3;
-pub const TURN_1: u8 = 1;
-pub const TURN_2: u8 = 2;
+/// The walk's actions as indices: forward (1, 0), and the two turns in place (0, 1) and (0, 2).
+pub const FORWARD: u8 = Action::FORWARD.index() as u8;
+pub const TURN_1: u8 = Action::RIGHT.index() as u8;
+pub const TURN_2: u8 = Action::LEFT.index() as u8;
 
 /// The walk's state: a counter through `straight` forward steps then `turns` turns.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -45,5 +48,30 @@ impl Reactive {
         } else {
             TURN_2
         }
+    }
+}
+
+/// The reactive walk alone, as a baseline.
+impl Controller for Reactive {
+    fn input(&self) -> Input {
+        Input::Nothing
+    }
+
+    fn on_step(&mut self, _: &Step, _: &mut ChaCha8Rng) -> bool {
+        false
+    }
+
+    fn decide(&mut self, _: &Observation, _: &mut dyn FnMut() -> f32, rng: &mut ChaCha8Rng) -> Decision {
+        Decision { action: self.step(rng), layer: Layer::Reactive, selected: false }
+    }
+
+    fn on_episode_end(&mut self, _: &EpisodeEnd) {}
+
+    fn entropy(&self) -> f64 {
+        0.0
+    }
+
+    fn memory_use(&self) -> MemoryUse {
+        MemoryUse::default()
     }
 }

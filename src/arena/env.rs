@@ -3,7 +3,8 @@
 use super::physics::{physics_frame, FRAMES_PER_STEP};
 use super::{check_range, ConfigError, Task, World, MAX_T};
 use crate::render::{Camera, Frame};
-use rand::{Rng, SeedableRng};
+use crate::seed::Stream;
+use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
 /// One of the 9 flat actions, index `3*a0 + a1`: a0 0 none / 1 forward / 2 backward,
@@ -20,10 +21,10 @@ impl Action {
     pub const COUNT: usize = 9;
 
     pub fn new(index: u32) -> Result<Action, ConfigError> {
-        if index < 9 {
+        if (index as usize) < Self::COUNT {
             Ok(Action(index as u8))
         } else {
-            Err(ConfigError::new("action", format!("{index} is out of range 0..=8")))
+            Err(ConfigError::new("action", format!("{index} is out of range 0..={}", Self::COUNT - 1)))
         }
     }
     pub fn from_branches(a0: u8, a1: u8) -> Result<Action, ConfigError> {
@@ -32,7 +33,7 @@ impl Action {
         }
         Ok(Action(3 * a0 + a1))
     }
-    pub fn index(self) -> usize {
+    pub const fn index(self) -> usize {
         self.0 as usize
     }
     /// (a0 movement, a1 rotation).
@@ -115,7 +116,7 @@ impl Env {
     /// Builds the environment and resets it with `seed`.
     pub fn new(config: EnvConfig, seed: u64) -> Result<Env, ConfigError> {
         config.validate()?;
-        let rng = ChaCha8Rng::seed_from_u64(seed);
+        let rng = crate::seed::rng(seed, Stream::Env);
         let world = World::spawn(&config.task.layouts[0], &mut rng.clone());
         let mut env = Env {
             config,
@@ -139,7 +140,7 @@ impl Env {
     pub fn reset(&mut self, seed: Option<u64>) -> &Frame {
         match seed {
             Some(s) => {
-                self.rng = ChaCha8Rng::seed_from_u64(s);
+                self.rng = crate::seed::rng(s, Stream::Env);
                 let n = self.config.task.layouts.len();
                 self.order = (0..n).collect();
                 // Fisher-Yates with u32 draws: the same order on 32- and 64-bit targets.

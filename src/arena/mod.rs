@@ -7,6 +7,7 @@
 mod env;
 mod physics;
 mod tasks;
+#[cfg(feature = "test-hooks")]
 pub mod trace;
 mod world;
 pub mod yaml;

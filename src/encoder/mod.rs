@@ -47,7 +47,7 @@ impl ReconstructionGate {
     }
 
     /// Called once per env step with the current image; measures on every 16th call.
-    pub fn advance(&mut self, image: &[f32]) {
+    pub fn watch(&mut self, image: &[f32]) {
         self.steps += 1;
         if self.steps % Self::PERIOD == 0 {
             self.image.copy_from_slice(image);
@@ -56,12 +56,12 @@ impl ReconstructionGate {
         }
     }
 
-    /// Whether the next `advance` measures (so the caller must pass the current image).
+    /// Whether the next `watch` measures (so the caller must pass the current image).
     pub fn due(&self) -> bool {
         (self.steps + 1) % Self::PERIOD == 0
     }
 
-    /// Whether the last `advance` measured: then `share_embedding` may pass that frame's
+    /// Whether the last `watch` measured: then `share_embedding` may pass that frame's
     /// embedding.
     pub fn measured_now(&self) -> bool {
         self.pending && self.steps % Self::PERIOD == 0

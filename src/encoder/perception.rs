@@ -9,12 +9,7 @@
 
 use super::{bundled, Autoencoder, Scratch, EMBEDDING};
 use crate::arena::ConfigError;
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
-
-/// The ChaCha stream of a run's seed that draws its untrained encoder (the agent has stream 1,
-/// MFEC's random projection stream 2).
-pub const UNTRAINED_STREAM: u64 = 3;
+use crate::seed::Stream;
 
 /// Which encoder makes the embeddings.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -73,8 +68,7 @@ impl Perception {
                 None
             }
             PerceptionKind::Untrained => {
-                let mut rng = ChaCha8Rng::seed_from_u64(seed);
-                rng.set_stream(UNTRAINED_STREAM);
+                let mut rng = crate::seed::rng(seed, Stream::UntrainedEncoder);
                 let mut e = Autoencoder::untrained_encoder(&mut rng);
                 e.task = task.to_string();
                 e.embedding_scale = scale.unwrap_or(1.0);

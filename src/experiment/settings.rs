@@ -17,8 +17,7 @@ use std::collections::BTreeMap;
 /// Flat settings, key to value, as the URL hash holds them.
 pub type Settings = BTreeMap<String, String>;
 
-/// Largest seed a JS number holds exactly.
-pub const MAX_SEED: u64 = 9_007_199_254_740_991;
+use crate::seed::MAX_SEED;
 
 /// What values a setting takes.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -48,6 +47,15 @@ pub struct Param {
     pub live: bool,
 }
 
+/// One setting: what the page shows (`param`) and how it reads and writes a run's configuration
+/// and seed. `set` receives the value `parse` checked: the number, the choice's index, 1/0 for a
+/// switch, NaN for `auto`.
+struct Setting {
+    param: Param,
+    get: fn(&RunConfig, u64) -> String,
+    set: fn(&mut RunConfig, &mut u64, f64),
+}
+
 fn number(key: &'static str, symbol: &'static str, help: &'static str, r: (f64, f64), open: bool, step: f64) -> Param {
     Param {
         key,
@@ -62,6 +70,10 @@ fn choice(key: &'static str, symbol: &'static str, help: &'static str, options: 
     Param { key, symbol, help, kind: Kind::Choice { options: options.iter().map(|s| s.to_string()).collect() }, live }
 }
 
+fn integer(key: &'static str, symbol: &'static str, help: &'static str, r: (u64, u64), live: bool) -> Param {
+    Param { key, symbol, help, kind: Kind::Integer { min: r.0, max: r.1 }, live }
+}
+
 /// The agent choices of the page.
 pub const AGENTS: [&str; 4] = ["sec", "mfec-ae", "mfec-rp", "reactive"];
 
@@ -69,27 +81,127 @@ fn names<T>(table: &[(&'static str, T)]) -> Vec<&'static str> {
     table.iter().map(|(n, _)| *n).collect()
 }
 
+/// The name `table` gives `value`.
+fn name_of<T: PartialEq>(table: &[(&'static str, T)], value: T) -> String {
+    table.iter().find(|(_, v)| *v == value).expect("every option is listed").0.to_string()
+}
+
+fn agent_name(cfg: &RunConfig) -> &'static str {
+    match (cfg.kind, cfg.mfec.embedding) {
+        (AgentKind::Sec, _) => "sec",
+        (AgentKind::Reactive, _) => "reactive",
+        (AgentKind::Mfec, Embedding::Autoencoder) => "mfec-ae",
+        (AgentKind::Mfec, Embedding::RandomProjection) => "mfec-rp",
+    }
+}
+
+fn set_agent(cfg: &mut RunConfig, name: &str) {
+    cfg.kind = match name {
+        "sec" => AgentKind::Sec,
+        "reactive" => AgentKind::Reactive,
+        _ => AgentKind::Mfec,
+    };
+    cfg.mfec.embedding = if name == "mfec-rp" { Embedding::RandomProjection } else { Embedding::Autoencoder };
+}
+
+/// Every setting, each declared once, in the order the page shows them.
+#[rustfmt::skip]
+fn table() -> Vec<Setting> {
+    vec![
+        Setting {
+            param: choice("task", "task", "The arena the agent learns in (a new run).", &TASK_NAMES, false),
+            get: |c, _| c.task.clone(),
+            set: |c, _, v| c.task = TASK_NAMES[v as usize].to_string(),
+        },
+        Setting {
+            param: choice("agent", "agent", "SEC, MFEC on the autoencoder's or a random projection's embedding, or the reactive walk alone (a new run).", &AGENTS, false),
+            get: |c, _| agent_name(c).to_string(),
+            set: |c, _, v| set_agent(c, AGENTS[v as usize]),
+        },
+        Setting {
+            param: choice("perception", "encoder", "Which encoder embeds the camera image: untrained random weights (what the authors' code ran) or the trained one (the paper's text); the trained one always runs the gate (a new run).", &names(&PerceptionKind::ALL), false),
+            get: |c, _| name_of(&PerceptionKind::ALL, c.perception),
+            set: |c, _, v| c.perception = PerceptionKind::ALL[v as usize].1,
+        },
+        Setting {
+            param: Param { key: "embeddingScale", symbol: "scale", help: "Multiplies every embedding, so it sets how alike two views must be to pass θ_abs; auto: 1 untrained, the calibrated scale trained (a new run).", kind: Kind::Number { min: SCALE_RANGE.0 as f64, max: SCALE_RANGE.1 as f64, min_open: true, step: 0.01, auto: true }, live: false },
+            get: |c, _| c.scale_override().map_or("auto".to_string(), |s| s.to_string()),
+            set: |c, _, v| {
+                c.embedding_scale = (!v.is_nan()).then_some(v as f32);
+                c.raw_embeddings = false;
+            },
+        },
+        Setting {
+            param: Param { key: "bias", symbol: "T", help: "Sequential bias: on is SEC, off is NSEC (T restarts at 1).", kind: Kind::Switch, live: true },
+            get: |c, _| (c.agent.memory.sequential_bias as u8).to_string(),
+            set: |c, _, v| c.agent.memory.sequential_bias = v == 1.0,
+        },
+        Setting {
+            param: number("alpha", "α", "How much T rises for the successor of a selected couplet.", ALPHA_RANGE, false, 0.001),
+            get: |c, _| c.agent.memory.alpha.to_string(),
+            set: |c, _, v| c.agent.memory.alpha = v,
+        },
+        Setting {
+            param: number("beta", "β", "How fast T decays back towards 1 at every decision.", BETA_RANGE, false, 0.001),
+            get: |c, _| c.agent.memory.beta.to_string(),
+            set: |c, _, v| c.agent.memory.beta = v,
+        },
+        Setting {
+            param: number("tau", "τ", "Distance discount exp(-d/τ): lower favours couplets near the goal.", TAU_RANGE, true, 0.01),
+            get: |c, _| c.agent.memory.tau.to_string(),
+            set: |c, _, v| c.agent.memory.tau = v,
+        },
+        Setting {
+            param: number("thetaAbs", "θ_abs", "A couplet is selected only if its biased similarity G exceeds this...", THETA_ABS_RANGE, false, 0.001),
+            get: |c, _| c.agent.memory.theta_abs.to_string(),
+            set: |c, _, v| c.agent.memory.theta_abs = v,
+        },
+        Setting {
+            param: number("thetaProp", "θ_prop", "...and G / Gmax exceeds this.", THETA_PROP_RANGE, false, 0.001),
+            get: |c, _| c.agent.memory.theta_prop.to_string(),
+            set: |c, _, v| c.agent.memory.theta_prop = v,
+        },
+        Setting {
+            param: integer("n", "n", "STM length: couplets per stored sequence (a new run).", (N_RANGE.0 as u64, N_RANGE.1 as u64), false),
+            get: |c, _| c.agent.memory.n.to_string(),
+            set: |c, _, v| c.agent.memory.n = v as usize,
+        },
+        Setting {
+            param: integer("m", "m", "LTM capacity in sequences; a smaller m forgets the oldest now.", (M_RANGE.0 as u64, M_RANGE.1 as u64), true),
+            get: |c, _| c.agent.memory.m.to_string(),
+            set: |c, _, v| c.agent.memory.m = v as usize,
+        },
+        Setting {
+            param: choice("forgetting", "forget", "What a full LTM does: nothing, drop the oldest, the lowest reward, the 10% lowest, or one drawn by low reward.", &names(&Forgetting::ALL), true),
+            get: |c, _| name_of(&Forgetting::ALL, c.agent.memory.forgetting),
+            set: |c, _, v| c.agent.memory.forgetting = Forgetting::ALL[v as usize].1,
+        },
+        Setting {
+            param: choice("value", "value", "How a couplet's similarity g, relative reward rr and distance d make its value.", &names(&ValueFn::ALL), true),
+            get: |c, _| name_of(&ValueFn::ALL, c.agent.memory.value_function),
+            set: |c, _, v| c.agent.memory.value_function = ValueFn::ALL[v as usize].1,
+        },
+        Setting {
+            param: integer("t", "t", "Episode limit in env steps; every step costs 1/t (a new run).", (0, MAX_T as u64), false),
+            get: |c, _| c.t.unwrap_or(DEFAULT_T).to_string(),
+            set: |c, _, v| c.t = Some(v as u32),
+        },
+        Setting {
+            param: choice("startHeading", "heading", "Where the double T-maze's agent starts looking: a new random heading every episode, or always facing the centre (a new run).", &names(&StartHeading::ALL), false),
+            get: |c, _| name_of(&StartHeading::ALL, c.start_heading),
+            set: |c, _, v| c.start_heading = StartHeading::ALL[v as usize].1,
+        },
+        Setting {
+            param: integer("seed", "seed", "The run is a pure function of its settings and this seed (a new run).", (0, MAX_SEED), false),
+            get: |_, seed| seed.to_string(),
+            set: |_, seed, v| *seed = v as u64,
+        },
+    ]
+}
+
 /// Every setting, in the order the page shows them.
 pub fn params() -> Vec<Param> {
-    vec![
-        choice("task", "task", "The arena the agent learns in (a new run).", &TASK_NAMES, false),
-        choice("agent", "agent", "SEC, MFEC on the autoencoder's or a random projection's embedding, or the reactive walk alone (a new run).", &AGENTS, false),
-        choice("perception", "encoder", "Which encoder embeds the camera image: untrained random weights (what the authors' code ran) or the trained one (the paper's text); the trained one always runs the gate (a new run).", &names(&PerceptionKind::ALL), false),
-        Param { key: "embeddingScale", symbol: "scale", help: "Multiplies every embedding, so it sets how alike two views must be to pass θ_abs; auto: 1 untrained, the calibrated scale trained (a new run).", kind: Kind::Number { min: SCALE_RANGE.0 as f64, max: SCALE_RANGE.1 as f64, min_open: true, step: 0.01, auto: true }, live: false },
-        Param { key: "bias", symbol: "T", help: "Sequential bias: on is SEC, off is NSEC (T restarts at 1).", kind: Kind::Switch, live: true },
-        number("alpha", "α", "How much T rises for the successor of a selected couplet.", ALPHA_RANGE, false, 0.001),
-        number("beta", "β", "How fast T decays back towards 1 at every decision.", BETA_RANGE, false, 0.001),
-        number("tau", "τ", "Distance discount exp(-d/τ): lower favours couplets near the goal.", TAU_RANGE, true, 0.01),
-        number("thetaAbs", "θ_abs", "A couplet is selected only if its biased similarity G exceeds this...", THETA_ABS_RANGE, false, 0.001),
-        number("thetaProp", "θ_prop", "...and G / Gmax exceeds this.", THETA_PROP_RANGE, false, 0.001),
-        Param { key: "n", symbol: "n", help: "STM length: couplets per stored sequence (a new run).", kind: Kind::Integer { min: N_RANGE.0 as u64, max: N_RANGE.1 as u64 }, live: false },
-        Param { key: "m", symbol: "m", help: "LTM capacity in sequences; a smaller m forgets the oldest now.", kind: Kind::Integer { min: M_RANGE.0 as u64, max: M_RANGE.1 as u64 }, live: true },
-        choice("forgetting", "forget", "What a full LTM does: nothing, drop the oldest, the lowest reward, the 10% lowest, or one drawn by low reward.", &names(&Forgetting::ALL), true),
-        choice("value", "value", "How a couplet's similarity g, relative reward rr and distance d make its value.", &names(&ValueFn::ALL), true),
-        Param { key: "t", symbol: "t", help: "Episode limit in env steps; every step costs 1/t (a new run).", kind: Kind::Integer { min: 0, max: MAX_T as u64 }, live: false },
-        choice("startHeading", "heading", "Where the double T-maze's agent starts looking: a new random heading every episode, or always facing the centre (a new run).", &names(&StartHeading::ALL), false),
-        Param { key: "seed", symbol: "seed", help: "The run is a pure function of its settings and this seed (a new run).", kind: Kind::Integer { min: 0, max: MAX_SEED }, live: false },
-    ]
+    table().into_iter().map(|s| s.param).collect()
 }
 
 fn range_error(key: &str, value: &str, kind: &Kind) -> ConfigError {
@@ -132,79 +244,19 @@ fn parse(p: &Param, value: &str) -> Result<f64, ConfigError> {
 /// Sets one setting on `cfg` and `seed`; an unknown key or a bad value is an error that names
 /// the key and its range, and changes nothing.
 pub fn apply(cfg: &mut RunConfig, seed: &mut u64, key: &str, value: &str) -> Result<(), ConfigError> {
-    let all = params();
-    let p = all.iter().find(|p| p.key == key).ok_or_else(|| {
-        let keys: Vec<&str> = all.iter().map(|p| p.key).collect();
+    let all = table();
+    let s = all.iter().find(|s| s.param.key == key).ok_or_else(|| {
+        let keys: Vec<&str> = all.iter().map(|s| s.param.key).collect();
         ConfigError::new(key, format!("is not a setting (settings: {})", keys.join(", ")))
     })?;
-    let v = parse(p, value)?;
-    let mem = &mut cfg.agent.memory;
-    match key {
-        "task" => cfg.task = value.to_string(),
-        "agent" => {
-            cfg.kind = match value {
-                "sec" => AgentKind::Sec,
-                "reactive" => AgentKind::Reactive,
-                _ => AgentKind::Mfec,
-            };
-            cfg.mfec.embedding = if value == "mfec-rp" { Embedding::RandomProjection } else { Embedding::Autoencoder };
-        }
-        "perception" => cfg.perception = PerceptionKind::ALL[v as usize].1,
-        "embeddingScale" => cfg.embedding_scale = (!v.is_nan()).then_some(v as f32),
-        "startHeading" => cfg.start_heading = StartHeading::ALL[v as usize].1,
-        "bias" => mem.sequential_bias = v == 1.0,
-        "alpha" => mem.alpha = v,
-        "beta" => mem.beta = v,
-        "tau" => mem.tau = v,
-        "thetaAbs" => mem.theta_abs = v,
-        "thetaProp" => mem.theta_prop = v,
-        "n" => mem.n = v as usize,
-        "m" => mem.m = v as usize,
-        "forgetting" => mem.forgetting = Forgetting::ALL[v as usize].1,
-        "value" => mem.value_function = ValueFn::ALL[v as usize].1,
-        "t" => cfg.t = Some(v as u32),
-        "seed" => *seed = v as u64,
-        _ => unreachable!("every key of params() is handled"),
-    }
+    let v = parse(&s.param, value)?;
+    (s.set)(cfg, seed, v);
     Ok(())
 }
 
 /// The settings that describe `cfg` and `seed` (what the URL hash shows).
 pub fn to_settings(cfg: &RunConfig, seed: u64) -> Settings {
-    let mem = &cfg.agent.memory;
-    let agent = match (cfg.kind, cfg.mfec.embedding) {
-        (AgentKind::Sec, _) => "sec",
-        (AgentKind::Reactive, _) => "reactive",
-        (AgentKind::Mfec, Embedding::Autoencoder) => "mfec-ae",
-        (AgentKind::Mfec, Embedding::RandomProjection) => "mfec-rp",
-    };
-    let perception = PerceptionKind::ALL.iter().find(|(_, p)| *p == cfg.perception).expect("listed").0;
-    let heading = StartHeading::ALL.iter().find(|(_, h)| *h == cfg.start_heading).expect("listed").0;
-    let scale = cfg.scale_override().map_or("auto".to_string(), |s| s.to_string());
-    let forgetting = Forgetting::ALL.iter().position(|(_, f)| *f == mem.forgetting).expect("listed");
-    let value = ValueFn::ALL.iter().position(|(_, f)| *f == mem.value_function).expect("listed");
-    [
-        ("task", cfg.task.clone()),
-        ("agent", agent.into()),
-        ("perception", perception.into()),
-        ("embeddingScale", scale),
-        ("bias", (mem.sequential_bias as u8).to_string()),
-        ("alpha", mem.alpha.to_string()),
-        ("beta", mem.beta.to_string()),
-        ("tau", mem.tau.to_string()),
-        ("thetaAbs", mem.theta_abs.to_string()),
-        ("thetaProp", mem.theta_prop.to_string()),
-        ("n", mem.n.to_string()),
-        ("m", mem.m.to_string()),
-        ("forgetting", Forgetting::ALL[forgetting].0.to_string()),
-        ("value", ValueFn::ALL[value].0.to_string()),
-        ("t", cfg.t.unwrap_or(DEFAULT_T).to_string()),
-        ("startHeading", heading.into()),
-        ("seed", seed.to_string()),
-    ]
-    .into_iter()
-    .map(|(k, v)| (k.to_string(), v))
-    .collect()
+    table().into_iter().map(|s| (s.param.key.to_string(), (s.get)(cfg, seed))).collect()
 }
 
 /// The page's default run: double T-maze, SEC, the code preset, seed 1. The episode limit is

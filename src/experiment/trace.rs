@@ -15,7 +15,7 @@
 use crate::agent::{Agent, AgentConfig, Layer};
 use crate::arena::ConfigError;
 use crate::encoder::{PerceptionKind, EMBEDDING};
-use rand::SeedableRng;
+use crate::seed::Stream;
 use rand_chacha::ChaCha8Rng;
 use std::io::{BufRead, Write};
 
@@ -92,9 +92,7 @@ impl From<std::io::Error> for TraceError {
 /// The agent's random stream for `seed`: the same one a `Run` with that seed gives its agent, so
 /// the events a run records trace to the same actions.
 pub fn agent_rng(seed: u64) -> ChaCha8Rng {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    rng.set_stream(1);
-    rng
+    crate::seed::rng(seed, Stream::Agent)
 }
 
 /// Parses one event line; `line` is its 1-based number, for the error.

@@ -14,8 +14,8 @@ use crate::encoder::EMBEDDING;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
-/// The 9 actions (flat index 3*a0 + a1).
-pub const ACTIONS: usize = 9;
+/// The number of actions (`Action`'s flat indices 3*a0 + a1).
+pub const ACTIONS: usize = crate::arena::Action::COUNT;
 
 /// The option of `table` named `s`, or an error naming `param` and the choices.
 fn parse_named<T: Copy>(param: &str, table: &[(&str, T)], s: &str) -> Result<T, ConfigError> {
@@ -37,12 +37,14 @@ pub enum ValueFn {
     /// g * rr
     NoDist,
     /// g * exp(-d / tau)
+    #[serde(rename = "noRR")]
     NoRr,
     /// g
     SoloGi,
     /// exp(-d / tau)
     SoloDist,
     /// rr
+    #[serde(rename = "soloRR")]
     SoloRr,
 }
 
@@ -220,14 +222,14 @@ pub struct Memory {
     rewards: Vec<f64>,
     /// T, rows x n (f64 like the authors' numpy array).
     t: Vec<f64>,
-    /// M (selected by the last `advance`) and M_prev, rows x n.
+    /// M (selected by the last `retrieve`) and M_prev, rows x n.
     sel: Vec<bool>,
     sel_prev: Vec<bool>,
-    /// G of the last `advance`, rows x n, in the precision the authors' numpy used (see
-    /// `advance`), held as f64.
+    /// G of the last `retrieve`, rows x n, in the precision the authors' numpy used (see
+    /// `retrieve`), held as f64.
     g: Vec<f64>,
     /// Whether the LTM has been through forgetting: from then on the authors' LTM is a list of
-    /// Python floats, so numpy computes the similarity in f64 (see `advance`).
+    /// Python floats, so numpy computes the similarity in f64 (see `retrieve`).
     forgot: bool,
     /// 1 - MAE of every couplet, rows x n.
     sim: Vec<f32>,
@@ -289,12 +291,12 @@ impl Memory {
         &self.t
     }
 
-    /// G of the last `advance`, row-major (S x n).
-    pub fn similarity(&self) -> &[f64] {
+    /// G of the last `retrieve`, row-major (S x n).
+    pub fn biased_similarity(&self) -> &[f64] {
         &self.g
     }
 
-    /// The couplets the last `advance` selected, in row-major order.
+    /// The couplets the last `retrieve` selected, in row-major order.
     pub fn selected(&self) -> &[Selected] {
         &self.selected
     }
@@ -324,7 +326,7 @@ impl Memory {
     }
 
     /// Push the previous decision into the STM, then update T from the mask of the
-    /// last `advance` (decay, clamp, reset the selected, boost their successors: in this order).
+    /// last `retrieve` (decay, clamp, reset the selected, boost their successors: in this order).
     pub fn update(&mut self, couplet: Couplet) {
         self.push(couplet);
         self.update_bias();
@@ -367,7 +369,7 @@ impl Memory {
     /// in f64 after (their LTM is then a list of Python floats); times T in f64 with the bias,
     /// while without it G stays f32 and is compared with theta_abs and G / Gmax with theta_prop
     /// as f32 (numpy casts a Python float to the array's type).
-    pub fn advance(&mut self, e: &[f32; EMBEDDING], rng: &mut ChaCha8Rng) -> Option<u8> {
+    pub fn retrieve(&mut self, e: &[f32; EMBEDDING], rng: &mut ChaCha8Rng) -> Option<u8> {
         self.selected.clear();
         let (n, rows) = (self.cfg.n, self.len());
         if rows == 0 {
@@ -490,7 +492,7 @@ impl Memory {
     }
 
     /// End of episode: T back to 1 everywhere. The STM and the masks stay (D5).
-    pub fn refresh(&mut self) {
+    pub fn reset_bias(&mut self) {
         self.t.fill(1.0);
     }
 
@@ -507,7 +509,7 @@ impl Memory {
             ));
         }
         if cfg.sequential_bias != self.cfg.sequential_bias {
-            self.refresh();
+            self.reset_bias();
         }
         while self.len() > cfg.m {
             self.remove(0);

@@ -5,7 +5,7 @@ mod camera;
 mod topdown;
 
 pub use camera::Camera;
-pub use topdown::{render_top_down, TopDown};
+pub use topdown::{render_top_down, TopDown, Trail};
 
 use crate::arena::Rgb;
 

@@ -1,8 +1,9 @@
 //! The top-down view for the page: footprints in their colours, the agent, its heading and trail.
 
 use super::colours;
-use crate::arena::{Footprint, ObjectKind, Rgb, World, AGENT_RADIUS, ARENA_SIZE};
+use crate::arena::{ConfigError, Footprint, ObjectKind, Rgb, World, AGENT_RADIUS, ARENA_SIZE};
 use glam::Vec2;
+use std::collections::VecDeque;
 
 /// World margin drawn around the arena, metres (the fences).
 const MARGIN: f32 = 1.0;
@@ -20,6 +21,54 @@ impl TopDown {
     }
     pub fn render(&mut self, w: &World, trail: &[Vec2]) {
         render_top_down(w, trail, self.size, &mut self.rgba);
+    }
+}
+
+/// The agent's recent positions (about 30 s of simulated time), drawn as its trail on the
+/// top-down view, and the image that view is rendered into: the page's arena and run views.
+#[derive(Clone, Debug)]
+pub struct Trail {
+    points: VecDeque<Vec2>,
+    rgba: Vec<u8>,
+}
+
+impl Trail {
+    /// Positions kept.
+    pub const LENGTH: usize = 500;
+    /// Image sizes (pixels per side) `render` accepts.
+    pub const SIZES: std::ops::RangeInclusive<u32> = 32..=2048;
+
+    /// A trail starting at `at`.
+    pub fn new(at: Vec2) -> Self {
+        let mut t = Trail { points: VecDeque::with_capacity(Self::LENGTH), rgba: Vec::new() };
+        t.restart(at);
+        t
+    }
+
+    /// A new episode: the trail starts again at `at`.
+    pub fn restart(&mut self, at: Vec2) {
+        self.points.clear();
+        self.points.push_back(at);
+    }
+
+    /// The agent is now at `at`; the oldest position falls out of a full trail.
+    pub fn push(&mut self, at: Vec2) {
+        if self.points.len() == Self::LENGTH {
+            self.points.pop_front();
+        }
+        self.points.push_back(at);
+    }
+
+    /// The top-down view of `w` with the trail, `size` x `size` RGBA.
+    pub fn render(&mut self, w: &World, size: u32) -> Result<&[u8], ConfigError> {
+        if !Self::SIZES.contains(&size) {
+            let (lo, hi) = (Self::SIZES.start(), Self::SIZES.end());
+            return Err(ConfigError::new("size", format!("{size} is out of range {lo}..={hi}")));
+        }
+        let n = size as usize;
+        self.rgba.resize(n * n * 4, 0);
+        render_top_down(w, self.points.make_contiguous(), n, &mut self.rgba);
+        Ok(&self.rgba)
     }
 }
 

@@ -1,31 +1,27 @@
 //! The JavaScript API (wasm32 only). Every value from JS is validated; a bad one is a JS
 //! `Error` whose message names the parameter and its range, and leaves the state as it was.
 
-use crate::arena::{trace, yaml, Action, ConfigError, Env, EnvConfig, Task, MAX_T, TASK_NAMES};
+use crate::arena::{yaml, Action, ConfigError, Env, EnvConfig, Task, MAX_T, TASK_NAMES};
 use crate::encoder::{bundled, reconstruction_to_rgba, Autoencoder, Scratch, EMBEDDING, IMAGE};
-use crate::render::{render_top_down, Frame, WIDTH};
-use glam::Vec2;
+use crate::render::{Frame, Trail, WIDTH};
+use crate::seed::MAX_SEED;
 use serde::Serialize;
-use std::collections::VecDeque;
 use wasm_bindgen::prelude::*;
 
+#[cfg(feature = "test-hooks")]
+mod hooks;
 mod run;
 pub use run::{apply_settings, has_model, parameters, parse_settings, preset_settings, register_model, SecRun};
-
-/// Positions kept for the top-down trail (about 30 s of simulated time).
-const TRAIL: usize = 500;
-/// Largest seed a JS number holds exactly.
-const MAX_SEED: f64 = 9_007_199_254_740_991.0;
 
 fn js_err(e: ConfigError) -> JsError {
     JsError::new(&e.to_string())
 }
 
 fn seed_from_js(seed: f64) -> Result<u64, JsError> {
-    if seed.is_finite() && seed.fract() == 0.0 && (0.0..=MAX_SEED).contains(&seed) {
+    if seed.is_finite() && seed.fract() == 0.0 && (0.0..=MAX_SEED as f64).contains(&seed) {
         Ok(seed as u64)
     } else {
-        Err(JsError::new(&format!("seed: {seed} is out of range 0..=9007199254740991 (whole numbers)")))
+        Err(JsError::new(&format!("seed: {seed} is out of range 0..={MAX_SEED} (whole numbers)")))
     }
 }
 
@@ -66,8 +62,7 @@ struct AgentJs {
 #[wasm_bindgen]
 pub struct ArenaEnv {
     env: Env,
-    trail: VecDeque<Vec2>,
-    top: Vec<u8>,
+    trail: Trail,
 }
 
 #[wasm_bindgen]
@@ -90,17 +85,15 @@ impl ArenaEnv {
         let seed = seed_from_js(seed)?;
         let config = EnvConfig { task, t: t_from_js(t)? };
         let env = Env::new(config, seed).map_err(js_err)?;
-        let mut me = ArenaEnv { env, trail: VecDeque::with_capacity(TRAIL), top: Vec::new() };
-        me.trail.push_back(me.env.world().agent.pos);
-        Ok(me)
+        let trail = Trail::new(env.world().agent.pos);
+        Ok(ArenaEnv { env, trail })
     }
 
     /// Starts the next episode, or restarts the run when a seed is given.
     pub fn reset(&mut self, seed: Option<f64>) -> Result<(), JsError> {
         let seed = seed.map(seed_from_js).transpose()?;
         self.env.reset(seed);
-        self.trail.clear();
-        self.trail.push_back(self.env.world().agent.pos);
+        self.trail.restart(self.env.world().agent.pos);
         Ok(())
     }
 
@@ -114,10 +107,7 @@ impl ArenaEnv {
     pub fn step_held(&mut self, action: u32, k: u32) -> Result<JsValue, JsError> {
         let a = Action::new(action).map_err(js_err)?;
         let o = self.env.advance(a, k).map_err(js_err)?;
-        if self.trail.len() == TRAIL {
-            self.trail.pop_front();
-        }
-        self.trail.push_back(self.env.world().agent.pos);
+        self.trail.push(self.env.world().agent.pos);
         let out = StepJs {
             reward: o.reward,
             terminated: o.terminated,
@@ -136,14 +126,7 @@ impl ArenaEnv {
     /// The top-down view, `size` x `size` RGBA bytes (size 32..=2048).
     #[wasm_bindgen(js_name = topDown)]
     pub fn top_down(&mut self, size: u32) -> Result<Vec<u8>, JsError> {
-        if !(32..=2048).contains(&size) {
-            return Err(JsError::new(&format!("size: {size} is out of range 32..=2048")));
-        }
-        let n = size as usize;
-        self.top.resize(n * n * 4, 0);
-        let trail: Vec<Vec2> = self.trail.iter().copied().collect();
-        render_top_down(self.env.world(), &trail, n, &mut self.top);
-        Ok(self.top.clone())
+        Ok(self.trail.render(self.env.world(), size).map_err(js_err)?.to_vec())
     }
 
     /// Agent pose and episode state.
@@ -185,33 +168,6 @@ pub fn task_description(task: &str) -> Result<String, JsError> {
 #[wasm_bindgen(js_name = frameSize)]
 pub fn frame_size() -> u32 {
     WIDTH as u32
-}
-
-/// The scripted determinism run (see `arena::trace`), for cross-target checks.
-#[wasm_bindgen(js_name = scriptedRun)]
-pub fn scripted_run(task: &str, seed: f64, steps: u32) -> Result<String, JsError> {
-    trace::scripted_run(task, seed_from_js(seed)?, steps).map_err(js_err)
-}
-
-/// Benchmark helper: `n` physics-only env steps of the shared script (see `bench/wasm-bench.mjs`).
-#[wasm_bindgen(js_name = benchEnvSteps)]
-pub fn bench_env_steps(task: &str, n: u32) -> Result<f64, JsError> {
-    let mut env = Env::new(EnvConfig::new(Task::preset(task).map_err(js_err)?), 1).map_err(js_err)?;
-    Ok(trace::bench_env_steps(&mut env, n))
-}
-
-/// Benchmark helper: `n` camera renders cycling through the benchmark poses of a task.
-#[wasm_bindgen(js_name = benchRenders)]
-pub fn bench_renders(task: &str, n: u32) -> Result<u32, JsError> {
-    let worlds = trace::bench_worlds(task).map_err(js_err)?;
-    let mut cam = crate::render::Camera::new();
-    let mut frame = crate::render::Frame::new();
-    let mut acc = 0u32;
-    for i in 0..n as usize {
-        cam.render(&worlds[i % worlds.len()], &mut frame);
-        acc = acc.wrapping_add(frame.rgba[i % frame.rgba.len()] as u32);
-    }
-    Ok(acc)
 }
 
 /// The trained autoencoder of a task (bundled with the wasm): the embedding SEC sees, the
@@ -278,35 +234,4 @@ impl Encoder {
     pub fn embedding_scale(&self) -> f32 {
         self.ae.embedding_scale
     }
-}
-
-/// Benchmark helper: `n` encodes (`decode` false) or decodes of a T-maze frame with the bundled
-/// T-maze model; returns a checksum.
-#[wasm_bindgen(js_name = benchAutoencoder)]
-pub fn bench_autoencoder(n: u32, decode: bool) -> Result<f32, JsError> {
-    let mut env = Env::new(EnvConfig::new(Task::preset("double-t-maze").map_err(js_err)?), 3).map_err(js_err)?;
-    let mut img = vec![0.0; IMAGE];
-    env.observation().to_rgb_f32(&mut img);
-    let ae = bundled::autoencoder("double-t-maze").map_err(js_err)?;
-    let mut s = Scratch::default();
-    let mut e = [0.0; EMBEDDING];
-    let mut rec = Vec::new();
-    let mut acc = 0.0;
-    ae.encode(&img, &mut s, &mut e);
-    for _ in 0..n {
-        if decode {
-            ae.decode(&e, &mut s, &mut rec);
-            acc += rec[0];
-        } else {
-            ae.encode(&img, &mut s, &mut e);
-            acc += e[0];
-        }
-    }
-    Ok(acc)
-}
-
-/// Test hook for the page's error path: panics, which traps the wasm instance like a bug would.
-#[wasm_bindgen(js_name = panicForTest)]
-pub fn panic_for_test() {
-    panic!("panicForTest: testing the page's error path")
 }

@@ -7,17 +7,14 @@
 use super::{js_err, seed_from_js};
 use crate::encoder::{reconstruction_to_rgba, Scratch, EMBEDDING, IMAGE};
 use crate::experiment::settings::{self, Settings};
-use crate::experiment::{Controller, Driver, EpisodeMetrics, Run, RunConfig};
+use crate::experiment::{Driver, EpisodeMetrics, Run, RunConfig};
 use crate::memory::ACTIONS;
-use crate::render::render_top_down;
-use glam::Vec2;
+use crate::render::Trail;
 use serde::Serialize;
-use std::collections::{BTreeMap, VecDeque};
+use std::collections::BTreeMap;
 use wasm_bindgen::prelude::*;
 
-/// Positions kept for the top-down trail (about 30 s of simulated time).
-const TRAIL: usize = 500;
-/// Most decisions one `advance` call may run (keeps a time slice bounded).
+/// Most decisions one `runDecisions` call may run (keeps a time slice bounded).
 const MAX_BATCH: u32 = 100_000;
 
 #[wasm_bindgen(typescript_custom_section)]
@@ -108,11 +105,10 @@ struct StepResult {
 /// A run of SEC (or a baseline) in a task, stepped by the page's worker.
 #[wasm_bindgen]
 pub struct SecRun {
-    run: Run,
+    pub(super) run: Run,
     seed: u64,
     last: Option<crate::agent::Decision>,
-    trail: VecDeque<Vec2>,
-    top: Vec<u8>,
+    trail: Trail,
     image: Vec<f32>,
     scratch: Scratch,
     rec: Vec<f32>,
@@ -156,28 +152,18 @@ impl SecRun {
 
     fn build(cfg: RunConfig, seed: u64) -> Result<SecRun, JsError> {
         let run = Run::new(cfg, seed).map_err(js_err)?;
-        let mut me = SecRun {
-            run,
+        Ok(SecRun {
             seed,
             last: None,
-            trail: VecDeque::with_capacity(TRAIL),
-            top: Vec::new(),
+            trail: Trail::new(run.env().world().agent.pos),
             image: vec![0.0; IMAGE],
             scratch: Scratch::default(),
             rec: Vec::new(),
             rec_rgba: vec![0; IMAGE / 3 * 4],
             heat: Vec::new(),
             marks: Vec::new(),
-        };
-        me.note_position();
-        Ok(me)
-    }
-
-    fn note_position(&mut self) {
-        if self.trail.len() == TRAIL {
-            self.trail.pop_front();
-        }
-        self.trail.push_back(self.run.env().world().agent.pos);
+            run,
+        })
     }
 
     fn tick(&mut self) -> crate::experiment::Tick {
@@ -185,10 +171,11 @@ impl SecRun {
         if t.decision.is_some() {
             self.last = t.decision;
         }
-        if t.finished.is_some() {
-            self.trail.clear();
+        let at = self.run.env().world().agent.pos;
+        match t.finished {
+            Some(_) => self.trail.restart(at),
+            None => self.trail.push(at),
         }
-        self.note_position();
         t
     }
 
@@ -228,8 +215,8 @@ impl SecRun {
 
     /// Runs `decisions` decisions (1..=100000); returns the episodes they finished
     /// (`EpisodeMetrics[]`).
-    #[wasm_bindgen(unchecked_return_type = "EpisodeMetrics[]")]
-    pub fn advance(&mut self, decisions: u32) -> Result<JsValue, JsError> {
+    #[wasm_bindgen(js_name = runDecisions, unchecked_return_type = "EpisodeMetrics[]")]
+    pub fn run_decisions(&mut self, decisions: u32) -> Result<JsValue, JsError> {
         if !(1..=MAX_BATCH).contains(&decisions) {
             return Err(JsError::new(&format!("decisions: {decisions} is out of range 1..={MAX_BATCH}")));
         }
@@ -272,14 +259,14 @@ impl SecRun {
     #[wasm_bindgen(unchecked_return_type = "DecisionView")]
     pub fn view(&mut self) -> Result<JsValue, JsError> {
         let gate_mse = self.run.gate_mse();
-        let (entropy, p, selected, ltm, capacity) = match self.run.controller() {
-            Controller::Sec(a) => {
+        let controller = self.run.controller();
+        let (entropy, memory) = (controller.entropy(), controller.memory_use());
+        let (p, selected) = match controller.sec() {
+            Some(a) => {
                 let m = &a.memory;
-                let p = (m.entropy() > 0.0 || !m.selected().is_empty()).then(|| *m.p());
-                (m.entropy(), p, m.selected().len(), m.len(), m.config().m)
+                ((m.entropy() > 0.0 || !m.selected().is_empty()).then(|| *m.p()), m.selected().len())
             }
-            Controller::Mfec(f) => (f.entropy(), None, 0, f.len(), f.config().capacity * ACTIONS),
-            Controller::Reactive(_) => (0.0, None, 0, 0, 0),
+            None => (None, 0),
         };
         let a = &self.run.env().world().agent;
         let cur = self.run.current();
@@ -290,8 +277,8 @@ impl SecRun {
             entropy,
             p,
             gate_mse,
-            ltm,
-            capacity,
+            ltm: memory.used,
+            capacity: memory.capacity,
             episode: self.run.env().episode() as f64,
             step: self.run.env().steps(),
             episode_reward: cur.map_or(0.0, |c| c.reward),
@@ -324,15 +311,9 @@ impl SecRun {
     /// The top-down view with the agent's trail, `size` x `size` RGBA (size 32..=2048; a view).
     #[wasm_bindgen(js_name = topDown)]
     pub fn top_down(&mut self, size: u32) -> Result<js_sys::Uint8Array, JsError> {
-        if !(32..=2048).contains(&size) {
-            return Err(JsError::new(&format!("size: {size} is out of range 32..=2048")));
-        }
-        let n = size as usize;
-        self.top.resize(n * n * 4, 0);
-        let trail: Vec<Vec2> = self.trail.iter().copied().collect();
-        render_top_down(self.run.env().world(), &trail, n, &mut self.top);
+        let rgba = self.trail.render(self.run.env().world(), size).map_err(js_err)?;
         // SAFETY: as `observation`.
-        Ok(unsafe { js_sys::Uint8Array::view(&self.top) })
+        Ok(unsafe { js_sys::Uint8Array::view(rgba) })
     }
 
     /// The LTM as a heat map, sequences x STM positions, row-major: `which` "g" (the last
@@ -340,12 +321,12 @@ impl SecRun {
     #[wasm_bindgen(js_name = memoryMap)]
     pub fn memory_map(&mut self, which: &str) -> Result<js_sys::Float32Array, JsError> {
         self.heat.clear();
-        if let Controller::Sec(a) = self.run.controller() {
+        if let Some(a) = self.run.agent() {
             let m = &a.memory;
             let cells = m.len() * m.config().n;
             match which {
                 "g" => {
-                    let g = m.similarity();
+                    let g = m.biased_similarity();
                     self.heat.extend((0..cells).map(|i| g.get(i).copied().unwrap_or(0.0) as f32));
                 }
                 "t" => self.heat.extend(m.bias().iter().map(|&t| t as f32)),
@@ -360,19 +341,12 @@ impl SecRun {
     #[wasm_bindgen(js_name = selectedCouplets)]
     pub fn selected_couplets(&mut self) -> js_sys::Uint32Array {
         self.marks.clear();
-        if let Controller::Sec(a) = self.run.controller() {
+        if let Some(a) = self.run.agent() {
             let n = a.memory.config().n as u32;
             self.marks.extend(a.memory.selected().iter().map(|s| s.row * n + s.col));
         }
         // SAFETY: as `observation`.
         unsafe { js_sys::Uint32Array::view(&self.marks) }
-    }
-
-    /// Benchmark helper: fills the LTM with `rows` sequences of real embeddings (see
-    /// `Run::fill_ltm_for_benchmark`), so decisions can be timed over a full memory.
-    #[wasm_bindgen(js_name = benchFillMemory)]
-    pub fn bench_fill_memory(&mut self, rows: u32) {
-        self.run.fill_ltm_for_benchmark(rows as usize);
     }
 
     /// A person takes the controls with `action` (0..=8: 3 x forward/back + turn right/left)

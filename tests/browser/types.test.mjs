@@ -43,3 +43,12 @@ test('RunConfig, EpisodeMetrics, DecisionView, Param and ParsedSettings match wh
   declares('ParsedSettings', wasm.parseSettings({}), false);
   run.free();
 });
+
+test('the published build has no test or benchmark hooks', () => {
+  for (const name of ['panicForTest', 'benchEnvSteps', 'benchRenders', 'benchAutoencoder', 'scriptedRun']) {
+    assert.ok(!dts.includes(name), `${name} is not declared`);
+    assert.equal(wasm[name], undefined, `${name} is not exported`);
+  }
+  assert.ok(!dts.includes('benchFillMemory'));
+  assert.equal(wasm.SecRun.prototype.benchFillMemory, undefined);
+});

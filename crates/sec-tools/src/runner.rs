@@ -13,6 +13,7 @@ use flate2::write::GzEncoder;
 use indicatif::{ProgressBar, ProgressStyle};
 use sec_playground::experiment::presets::Condition;
 use sec_playground::experiment::{Run, RunConfig};
+use sec_playground::seed::MAX_SEED;
 use std::fs;
 use std::io::{BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
@@ -58,7 +59,7 @@ pub fn parse_shard(s: &str) -> Result<(usize, usize), String> {
 
 /// `A..B` (inclusive), `A,B,C` or a count `N` (1..=N).
 pub fn parse_seeds(s: &str) -> Result<Vec<u64>, String> {
-    let err = || format!("--seeds: '{s}' is not N, A..B or a list A,B,C of seeds (0..=2^53)");
+    let err = || format!("--seeds: '{s}' is not N, A..B or a list A,B,C of seeds (0..={MAX_SEED})");
     let seeds: Vec<u64> = if let Some((a, b)) = s.split_once("..") {
         let (a, b): (u64, u64) = (a.parse().map_err(|_| err())?, b.parse().map_err(|_| err())?);
         if a > b {
@@ -71,7 +72,7 @@ pub fn parse_seeds(s: &str) -> Result<Vec<u64>, String> {
         let n: u64 = s.parse().map_err(|_| err())?;
         (1..=n).collect()
     };
-    if seeds.is_empty() || seeds.len() > 10_000 || seeds.iter().any(|&x| x > 1 << 53) {
+    if seeds.is_empty() || seeds.len() > 10_000 || seeds.iter().any(|&x| x > MAX_SEED) {
         return Err(err());
     }
     Ok(seeds)

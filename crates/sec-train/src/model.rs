@@ -1,6 +1,6 @@
 //! The paper's autoencoder (docs/ENCODER.md) as a burn module, channel-first as burn
 //! wants it, with exact conversions to and from the project's weights (Keras layouts: conv kernels
-//! HWIO, dense [in][out], flatten in (y, x, c) order).
+//! HWIO, dense `[in][out]`, flatten in (y, x, c) order).
 
 use burn::module::Param;
 use burn::nn::conv::{Conv2d, Conv2dConfig};

@@ -12,11 +12,12 @@
 //!   sec-experiment record --config FILE.json --seed S --episodes N --events OUT.jsonl
 //!   sec-experiment trace --config FILE.json --seed S --events IN.jsonl [--trace OUT.jsonl]
 //!
-//! Runs go to OUT/EXPERIMENT/<group>/<model>/seed-S.jsonl, one JSON line per episode.
+//! Runs go to `OUT/EXPERIMENT/<group>/<model>/seed-S.jsonl`, one JSON line per episode.
 
 use sec_playground::experiment::presets::{self, Condition, EXPERIMENTS};
 use sec_playground::experiment::trace::trace;
 use sec_playground::experiment::{AgentKind, Run, RunConfig};
+use sec_playground::seed::MAX_SEED;
 use sec_tools::runner::{self, Manifest, ManifestCondition};
 use std::collections::HashMap;
 use std::io::{BufReader, BufWriter, Write};
@@ -213,7 +214,7 @@ fn record(args: &[String]) -> Result<(), String> {
     if cfg.kind != AgentKind::Sec {
         return Err("--config: record and trace are for SEC (kind \"sec\")".into());
     }
-    let seed = number("seed", o.get("seed").ok_or("record needs --seed")?, 0u64, 1 << 53)?;
+    let seed = number("seed", o.get("seed").ok_or("record needs --seed")?, 0u64, MAX_SEED)?;
     let episodes = number("episodes", o.get("episodes").copied().unwrap_or("10"), 1usize, 100_000)?;
     let path = o.get("events").ok_or("record needs --events")?;
     let mut run = Run::new(cfg, seed).map_err(|e| e.to_string())?;
@@ -234,7 +235,7 @@ fn record(args: &[String]) -> Result<(), String> {
 fn trace_cmd(args: &[String]) -> Result<(), String> {
     let (_, o) = options(args, &["config", "seed", "events", "trace"])?;
     let cfg = read_config(o.get("config").ok_or("trace needs --config")?)?;
-    let seed = number("seed", o.get("seed").ok_or("trace needs --seed")?, 0u64, 1 << 53)?;
+    let seed = number("seed", o.get("seed").ok_or("trace needs --seed")?, 0u64, MAX_SEED)?;
     let input = o.get("events").ok_or("trace needs --events")?;
     let reader = BufReader::new(std::fs::File::open(input).map_err(|e| format!("--events {input}: {e}"))?);
     let n = match o.get("trace") {

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# The fast gate, run first by the test command: formatting, clippy (native and wasm32) and the
+# docs, each with warnings as errors. A minute or two on a warm cache.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+export PATH="$HOME/.cargo/bin:$PATH"
+installed=$(rustup component list --installed)
+for c in rustfmt clippy; do
+  grep -q "^$c" <<<"$installed" || rustup component add "$c"
+done
+rustup target list --installed | grep -qx wasm32-unknown-unknown || rustup target add wasm32-unknown-unknown
+echo "== cargo fmt --check"
+cargo fmt --all --check
+echo "== cargo clippy (native, every target)"
+cargo clippy --workspace --all-targets -- -D warnings
+echo "== cargo clippy (the library without the test hooks, native and wasm32)"
+cargo clippy -p sec-playground --lib -- -D warnings
+cargo clippy --lib --target wasm32-unknown-unknown -- -D warnings
+echo "== cargo clippy (wasm32: the web module with the test hooks, and the wasm tests)"
+cargo clippy --lib --tests --target wasm32-unknown-unknown -- -D warnings
+echo "== cargo doc"
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --workspace --quiet
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --lib --target wasm32-unknown-unknown --quiet

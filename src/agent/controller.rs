@@ -1,0 +1,108 @@
+//! The hooks every agent kind answers. The run loop (`crate::experiment::Run::tick`) is the env
+//! loop alone and talks to agents only through them, so a new agent (DQN, ERLAM) is its own
+//! module implementing `Controller` plus one arm where runs build their agent.
+
+use super::{Agent, Decision};
+use crate::encoder::EMBEDDING;
+use rand_chacha::ChaCha8Rng;
+
+/// What a controller's decisions read of the frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Input {
+    /// The perception's embedding (SEC, MFEC-ae).
+    Embedding,
+    /// The RGB image itself (MFEC-rp projects it).
+    Image,
+    /// Nothing (the reactive walk).
+    Nothing,
+}
+
+/// One env step as a controller is told of it, before the decision due at it, if any.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Step {
+    /// The step's own reward.
+    pub reward: f64,
+    /// R_ep so far, this step's reward included.
+    pub episode_reward: f64,
+    /// The step touched a good goal.
+    pub good_goal: bool,
+    /// The goal event: a good goal with a positive episode reward (SEC stores its STM on it).
+    pub goal_event: bool,
+    /// A decision is taken at this step.
+    pub decides: bool,
+}
+
+/// What a decision sees.
+#[derive(Clone, Copy, Debug)]
+pub struct Observation<'a> {
+    /// The perception's embedding of the frame (all zeros unless `input` is `Embedding`).
+    pub embedding: &'a [f32; EMBEDDING],
+    /// The frame as RGB floats in [0, 1] (current unless `input` is `Nothing`).
+    pub image: &'a [f32],
+    /// This step ends the episode.
+    pub terminal: bool,
+    /// The action a person chose, to be followed and learned from (only for a controller that
+    /// `learns_from_person`).
+    pub person: Option<u8>,
+}
+
+/// How an episode ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EpisodeEnd {
+    /// A goal event happened in it.
+    pub goal: bool,
+    /// A person took at least one of its decisions.
+    pub driven: bool,
+}
+
+/// How full a controller's memory is (the metrics' `ltm`, the page's gauge).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct MemoryUse {
+    /// Entries stored: SEC's sequences, MFEC's entries over all action buffers.
+    pub used: usize,
+    /// The most it keeps.
+    pub capacity: usize,
+}
+
+/// An agent as the run loop drives it: told of every env step, asked for a decision every
+/// `decisionPeriod` steps, told of each episode's end.
+pub trait Controller: Send {
+    /// What its decisions read.
+    fn input(&self) -> Input;
+
+    /// Whether it arbitrates with the reconstruction gate, which then watches every frame.
+    fn uses_gate(&self) -> bool {
+        false
+    }
+
+    /// Whether a person's driving goes through its memory (the page's "record" option).
+    fn learns_from_person(&self) -> bool {
+        false
+    }
+
+    /// Every env step, before the decision due at it. Returns whether it took the step's goal
+    /// event (SEC stores its STM), which the run's event log records.
+    fn on_step(&mut self, step: &Step, rng: &mut ChaCha8Rng) -> bool;
+
+    /// The action for this frame. `gate_mse` measures the reconstruction error of the frame,
+    /// on demand (an autoencoder pass).
+    fn decide(&mut self, obs: &Observation, gate_mse: &mut dyn FnMut() -> f32, rng: &mut ChaCha8Rng) -> Decision;
+
+    /// After the episode's last step.
+    fn on_episode_end(&mut self, end: &EpisodeEnd);
+
+    /// The entropy (bits) the last decision logs.
+    fn entropy(&self) -> f64;
+
+    /// How full its memory is.
+    fn memory_use(&self) -> MemoryUse;
+
+    /// The SEC agent, for what only SEC has (live parameters, memory files, the page's views).
+    fn sec(&self) -> Option<&Agent> {
+        None
+    }
+
+    fn sec_mut(&mut self) -> Option<&mut Agent> {
+        None
+    }
+}

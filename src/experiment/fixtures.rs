@@ -1,0 +1,69 @@
+//! Test and benchmark fixtures (`--features test-hooks`, which the tests and benchmarks turn on):
+//! the golden runs whose logs every target must reproduce, and an LTM filled for timing decisions.
+
+use super::{AgentKind, Run, RunConfig};
+use crate::agent::mfec::{Embedding, MfecConfig};
+use crate::arena::Action;
+use crate::encoder::{PerceptionKind, Scratch, EMBEDDING, IMAGE};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+/// Benchmark helper: fills SEC's LTM up to `rows` sequences (at most m) of real embeddings
+/// from a random walk of a copy of the environment, with random rewards, as if that many
+/// goals had been reached. This changes the run (its memory), so it is for measuring
+/// decisions over a full LTM only; the env, the STM position and the run's own draws stay.
+pub fn fill_ltm(run: &mut Run, rows: usize) {
+    use rand::Rng;
+    let Some(agent) = run.controller.sec_mut() else { return };
+    let mut rng = ChaCha8Rng::seed_from_u64(0xBE7C);
+    let mut env = run.env.clone();
+    let (mut image, mut scratch) = (vec![0.0; IMAGE], Scratch::default());
+    let mut action = Action::NOOP;
+    while agent.memory.len() < rows.min(agent.memory.config().m) {
+        if env.is_over() {
+            env.reset(None);
+        }
+        env.advance(action, 4).expect("the episode is not over");
+        env.observation().to_rgb_f32(&mut image);
+        let mut e = [0.0; EMBEDDING];
+        run.perception.embed(&image, &mut scratch, &mut e);
+        action = Action::new(rng.gen_range(0..9)).expect("actions are 0..9");
+        agent.memory.push(crate::memory::Couplet { embedding: e, action: action.index() as u8 });
+        if rng.gen_bool(0.2) {
+            agent.memory.store(rng.gen_range(0.5..3.0), &mut rng);
+        }
+    }
+}
+
+/// The short runs whose JSON lines the golden files hold: `tests/golden/run.txt` with the
+/// trained perception (the log from before the untrained one existed, kept to prove it
+/// unchanged) and `tests/golden/run-untrained.txt` with the default, untrained one. Native and
+/// wasm builds must reproduce them bit for bit (the JSON numbers are shortest round-trip
+/// decimals).
+pub fn golden_run(perception: PerceptionKind) -> String {
+    // Object permanence: goals come early, so the LTM fills and the contextual layer acts (with
+    // the untrained encoder from the 16th episode of seed 2).
+    let (seed, sec_episodes) = match perception {
+        PerceptionKind::Trained => (7, 16),
+        PerceptionKind::Untrained => (2, 20),
+    };
+    let sec = RunConfig { task: "object-permanence".into(), perception, ..RunConfig::default() };
+    let mut mfec_rp = RunConfig { kind: AgentKind::Mfec, t: Some(250), ..sec.clone() };
+    mfec_rp.mfec.embedding = Embedding::RandomProjection;
+    mfec_rp.mfec.warmup_decisions = 100;
+    mfec_rp.mfec.warmup_rewarded_episodes = 1;
+    let mfec_ae = RunConfig {
+        mfec: MfecConfig { warmup_decisions: 100, warmup_rewarded_episodes: 1, ..MfecConfig::default() },
+        ..mfec_rp.clone()
+    };
+    let reactive = RunConfig { kind: AgentKind::Reactive, ..mfec_rp.clone() };
+    let mut log = String::new();
+    for (cfg, episodes) in [(sec, sec_episodes), (mfec_ae, 6), (mfec_rp, 6), (reactive, 2)] {
+        let mut run = Run::new(cfg, seed).expect("the golden configurations are valid");
+        for _ in 0..episodes {
+            log += &run.episode().to_json();
+            log.push('\n');
+        }
+    }
+    log
+}

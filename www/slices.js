@@ -1,0 +1,42 @@
+// What both simulation workers share: stepping in time slices with a batch size that adapts to
+// the machine, and handling messages one at a time, in order.
+
+/** Longest time slice of simulation before yielding to messages (ms). */
+export const SLICE_MS = 12;
+
+/**
+ * Decisions per wasm call, adapted so that one call takes `share` of a slice: big batches cost
+ * little per call, small ones keep the slice (and so the page's response) short.
+ */
+export class AdaptiveBatch {
+  constructor(size, max, share) {
+    this.size = size;
+    this.max = max;
+    this.share = share;
+  }
+
+  /** Calls `work(size)` until the slice is used up, adapting `size` after each call. */
+  fillSlice(work) {
+    const t0 = performance.now();
+    while (performance.now() - t0 < SLICE_MS) {
+      const s0 = performance.now();
+      work(this.size);
+      const took = Math.max(performance.now() - s0, 0.05);
+      this.size = Math.max(1, Math.min(this.max, Math.round(this.size * ((SLICE_MS * this.share) / took))));
+    }
+  }
+}
+
+/**
+ * Runs `handlers[data.type](data)` for each message, one at a time and in order (a handler that
+ * fetches a model finishes before the next starts); a thrown error, or an unknown type, goes to
+ * `onError`.
+ */
+export function serveMessages(handlers, onError) {
+  let queue = Promise.resolve();
+  self.onmessage = ({ data }) => {
+    const h = handlers[data?.type];
+    if (!h) return onError(new Error(`unknown message '${data?.type}'`));
+    queue = queue.then(() => h(data)).catch(onError);
+  };
+}
