@@ -4,7 +4,9 @@
 
 pub mod agent;
 pub mod arena;
+mod dispatch;
 pub mod encoder;
+pub mod error;
 pub mod experiment;
 pub mod memory;
 pub mod render;
@@ -15,3 +17,4 @@ pub mod util;
 pub mod web;
 
 pub use arena::{Action, Env, EnvConfig, Task};
+pub use error::{ConfigError, Error, FileError};

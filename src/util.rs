@@ -1,5 +1,7 @@
 //! Small helpers shared by several modules.
 
+use crate::error::FileError;
+
 /// 64-bit FNV-1a: frame fingerprints in traces and the weights file's checksum.
 pub fn fnv1a(bytes: &[u8]) -> u64 {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
@@ -11,7 +13,7 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
 }
 
 /// Reads a little-endian binary file front to back; running past its end is a "truncated"
-/// error naming `what` (the parameter the file stands for: "weights", "memory").
+/// error naming `what` (the kind of file: "weights", "memory").
 pub(crate) struct ByteReader<'a> {
     pub b: &'a [u8],
     pub at: usize,
@@ -19,31 +21,31 @@ pub(crate) struct ByteReader<'a> {
 }
 
 impl<'a> ByteReader<'a> {
-    pub fn take(&mut self, n: usize) -> Result<&'a [u8], crate::arena::ConfigError> {
+    pub fn take(&mut self, n: usize) -> Result<&'a [u8], FileError> {
         let end = self.at.checked_add(n).filter(|&e| e <= self.b.len());
-        let end = end.ok_or_else(|| crate::arena::ConfigError::new(self.what, "file is truncated"))?;
+        let end = end.ok_or_else(|| FileError::new(self.what, "file is truncated"))?;
         let s = &self.b[self.at..end];
         self.at = end;
         Ok(s)
     }
-    pub fn u32(&mut self) -> Result<u32, crate::arena::ConfigError> {
+    pub fn u32(&mut self) -> Result<u32, FileError> {
         Ok(u32::from_le_bytes(self.take(4)?.try_into().unwrap()))
     }
-    pub fn u64(&mut self) -> Result<u64, crate::arena::ConfigError> {
+    pub fn u64(&mut self) -> Result<u64, FileError> {
         Ok(u64::from_le_bytes(self.take(8)?.try_into().unwrap()))
     }
-    pub fn f32(&mut self) -> Result<f32, crate::arena::ConfigError> {
+    pub fn f32(&mut self) -> Result<f32, FileError> {
         Ok(f32::from_le_bytes(self.take(4)?.try_into().unwrap()))
     }
-    pub fn f64(&mut self) -> Result<f64, crate::arena::ConfigError> {
+    pub fn f64(&mut self) -> Result<f64, FileError> {
         Ok(f64::from_le_bytes(self.take(8)?.try_into().unwrap()))
     }
     /// A u16 length and that many bytes of UTF-8.
-    pub fn string(&mut self) -> Result<String, crate::arena::ConfigError> {
+    pub fn string(&mut self) -> Result<String, FileError> {
         let n = u16::from_le_bytes(self.take(2)?.try_into().unwrap()) as usize;
         let what = self.what;
         String::from_utf8(self.take(n)?.to_vec())
-            .map_err(|_| crate::arena::ConfigError::new(what, "a name is not UTF-8"))
+            .map_err(|_| FileError::new(what, "a name is not UTF-8"))
     }
 }
 

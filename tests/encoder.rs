@@ -165,6 +165,7 @@ fn bad_weight_files_are_clear_errors() {
     let good = w.to_bytes(DType::F16);
     let msg = |b: &[u8]| Weights::from_bytes(b).unwrap_err().to_string();
     assert!(msg(b"PNG....").contains("bad magic"));
+    assert_eq!(Weights::from_bytes(b"PNG....").unwrap_err().file, "weights");
     let mut flipped = good.clone();
     flipped[200] ^= 0x10;
     assert!(msg(&flipped).contains("checksum mismatch"));
@@ -357,6 +358,7 @@ fn bad_embedding_scales_are_refused_by_name() {
     use sec_playground::encoder::{Perception, PerceptionKind};
     for s in [0.0, -1.0, f32::NAN, f32::INFINITY, 2e6] {
         let e = Perception::new(PerceptionKind::Trained, "detour", Some(s), 1).unwrap_err();
-        assert_eq!(e.field, "embeddingScale", "{s}");
+        assert_eq!(e.field(), "embeddingScale", "{s}");
+        assert!(matches!(e, sec_playground::Error::Config(_)), "a value, not a file");
     }
 }

@@ -153,5 +153,9 @@ fn corrupt_foreign_and_mismatched_memory_files_are_refused_and_change_nothing() 
     let mut mfec = Run::new(RunConfig { kind: AgentKind::Mfec, ..permanence() }, 1).unwrap();
     refused(&mut mfec, &file, &["agent", "SEC"]);
     assert!(mfec.save_memory().is_err());
+    // A bad file is a file error; a run that cannot hold a memory is a configuration error.
+    use sec_playground::{Error, FileError};
+    assert!(matches!(run.load_memory(&flipped), Err(Error::File(FileError { file: "memory", .. }))));
+    assert!(matches!(mfec.load_memory(&file), Err(Error::Config(e)) if e.field == "agent"));
     assert_eq!(run.save_memory().unwrap(), before, "the run's memory is as it was");
 }

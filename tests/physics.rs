@@ -1,4 +1,4 @@
-//! The v1 dynamics against the published numbers (arenas.md section 3), collisions and rewards.
+//! The v1 dynamics against the published numbers (docs/ARENAS.md section 3), collisions and rewards.
 #![cfg(not(target_arch = "wasm32"))]
 
 use glam::Vec2;
@@ -241,7 +241,7 @@ fn the_dropped_goal_falls_bounces_once_and_rests() {
     assert!(g.resting && (g.centre.y - g.radius).abs() < 1e-6);
     assert_eq!(bounces, 1, "bounces once");
     let landed = first_bounce.unwrap();
-    assert!((23..=25).contains(&landed), "landed after {landed} env steps (arenas.md: about 24)");
+    assert!((23..=25).contains(&landed), "landed after {landed} env steps (docs/ARENAS.md: about 24)");
 }
 
 #[test]

@@ -80,7 +80,7 @@ fn the_detour_goal_shows_above_the_low_wall_from_the_start() {
     let (env, f) = first_frame("detour");
     assert_eq!(env.world().agent.pos.y, 1.0);
     assert!(count(&f, GOAL, 0..WIDTH, 0..HEIGHT / 2) >= 1, "the goal is not visible above the horizon");
-    // It lies left of the centre: bearing -7.7 degrees (arenas.md 7.4).
+    // It lies left of the centre: bearing -7.7 degrees (docs/ARENAS.md section 7.4).
     assert_eq!(count(&f, GOAL, WIDTH / 2..WIDTH, 0..HEIGHT), 0);
     // Behind the glass the goal is tinted but still green.
     let (_, f) = first_frame("detour-transparent");

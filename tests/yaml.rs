@@ -55,7 +55,7 @@ fn the_v1_files_give_the_preset_worlds() {
     assert_same_world(&l, &Task::preset("cylinder").unwrap().layouts[0]);
 }
 
-fn err(src: &str) -> sec_playground::arena::ConfigError {
+fn err(src: &str) -> sec_playground::FileError {
     load_task("bad", src).unwrap_err()
 }
 
@@ -63,6 +63,7 @@ fn err(src: &str) -> sec_playground::arena::ConfigError {
 fn bad_files_name_the_line_and_the_field() {
     let unknown = DETOUR.replace("name: GoodGoal", "name: Ramp");
     let e = err(&unknown);
+    assert_eq!(e.file, "arena", "a file error");
     assert_eq!(e.line, Some(20), "{e}");
     assert_eq!(e.field, "arenas.0.items[1].name");
     assert!(e.message.contains("unknown item 'Ramp'"), "{e}");

@@ -1,4 +1,4 @@
-//! The Animal-AI v1 arenas that SEC was evaluated on (`shared/spec/arenas.md`).
+//! The Animal-AI v1 arenas that SEC was evaluated on (docs/ARENAS.md).
 //!
 //! A [`Task`] is a list of start [`Layout`]s (what a YAML arena file describes); [`World`] is one
 //! layout instantiated with its random parts drawn; [`Env`] steps a world with the v1 dynamics and
@@ -18,8 +18,8 @@ pub use physics::{
 };
 pub use tasks::{facing_centre, StartHeading, Task, TASK_NAMES};
 pub use world::{Agent, BoxObj, Footprint, Goal, Tunnel, World, Zone};
+pub use crate::error::ConfigError;
 
-use std::fmt;
 
 /// Side of the square arena, metres; the fences' inner faces are at 0 and 40.
 pub const ARENA_SIZE: f32 = 40.0;
@@ -34,7 +34,7 @@ pub const SIZE_ADJUST: f32 = 0.999;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Rgb(pub u8, pub u8, pub u8);
 
-/// The objects of the Animal-AI catalogue this simulator implements (arenas.md section 5).
+/// The objects of the Animal-AI catalogue this simulator implements (docs/ARENAS.md section 5).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ObjectKind {
     Wall,
@@ -80,7 +80,7 @@ impl ObjectKind {
         ObjectKind::ALL.into_iter().find(|k| k.name() == name)
     }
 
-    /// Allowed size per axis, before the 0.999 adjustment (arenas.md section 5). Sizes outside
+    /// Allowed size per axis, before the 0.999 adjustment (docs/ARENAS.md section 5). Sizes outside
     /// are refused rather than clamped, so a config never silently means something else.
     pub fn size_range(self) -> ([f32; 3], [f32; 3]) {
         match self {
@@ -165,36 +165,6 @@ pub struct Layout {
     pub objects: Vec<ObjectSpec>,
     pub agent: AgentSpec,
 }
-
-/// A configuration error: names the field, and the line for files.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ConfigError {
-    /// 1-based line in the source file, when the value came from a file.
-    pub line: Option<usize>,
-    /// The parameter or field, e.g. `items[2].sizes[0].x` or `seed`.
-    pub field: String,
-    pub message: String,
-}
-
-impl ConfigError {
-    pub fn new(field: impl Into<String>, message: impl Into<String>) -> Self {
-        ConfigError { line: None, field: field.into(), message: message.into() }
-    }
-    pub fn at(line: usize, field: impl Into<String>, message: impl Into<String>) -> Self {
-        ConfigError { line: Some(line), field: field.into(), message: message.into() }
-    }
-}
-
-impl fmt::Display for ConfigError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.line {
-            Some(line) => write!(f, "line {line}: {}: {}", self.field, self.message),
-            None => write!(f, "{}: {}", self.field, self.message),
-        }
-    }
-}
-
-impl std::error::Error for ConfigError {}
 
 impl Layout {
     /// Checks every value against the catalogue's ranges; the YAML loader reports the same

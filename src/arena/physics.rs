@@ -1,4 +1,4 @@
-//! Animal-AI v1 dynamics, one 0.02 s physics frame at a time (arenas.md section 3).
+//! Animal-AI v1 dynamics, one 0.02 s physics frame at a time (docs/ARENAS.md section 3).
 
 use super::world::{wrap_degrees, World};
 use super::{ObjectKind, ARENA_SIZE};
@@ -22,7 +22,7 @@ pub const GRAVITY: f32 = 9.81;
 /// Goals bounce with bounciness 0.4 averaged with the floor's 0.
 const GOAL_RESTITUTION: f32 = 0.2;
 /// Unity's bounce threshold: a rebound slower than this is dropped, which gives the single
-/// bounce of arenas.md section 7.2 (14 m/s -> 2.8 m/s, then 0.56 m/s is dropped).
+/// bounce of docs/ARENAS.md section 7.2 (14 m/s -> 2.8 m/s, then 0.56 m/s is dropped).
 const BOUNCE_THRESHOLD: f32 = 2.0;
 /// The agent is "in" a zone when its centre is within this of the rectangle.
 const ZONE_MARGIN: f32 = 0.1;

@@ -1,4 +1,4 @@
-//! The named task presets of SEC Playground (arenas.md section 7).
+//! The named task presets of SEC Playground (docs/ARENAS.md section 7).
 
 use super::{AgentSpec, ConfigError, Layout, ObjectKind, ObjectSpec, DEFAULT_T};
 
@@ -114,7 +114,7 @@ impl Task {
     }
 }
 
-/// The 14 walls of arenas.md section 7.1, in the generator's order.
+/// The 14 walls of docs/ARENAS.md section 7.1, in the generator's order.
 fn double_t_maze() -> Vec<Layout> {
     const BLUE: (u8, u8, u8) = (0, 0, 250);
     const RED: (u8, u8, u8) = (250, 0, 0);
@@ -184,7 +184,7 @@ fn cylinder() -> Layout {
 
 /// 8-7: a 4-high wall, a size-3 goal dropped from y = 10 behind it, a small goal beside the route.
 /// The pit variant adds DeathZones clear of the route round the wall's east end (a project
-/// proposal: the paper's "holes"; arenas.md section 7.2).
+/// proposal: the paper's "holes"; docs/ARENAS.md section 7.2).
 fn permanence(name: &str, rotation: f32, pits: bool) -> Layout {
     let mut objects = vec![
         wall(10.0, 30.0, (20.0, 4.0, 1.0), GREY),
@@ -200,7 +200,7 @@ fn permanence(name: &str, rotation: f32, pits: bool) -> Layout {
     layout(name, objects, agent(5.0, 5.0, Some(rotation)))
 }
 
-/// The heading (degrees clockwise from +z, arenas.md section 2) that faces the arena's centre
+/// The heading (degrees clockwise from +z, docs/ARENAS.md section 2) that faces the arena's centre
 /// from (x, z); 0 at the centre itself.
 pub fn facing_centre(x: f32, z: f32) -> f32 {
     let half = super::ARENA_SIZE as f64 / 2.0;

@@ -5,7 +5,7 @@ use glam::{Vec2, Vec3};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
-/// Unity's tunnel mesh: inner radius / outer radius / 2 = 0.818 / 1.04 / 2 (arenas.md section 5).
+/// Unity's tunnel mesh: inner radius / outer radius / 2 = 0.818 / 1.04 / 2 (docs/ARENAS.md section 5).
 pub const TUNNEL_INNER: f32 = 0.3933;
 /// Random spawns retry this many times before the object is left out (as Animal-AI does).
 const SPAWN_TRIES: u32 = 100;
@@ -119,7 +119,7 @@ impl Tunnel {
         self.inv_sq[3]
     }
 
-    /// The two legs, which are what the agent collides with (arenas.md section 5).
+    /// The two legs, which are what the agent collides with (docs/ARENAS.md section 5).
     pub fn legs(&self) -> [Footprint; 2] {
         let w = (self.outer_w - self.inner_w) / 2.0;
         let off = (self.outer_w + self.inner_w) / 2.0;
@@ -290,7 +290,7 @@ impl World {
                 self.tunnels.push(t);
             }
             ObjectKind::GoodGoal | ObjectKind::BadGoal | ObjectKind::GoodGoalMulti => {
-                // A sphere's diameter is size.x; y and z are ignored (arenas.md section 5).
+                // A sphere's diameter is size.x; y and z are ignored (docs/ARENAS.md section 5).
                 let radius = size[0] / 2.0;
                 let foot = Footprint::new(centre, Vec2::splat(radius), 0.0);
                 let cy = y + radius + 0.01;

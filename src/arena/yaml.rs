@@ -1,7 +1,8 @@
-//! Loader for the Animal-AI YAML arena format (arenas.md section 6), so users can bring their
+//! Loader for the Animal-AI YAML arena format (docs/ARENAS.md section 6), so users can bring their
 //! own arenas. Tags (`!ArenaConfig`, `!Item`, `!Vector3`, `!RGB`) are accepted and ignored.
-//! Every problem is a [`ConfigError`] naming the line and the field.
+//! Every problem is a [`FileError`] (of file `arena`) naming the line and the field.
 
+use crate::error::FileError;
 use super::{AgentSpec, ConfigError, Layout, ObjectKind, ObjectSpec, Rgb, Task, ARENA_SIZE, AXES, MAX_T};
 use yaml_rust2::parser::{Event, MarkedEventReceiver, Parser};
 use yaml_rust2::scanner::Marker;
@@ -81,13 +82,17 @@ fn parse(src: &str) -> Result<Node, ConfigError> {
 }
 
 /// Loads one Animal-AI arena file as a task; each `!Arena` in it becomes one layout.
-pub fn load_task(name: &str, src: &str) -> Result<Task, ConfigError> {
+pub fn load_task(name: &str, src: &str) -> Result<Task, FileError> {
     let layouts = load_layouts(name, src)?;
     Ok(Task { name: name.to_string(), description: format!("Loaded from {name}"), layouts })
 }
 
 /// Parses every `!Arena` of a file into layouts named `name` (or `name#k` when there are several).
-pub fn load_layouts(name: &str, src: &str) -> Result<Vec<Layout>, ConfigError> {
+pub fn load_layouts(name: &str, src: &str) -> Result<Vec<Layout>, FileError> {
+    layouts(name, src).map_err(|e| FileError::value("arena", e))
+}
+
+fn layouts(name: &str, src: &str) -> Result<Vec<Layout>, ConfigError> {
     let root = parse(src)?;
     let arenas = map_get(&root, "", &["arenas"])?
         .into_iter()

@@ -5,7 +5,8 @@
 //! for the default page a sixth of what all six would be.
 
 use super::{Autoencoder, Weights};
-use crate::arena::{ConfigError, TASK_NAMES};
+use crate::arena::TASK_NAMES;
+use crate::error::{ConfigError, Error, FileError};
 use std::sync::Mutex;
 
 #[cfg(not(target_arch = "wasm32"))]
@@ -33,10 +34,10 @@ static REGISTERED: Mutex<Vec<Autoencoder>> = Mutex::new(Vec::new());
 
 /// Checks a weights file and makes it the model of its task (replacing one registered before);
 /// returns the task. A corrupt file or one for an unknown task is refused.
-pub fn register(bytes: &[u8]) -> Result<String, ConfigError> {
+pub fn register(bytes: &[u8]) -> Result<String, FileError> {
     let ae = Autoencoder::from_weights(&Weights::from_bytes(bytes)?)?;
     if !TASK_NAMES.contains(&ae.task.as_str()) {
-        return Err(ConfigError::new(
+        return Err(FileError::new(
             "weights",
             format!("the file holds a model of '{}', not one of {}", ae.task, TASK_NAMES.join(", ")),
         ));
@@ -55,23 +56,23 @@ pub fn has(task: &str) -> bool {
 }
 
 /// The trained autoencoder of a task preset. A file whose task differs from its name is refused.
-pub fn autoencoder(task: &str) -> Result<Autoencoder, ConfigError> {
+pub fn autoencoder(task: &str) -> Result<Autoencoder, Error> {
     if let Some(ae) = REGISTERED.lock().unwrap_or_else(|e| e.into_inner()).iter().find(|m| m.task == task) {
         return Ok(ae.clone());
     }
     let Some((_, bytes)) = FILES.iter().find(|(name, _)| *name == task) else {
-        return Err(if TASK_NAMES.contains(&task) {
+        return Err(Error::Config(if TASK_NAMES.contains(&task) {
             ConfigError::new(
                 "weights",
                 format!("the model of '{task}' is not loaded: register assets/encoders/{task}.secae first"),
             )
         } else {
             ConfigError::new("task", format!("no trained autoencoder for '{task}'; one of {}", TASK_NAMES.join(", ")))
-        });
+        }));
     };
     let ae = Autoencoder::from_weights(&Weights::from_bytes(bytes)?)?;
     if ae.task != task {
-        return Err(ConfigError::new("weights", format!("the file for '{task}' holds the model of '{}'", ae.task)));
+        return Err(FileError::new("weights", format!("the file for '{task}' holds the model of '{}'", ae.task)).into());
     }
     Ok(ae)
 }

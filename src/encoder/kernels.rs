@@ -20,6 +20,8 @@
 //! 4/9 of the multiply-adds. The sums are then those of the folded weights, in the same fixed
 //! order on every target.
 
+use crate::dispatch::avx2_dispatch;
+
 /// Where one convolution pass reads and writes: output pixel (i, j), for i < rows and j < cols,
 /// is the K x K window of the input at row i + r0 and column j + c0, and goes to pixel
 /// (sy * i + oy, sx * j + ox) of an output `ow` pixels wide.
@@ -229,25 +231,14 @@ fn sparse_pass<const CI: usize, const CO: usize, const K: usize>(
         16 => return simd::sparse_pass::<CI, CO, K, 4>(sparse, weights, bias, pass, out),
         _ => {}
     }
-    #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU supports AVX2, checked just above.
-        return unsafe { sparse_pass_avx2::<CI, CO, K>(sparse, weights, bias, pass, out) };
-    }
     #[allow(unreachable_code)]
-    sparse_pass_any::<CI, CO, K>(sparse, weights, bias, pass, out)
+    sparse_pass_native::<CI, CO, K>(sparse, weights, bias, pass, out)
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn sparse_pass_avx2<const CI: usize, const CO: usize, const K: usize>(
-    sparse: &Sparse,
-    weights: &[f32],
-    bias: &[f32],
-    pass: Pass,
-    out: &mut [f32],
-) {
-    sparse_pass_any::<CI, CO, K>(sparse, weights, bias, pass, out)
+avx2_dispatch! {
+    fn sparse_pass_native<const CI: usize, const CO: usize, const K: usize>(
+        sparse: &Sparse, weights: &[f32], bias: &[f32], pass: Pass, out: &mut [f32]
+    ) => sparse_pass_any
 }
 
 /// The checks every version of `sparse_pass` relies on: the activation's geometry, the window
@@ -300,34 +291,11 @@ fn sparse_pass_any<const CI: usize, const CO: usize, const K: usize>(
     }
 }
 
-/// One pass of a K x K convolution with ReLU over an input `w` pixels wide.
-fn conv_pass<const CI: usize, const CO: usize, const K: usize>(
-    input: &[f32],
-    w: usize,
-    weights: &[f32],
-    bias: &[f32],
-    pass: Pass,
-    out: &mut [f32],
-) {
-    #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU supports AVX2, checked just above.
-        return unsafe { conv_pass_avx2::<CI, CO, K>(input, w, weights, bias, pass, out) };
-    }
-    conv_pass_any::<CI, CO, K>(input, w, weights, bias, pass, out)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn conv_pass_avx2<const CI: usize, const CO: usize, const K: usize>(
-    input: &[f32],
-    w: usize,
-    weights: &[f32],
-    bias: &[f32],
-    pass: Pass,
-    out: &mut [f32],
-) {
-    conv_pass_any::<CI, CO, K>(input, w, weights, bias, pass, out)
+avx2_dispatch! {
+    /// One pass of a K x K convolution with ReLU over an input `w` pixels wide.
+    fn conv_pass<const CI: usize, const CO: usize, const K: usize>(
+        input: &[f32], w: usize, weights: &[f32], bias: &[f32], pass: Pass, out: &mut [f32]
+    ) => conv_pass_any
 }
 
 #[inline(always)]
@@ -708,27 +676,14 @@ fn planar_pass<const CI: usize, const CO: usize, const K: usize>(
 ) {
     #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
     return simd::planar_pass::<CI, CO, K>(planes, ph, pw, weights, bias, pass, out);
-    #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU supports AVX2, checked just above.
-        return unsafe { planar_pass_avx2::<CI, CO, K>(planes, ph, pw, weights, bias, pass, out) };
-    }
     #[allow(unreachable_code)]
-    planar_pass_any::<CI, CO, K>(planes, ph, pw, weights, bias, pass, out)
+    planar_pass_native::<CI, CO, K>(planes, ph, pw, weights, bias, pass, out)
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn planar_pass_avx2<const CI: usize, const CO: usize, const K: usize>(
-    planes: &[f32],
-    ph: usize,
-    pw: usize,
-    weights: &[f32],
-    bias: &[f32],
-    pass: Pass,
-    out: &mut [f32],
-) {
-    planar_pass_any::<CI, CO, K>(planes, ph, pw, weights, bias, pass, out)
+avx2_dispatch! {
+    fn planar_pass_native<const CI: usize, const CO: usize, const K: usize>(
+        planes: &[f32], ph: usize, pw: usize, weights: &[f32], bias: &[f32], pass: Pass, out: &mut [f32]
+    ) => planar_pass_any
 }
 
 /// Each output sums bias, then kernel row, column and input channel ascending, like `conv_pass`.

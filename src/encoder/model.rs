@@ -10,7 +10,7 @@ use super::kernels::{
     Sparse, Up2,
 };
 use super::weights::{Tensor, Weights};
-use crate::arena::ConfigError;
+use crate::error::FileError;
 use crate::render::{HEIGHT, WIDTH};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -69,14 +69,11 @@ pub struct Scratch {
 
 impl Autoencoder {
     /// Checks names and shapes against the architecture.
-    pub fn from_weights(w: &Weights) -> Result<Self, ConfigError> {
+    pub fn from_weights(w: &Weights) -> Result<Self, FileError> {
         let params =
             TENSORS.iter().map(|(name, shape)| w.tensor(name, shape).map(<[f32]>::to_vec)).collect::<Result<_, _>>()?;
         if w.tensors.len() != TENSORS.len() {
-            return Err(ConfigError::new(
-                "weights",
-                format!("{} tensors, expected {}", w.tensors.len(), TENSORS.len()),
-            ));
+            return Err(FileError::new("weights", format!("{} tensors, expected {}", w.tensors.len(), TENSORS.len())));
         }
         Ok(Autoencoder::with(params, w.task.clone(), w.embedding_scale))
     }

@@ -9,6 +9,7 @@
 
 use super::{bundled, Autoencoder, Scratch, EMBEDDING};
 use crate::arena::ConfigError;
+use crate::error::Error;
 use crate::seed::Stream;
 
 /// Which encoder makes the embeddings.
@@ -55,7 +56,7 @@ impl Perception {
     /// The perception of a run of `task` with `seed`; `scale` replaces the embedding scale
     /// (`None`: the trained model's calibrated scale, or 1 for the untrained encoder, whose raw
     /// units are the authors').
-    pub fn new(kind: PerceptionKind, task: &str, scale: Option<f32>, seed: u64) -> Result<Self, ConfigError> {
+    pub fn new(kind: PerceptionKind, task: &str, scale: Option<f32>, seed: u64) -> Result<Self, Error> {
         if let Some(s) = scale {
             check_scale(s)?;
         }

@@ -9,7 +9,7 @@
 //! - every tensor's values in order (f32 or IEEE half);
 //! - an FNV-1a 64 checksum (u64) of all the bytes before it.
 
-use crate::arena::ConfigError;
+use crate::error::FileError;
 use crate::util::{fnv1a, put_str, ByteReader};
 
 pub const MAGIC: [u8; 8] = *b"SECAEWTS";
@@ -39,8 +39,8 @@ pub struct Weights {
     pub tensors: Vec<Tensor>,
 }
 
-fn err(message: impl Into<String>) -> ConfigError {
-    ConfigError::new("weights", message)
+fn err(message: impl Into<String>) -> FileError {
+    FileError::new("weights", message)
 }
 
 impl Weights {
@@ -74,7 +74,7 @@ impl Weights {
     }
 
     /// Parses and checks a file: magic, version, checksum, sizes.
-    pub fn from_bytes(bytes: &[u8]) -> Result<Weights, ConfigError> {
+    pub fn from_bytes(bytes: &[u8]) -> Result<Weights, FileError> {
         if bytes.len() < MAGIC.len() || bytes[..MAGIC.len()] != MAGIC {
             return Err(err("not a SEC autoencoder weights file (bad magic number)"));
         }
@@ -127,7 +127,7 @@ impl Weights {
     }
 
     /// The tensor called `name` with exactly `shape`.
-    pub fn tensor(&self, name: &str, shape: &[usize]) -> Result<&[f32], ConfigError> {
+    pub fn tensor(&self, name: &str, shape: &[usize]) -> Result<&[f32], FileError> {
         let t = self.tensors.iter().find(|t| t.name == name).ok_or_else(|| err(format!("tensor {name} is missing")))?;
         if t.shape != shape {
             return Err(err(format!("tensor {name} has shape {:?}, expected {shape:?}", t.shape)));

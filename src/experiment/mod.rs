@@ -8,6 +8,7 @@ use crate::agent::mfec::{Embedding, Mfec, MfecConfig, RandomProjection};
 use crate::agent::{Agent, AgentConfig, Decision, Layer, Reactive};
 use crate::arena::{Action, ConfigError, Env, EnvConfig, StartHeading, StepOutcome, Task};
 use crate::encoder::perception::check_scale;
+use crate::error::Error;
 use crate::encoder::{Autoencoder, Perception, PerceptionKind, ReconstructionGate, Scratch, EMBEDDING, IMAGE};
 use crate::memory::{self, ACTIONS};
 use crate::render::Frame;
@@ -180,7 +181,9 @@ pub struct Driver {
 }
 
 impl Run {
-    pub fn new(cfg: RunConfig, seed: u64) -> Result<Self, ConfigError> {
+    /// A run of `cfg` with `seed`: refused when `cfg` is out of range, or when the task's
+    /// trained model (the gate's) cannot be had.
+    pub fn new(cfg: RunConfig, seed: u64) -> Result<Self, Error> {
         cfg.validate()?;
         let task = cfg.task()?;
         let perception = Perception::new(cfg.perception, &cfg.task, cfg.scale_override(), seed)?;
@@ -296,11 +299,11 @@ impl Run {
 
     /// Replaces SEC's memory with a file's; a corrupt, foreign or mismatched file is refused and
     /// the memory is left as it was. Returns the number of sequences loaded.
-    pub fn load_memory(&mut self, bytes: &[u8]) -> Result<usize, ConfigError> {
+    pub fn load_memory(&mut self, bytes: &[u8]) -> Result<usize, Error> {
         let id = self.identity();
         match self.controller.sec_mut() {
-            Some(agent) => agent.memory.load_file(bytes, &id),
-            None => Err(ConfigError::new("agent", "only SEC can load a memory file (this run's agent is not SEC)")),
+            Some(agent) => Ok(agent.memory.load_file(bytes, &id)?),
+            None => Err(ConfigError::new("agent", "only SEC can load a memory file (this run's agent is not SEC)").into()),
         }
     }
 

@@ -13,7 +13,7 @@
 //! the authors log it (stale when nothing was selected).
 
 use crate::agent::{Agent, AgentConfig, Layer};
-use crate::arena::ConfigError;
+use crate::error::{Error, FileError};
 use crate::encoder::{PerceptionKind, EMBEDDING};
 use crate::seed::Stream;
 use rand_chacha::ChaCha8Rng;
@@ -68,7 +68,7 @@ pub struct TraceLine {
 #[derive(Debug)]
 pub enum TraceError {
     /// A bad line: 1-based line number and what is wrong.
-    Input(ConfigError),
+    Input(Error),
     Io(std::io::Error),
 }
 
@@ -95,24 +95,29 @@ pub fn agent_rng(seed: u64) -> ChaCha8Rng {
     crate::seed::rng(seed, Stream::Agent)
 }
 
+/// An event log's line `line` is wrong in `field`.
+fn bad(line: usize, field: &str, message: impl Into<String>) -> FileError {
+    FileError { line: Some(line), ..FileError::field("events", field, message) }
+}
+
 /// Parses one event line; `line` is its 1-based number, for the error.
-pub fn parse_event(text: &str, line: usize) -> Result<Event, ConfigError> {
-    let event: Event = serde_json::from_str(text).map_err(|e| ConfigError::at(line, "event", e.to_string()))?;
+pub fn parse_event(text: &str, line: usize) -> Result<Event, FileError> {
+    let event: Event = serde_json::from_str(text).map_err(|e| bad(line, "event", e.to_string()))?;
     if let Event::Decision { embedding, rec_mse } = &event {
         if embedding.len() != EMBEDDING {
-            return Err(ConfigError::at(
+            return Err(bad(
                 line,
                 "embedding",
                 format!("has {} numbers, not {EMBEDDING}", embedding.len()),
             ));
         }
         if !rec_mse.is_finite() || *rec_mse < 0.0 {
-            return Err(ConfigError::at(line, "recMse", format!("{rec_mse} is out of range [0, inf)")));
+            return Err(bad(line, "recMse", format!("{rec_mse} is out of range [0, inf)")));
         }
     }
     if let Event::Goal { reward } = event {
         if !reward.is_finite() {
-            return Err(ConfigError::at(line, "reward", format!("{reward} is not a finite number")));
+            return Err(bad(line, "reward", format!("{reward} is not a finite number")));
         }
     }
     Ok(event)
@@ -161,14 +166,14 @@ pub fn trace(
     mut output: impl Write,
 ) -> Result<u64, TraceError> {
     let mut rng = agent_rng(seed);
-    let mut agent = Agent::new(cfg.clone(), &mut rng).map_err(TraceError::Input)?;
+    let mut agent = Agent::new(cfg.clone(), &mut rng).map_err(|e| TraceError::Input(e.into()))?;
     let mut decisions = 0;
     for (i, text) in input.lines().enumerate() {
         let text = text?;
         if text.trim().is_empty() {
             continue;
         }
-        match parse_event(&text, i + 1).map_err(TraceError::Input)? {
+        match parse_event(&text, i + 1).map_err(|e| TraceError::Input(e.into()))? {
             Event::Decision { embedding, rec_mse } => {
                 let e: [f32; EMBEDDING] = embedding.try_into().expect("checked by parse_event");
                 let d = agent.decide(&e, rec_mse, &mut rng);
@@ -183,11 +188,14 @@ pub fn trace(
             Event::EpisodeEnd => agent.episode_end(),
             Event::Perception { perception: recorded, .. } => {
                 if let Some(want) = perception.filter(|&p| p != recorded) {
-                    return Err(TraceError::Input(ConfigError::at(
-                        i + 1,
-                        "perception",
-                        format!("the events were recorded with the {recorded:?} encoder, the config says {want:?}"),
-                    )));
+                    return Err(TraceError::Input(
+                        bad(
+                            i + 1,
+                            "perception",
+                            format!("the events were recorded with the {recorded:?} encoder, the config says {want:?}"),
+                        )
+                        .into(),
+                    ));
                 }
             }
         }

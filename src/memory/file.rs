@@ -14,7 +14,7 @@
 //! T and the selection masks are not kept: they restart at 1 and empty, as after an episode.
 
 use super::{Couplet, Memory};
-use crate::arena::ConfigError;
+use crate::error::FileError;
 use crate::encoder::EMBEDDING;
 use crate::memory::ACTIONS;
 use crate::util::{fnv1a, put_str, ByteReader};
@@ -30,8 +30,8 @@ pub struct Identity {
     pub model: u64,
 }
 
-fn err(message: impl Into<String>) -> ConfigError {
-    ConfigError::new("memory", message)
+fn err(message: impl Into<String>) -> FileError {
+    FileError::new("memory", message)
 }
 
 fn put_couplet(b: &mut Vec<u8>, c: &Couplet) {
@@ -41,7 +41,7 @@ fn put_couplet(b: &mut Vec<u8>, c: &Couplet) {
     b.push(c.action);
 }
 
-fn couplet(r: &mut ByteReader) -> Result<Couplet, ConfigError> {
+fn couplet(r: &mut ByteReader) -> Result<Couplet, FileError> {
     let mut embedding = [0.0f32; EMBEDDING];
     for v in &mut embedding {
         *v = r.f32()?;
@@ -84,7 +84,7 @@ impl Memory {
 
     /// Replaces the STM and the LTM with a file's, after checking all of it against `id` and
     /// this memory's n and m; on error nothing changes. Returns the number of sequences loaded.
-    pub fn load_file(&mut self, bytes: &[u8], id: &Identity) -> Result<usize, ConfigError> {
+    pub fn load_file(&mut self, bytes: &[u8], id: &Identity) -> Result<usize, FileError> {
         if bytes.len() < MAGIC.len() || bytes[..MAGIC.len()] != MAGIC {
             return Err(err("not a SEC memory file (bad magic number)"));
         }
@@ -118,14 +118,16 @@ impl Memory {
         }
         let n = r.u32()? as usize;
         if n != self.cfg.n {
-            return Err(ConfigError::new(
+            return Err(FileError::field(
+                "memory",
                 "n",
                 format!("the file's sequences have {n} couplets, this run's STM length n is {}", self.cfg.n),
             ));
         }
         let rows = r.u32()? as usize;
         if rows > self.cfg.m {
-            return Err(ConfigError::new(
+            return Err(FileError::field(
+                "memory",
                 "m",
                 format!("the file holds {rows} sequences, more than this run's LTM capacity m = {}", self.cfg.m),
             ));

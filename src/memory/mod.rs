@@ -10,6 +10,7 @@
 pub mod file;
 
 use crate::arena::ConfigError;
+use crate::dispatch::avx2_dispatch;
 use crate::encoder::EMBEDDING;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -740,21 +741,10 @@ fn biased_in_place(t: &[f64], g: &mut [f64]) -> f64 {
     g.iter().fold(f64::NEG_INFINITY, |a, &b| if b > a { b } else { a })
 }
 
-/// G = (1 - MAE) times T (or 1 when `t` is empty, NSEC) into `g`; returns Gmax. Eight running
-/// maxima so that the loop vectorises; a maximum does not depend on the order.
-fn biased(sim: &[f32], t: &[f64], g: &mut [f64]) -> f64 {
-    #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU supports AVX2, checked just above.
-        return unsafe { biased_avx2(sim, t, g) };
-    }
-    biased_any(sim, t, g)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn biased_avx2(sim: &[f32], t: &[f64], g: &mut [f64]) -> f64 {
-    biased_any(sim, t, g)
+avx2_dispatch! {
+    /// G = (1 - MAE) times T (or 1 when `t` is empty, NSEC) into `g`; returns Gmax. Eight running
+    /// maxima so that the loop vectorises; a maximum does not depend on the order.
+    fn biased(sim: &[f32], t: &[f64], g: &mut [f64]) -> f64 => biased_any
 }
 
 #[inline(always)]

@@ -1,5 +1,5 @@
 //! The agent's first-person camera: one ray per pixel, 60 degree field of view, eye 0.5 above the
-//! floor, no pitch or roll (arenas.md section 4).
+//! floor, no pitch or roll (docs/ARENAS.md section 4).
 //!
 //! Because the camera never pitches, every pixel of a column shares the horizontal part of its
 //! ray. The column's 2-D intersections with the vertical walls and fences are computed once, and
@@ -14,7 +14,7 @@ use glam::{Vec2, Vec3};
 const TAN_HALF_FOV: f32 = 0.577_350_26;
 /// The eye is at the agent sphere's centre.
 const EYE: f32 = AGENT_RADIUS;
-/// The fence model spans 0 to 7.1; drawn 7 tall (arenas.md section 1).
+/// The fence model spans 0 to 7.1; drawn 7 tall (docs/ARENAS.md section 1).
 const FENCE_HEIGHT: f32 = 7.0;
 /// Hits closer than this are ignored (Unity's near plane is 0.01).
 const NEAR: f32 = 1e-3;

@@ -14,7 +14,7 @@ pub const WIDTH: usize = 84;
 pub const HEIGHT: usize = 84;
 pub const PIXELS: usize = WIDTH * HEIGHT;
 
-/// Colours of arenas.md section 4 (measured on a real v1 frame, or Unity materials).
+/// Colours of docs/ARENAS.md section 4 (measured on a real v1 frame, or Unity materials).
 pub mod colours {
     use super::Rgb;
     /// The camera background: there is no skybox in v1.

@@ -1,7 +1,7 @@
 //! The JavaScript API (wasm32 only). Every value from JS is validated; a bad one is a JS
 //! `Error` whose message names the parameter and its range, and leaves the state as it was.
 
-use crate::arena::{yaml, Action, ConfigError, Env, EnvConfig, Task, MAX_T, TASK_NAMES};
+use crate::arena::{yaml, Action, Env, EnvConfig, Task, MAX_T, TASK_NAMES};
 use crate::encoder::{bundled, reconstruction_to_rgba, Autoencoder, Scratch, EMBEDDING, IMAGE};
 use crate::render::{Frame, Trail, WIDTH};
 use crate::seed::MAX_SEED;
@@ -13,7 +13,8 @@ mod hooks;
 mod run;
 pub use run::{apply_settings, has_model, parameters, parse_settings, preset_settings, register_model, SecRun};
 
-fn js_err(e: ConfigError) -> JsError {
+/// Any of the crate's errors as a JS `Error` with the same message.
+fn js_err(e: impl std::fmt::Display) -> JsError {
     JsError::new(&e.to_string())
 }
 
