@@ -44,8 +44,7 @@ impl<'a> ByteReader<'a> {
     pub fn string(&mut self) -> Result<String, FileError> {
         let n = u16::from_le_bytes(self.take(2)?.try_into().unwrap()) as usize;
         let what = self.what;
-        String::from_utf8(self.take(n)?.to_vec())
-            .map_err(|_| FileError::new(what, "a name is not UTF-8"))
+        String::from_utf8(self.take(n)?.to_vec()).map_err(|_| FileError::new(what, "a name is not UTF-8"))
     }
 }
 

@@ -12,14 +12,13 @@ pub mod trace;
 mod world;
 pub mod yaml;
 
+pub use crate::error::ConfigError;
 pub use env::{Action, Env, EnvConfig, Step, StepOutcome};
 pub use physics::{
     AGENT_RADIUS, DRAG_FACTOR, FRAMES_PER_STEP, FRAME_DT, FRICTION_DV, GRAVITY, IMPULSE_DV, TURN_DEGREES,
 };
 pub use tasks::{facing_centre, StartHeading, Task, TASK_NAMES};
 pub use world::{Agent, BoxObj, Footprint, Goal, Tunnel, World, Zone};
-pub use crate::error::ConfigError;
-
 
 /// Side of the square arena, metres; the fences' inner faces are at 0 and 40.
 pub const ARENA_SIZE: f32 = 40.0;

@@ -2,8 +2,8 @@
 //! own arenas. Tags (`!ArenaConfig`, `!Item`, `!Vector3`, `!RGB`) are accepted and ignored.
 //! Every problem is a [`FileError`] (of file `arena`) naming the line and the field.
 
-use crate::error::FileError;
 use super::{AgentSpec, ConfigError, Layout, ObjectKind, ObjectSpec, Rgb, Task, ARENA_SIZE, AXES, MAX_T};
+use crate::error::FileError;
 use yaml_rust2::parser::{Event, MarkedEventReceiver, Parser};
 use yaml_rust2::scanner::Marker;
 

@@ -8,8 +8,8 @@ use crate::agent::mfec::{Embedding, Mfec, MfecConfig, RandomProjection};
 use crate::agent::{Agent, AgentConfig, Decision, Layer, Reactive};
 use crate::arena::{Action, ConfigError, Env, EnvConfig, StartHeading, StepOutcome, Task};
 use crate::encoder::perception::check_scale;
-use crate::error::Error;
 use crate::encoder::{Autoencoder, Perception, PerceptionKind, ReconstructionGate, Scratch, EMBEDDING, IMAGE};
+use crate::error::Error;
 use crate::memory::{self, ACTIONS};
 use crate::render::Frame;
 use crate::seed::{self, Stream};
@@ -303,7 +303,9 @@ impl Run {
         let id = self.identity();
         match self.controller.sec_mut() {
             Some(agent) => Ok(agent.memory.load_file(bytes, &id)?),
-            None => Err(ConfigError::new("agent", "only SEC can load a memory file (this run's agent is not SEC)").into()),
+            None => {
+                Err(ConfigError::new("agent", "only SEC can load a memory file (this run's agent is not SEC)").into())
+            }
         }
     }
 

@@ -13,8 +13,8 @@
 //! the authors log it (stale when nothing was selected).
 
 use crate::agent::{Agent, AgentConfig, Layer};
-use crate::error::{Error, FileError};
 use crate::encoder::{PerceptionKind, EMBEDDING};
+use crate::error::{Error, FileError};
 use crate::seed::Stream;
 use rand_chacha::ChaCha8Rng;
 use std::io::{BufRead, Write};
@@ -105,11 +105,7 @@ pub fn parse_event(text: &str, line: usize) -> Result<Event, FileError> {
     let event: Event = serde_json::from_str(text).map_err(|e| bad(line, "event", e.to_string()))?;
     if let Event::Decision { embedding, rec_mse } = &event {
         if embedding.len() != EMBEDDING {
-            return Err(bad(
-                line,
-                "embedding",
-                format!("has {} numbers, not {EMBEDDING}", embedding.len()),
-            ));
+            return Err(bad(line, "embedding", format!("has {} numbers, not {EMBEDDING}", embedding.len())));
         }
         if !rec_mse.is_finite() || *rec_mse < 0.0 {
             return Err(bad(line, "recMse", format!("{rec_mse} is out of range [0, inf)")));

@@ -14,8 +14,8 @@
 //! T and the selection masks are not kept: they restart at 1 and empty, as after an episode.
 
 use super::{Couplet, Memory};
-use crate::error::FileError;
 use crate::encoder::EMBEDDING;
+use crate::error::FileError;
 use crate::memory::ACTIONS;
 use crate::util::{fnv1a, put_str, ByteReader};
 
