@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs the reproduction grid of results/PROTOCOL.md on all cores (or one shard of it), then writes
-# every report: each experiment's report.md, summary.csv and plots/, results/orderings.md and the
-# perception analysis. Resumable: run it again after an interruption and it skips finished runs.
+# every report: each experiment's report.md, summary.csv and plots/, results/orderings.md, the
+# perception analysis and the page's reference curves (assets/reference/). Resumable: run it again after an interruption and it skips finished runs.
 #   SCALE=2 ./scripts/reproduce.sh      # every seeds x episodes of the protocol multiplied by 2
 #   SHARD=2/4 ./scripts/reproduce.sh    # one machine's quarter of the grid (copy the trees together)
 #   JOBS=1 nice -n 19 ./scripts/reproduce.sh
@@ -36,3 +36,4 @@ for exp in exp1 exp2 exp3 exp4 heading perception; do
 done
 "$bin" orderings --out "$OUT" > /dev/null
 "$bin" matching --out "$OUT" > /dev/null
+"$bin" reference --out "$OUT" > /dev/null

@@ -162,6 +162,18 @@ function rgba(hex, a) {
   return `rgba(${n >> 16}, ${(n >> 8) & 255}, ${n & 255}, ${a})`;
 }
 
+/** Values at every episode 0..n-1 from samples `v` at episodes `at` (ascending), linearly between. */
+export function interpolate(at, v, n) {
+  const out = new Array(n);
+  let k = 0;
+  for (let i = 0; i < n; i++) {
+    while (k + 1 < at.length && at[k + 1] <= i) k++;
+    if (k + 1 >= at.length || at[k] >= i) out[i] = v[k];
+    else out[i] = v[k] + ((v[k + 1] - v[k]) * (i - at[k])) / (at[k + 1] - at[k]);
+  }
+  return out;
+}
+
 /**
  * Mean and standard error across seeds of the 20-episode sliding mean, per episode, over the
  * episodes every seed has finished. `runs`: one array of per-episode values per seed.
@@ -194,12 +206,16 @@ export class CompareChart {
     this.plot = null;
     this.shape = '';
     this.dirty = false;
-    this.drawn = { series: 0, bands: 0 };
-    this.source = () => ({ title: '', arms: [] });
+    this.drawn = { series: 0, bands: 0, episodes: 0, references: 0, liveAtFirstReference: null };
+    this.source = () => ({ title: '', arms: [], references: [] });
     this.timer = setInterval(() => this.redraw(), REDRAW_MS);
   }
 
-  /** `source()` gives {title, arms: [{label, colour, runs: number[][]}]}. */
+  /**
+   * `source()` gives {title, arms: [{label, colour, runs: number[][]}], references: [{label, colour,
+   * at: number[], mean: number[], se: number[], episodes}]}: the live runs per seed, and the
+   * reference runs' curve sampled at episodes `at` (drawn faint, interpolated in between).
+   */
   watch(source) {
     this.source = source;
     this.dirty = true;
@@ -209,24 +225,42 @@ export class CompareChart {
     this.dirty = true;
   }
 
+  /** A new comparison: what was drawn is forgotten. */
+  reset() {
+    this.drawn = { series: 0, bands: 0, episodes: 0, references: 0, liveAtFirstReference: null };
+    this.dirty = true;
+  }
+
   redraw() {
     if (!this.dirty) return;
     this.dirty = false;
-    const { title, arms } = this.source();
-    if (!arms.length) {
+    const { title, arms, references = [] } = this.source();
+    if (!arms.length && !references.length) {
       this.plot?.destroy();
       this.plot = null;
       this.shape = '';
-      this.drawn = { series: 0, bands: 0, episodes: 0 };
+      this.drawn = { series: 0, bands: 0, episodes: 0, references: 0, liveAtFirstReference: null };
       return;
     }
     const stats = arms.map((a) => ({ ...a, banded: a.runs.length > 1, ...meanAndError(a.runs) }));
-    const len = Math.max(0, ...stats.map((s) => s.mean.length));
+    const live = Math.max(0, ...stats.map((s) => s.mean.length));
+    const len = Math.max(live, ...references.map((r) => r.episodes));
     const x = Array.from({ length: len }, (_, i) => i);
     const pad = (v) => x.map((i) => (i < v.length ? v[i] : null));
     const data = [x];
     const series = [{ label: 'episode' }];
     const bands = [];
+    // The reference runs first, faint, so the live curves draw over them.
+    for (const r of references) {
+      const mean = interpolate(r.at, r.mean, r.episodes);
+      const se = interpolate(r.at, r.se, r.episodes);
+      const hi = series.length;
+      data.push(pad(mean.map((m, i) => m + se[i])), pad(mean.map((m, i) => m - se[i])), pad(mean));
+      series.push({ label: `${r.label} reference +SE`, stroke: rgba(r.colour, 0.12), width: 1, points: { show: false } },
+        { label: `${r.label} reference −SE`, stroke: rgba(r.colour, 0.12), width: 1, points: { show: false } },
+        { label: `${r.label} reference`, stroke: rgba(r.colour, 0.55), width: 1, dash: [4, 3], points: { show: false } });
+      bands.push({ series: [hi, hi + 1], fill: rgba(r.colour, 0.1) });
+    }
     for (const s of stats) {
       data.push(pad(s.mean));
       series.push({ label: s.label, stroke: s.colour, width: 2, points: { show: false } });
@@ -256,7 +290,9 @@ export class CompareChart {
     } else {
       this.plot.setData(data);
     }
-    this.drawn = { series: stats.length, bands: bands.length, episodes: len };
+    const liveAtFirstReference = this.drawn.liveAtFirstReference
+      ?? (references.length ? stats.reduce((n, s) => n + s.mean.length, 0) : null);
+    this.drawn = { series: stats.length, bands: bands.length, episodes: len, references: references.length, liveAtFirstReference };
   }
 
   destroy() {

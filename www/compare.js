@@ -8,6 +8,16 @@ import { COMPARE_PRESETS, PRESET_BASE } from './presets.js';
 const MAX_ARMS = 8;
 const METRICS = { reward: (m) => m.reward, entropy: (m) => m.entropy, decisions: (m) => m.decisions };
 
+let index = null;
+/** The reference runs there are (`experiment:condition` names), fetched once. */
+function referenceIndex() {
+  index ??= fetch(new URL('../assets/reference/index.json', import.meta.url))
+    .then((r) => (r.ok ? r.json() : { references: [] }))
+    .then((j) => new Set(j.references.map((r) => r.reference)))
+    .catch(() => new Set());
+  return index;
+}
+
 /** Episodes every seed of a configuration has finished. */
 const finished = (arm) => (arm.runs.size ? Math.min(...[...arm.runs.values()].map((r) => r.length)) : 0);
 
@@ -38,14 +48,49 @@ export class Compare {
     return Array.from({ length: k }, (_, i) => i + 1);
   }
 
-  /** Replaces the configurations with a preset's and starts them. */
+  /** Replaces the configurations with a preset's, draws its reference runs and starts them. */
   preset(name) {
     const p = COMPARE_PRESETS[name];
     this.clear();
+    this.chart.reset();
     this.title = p.title;
     this.$('compare-caption').textContent = p.caption;
-    for (const arm of p.arms) this.add(arm.label, { ...PRESET_BASE, ...arm.settings });
+    for (const arm of p.arms) this.add(arm.label, { ...PRESET_BASE, ...arm.settings }, arm.reference);
+    this.loadReferences();
     this.start();
+  }
+
+  /**
+   * Fetches the reference curves the arms name (assets/reference/, made by `sec-experiment
+   * reference` from the committed native runs) and says what they are.
+   */
+  async loadReferences() {
+    const arms = this.arms.filter((a) => a.referenceName);
+    const note = this.$('compare-reference');
+    note.textContent = arms.length ? 'Loading the reference runs…' : '';
+    // The index lists the runs there are, so a missing one is not a failed request.
+    const listed = await referenceIndex();
+    await Promise.all(arms.map(async (a) => {
+      const [experiment, condition] = a.referenceName.split(':');
+      if (!listed.has(a.referenceName)) return;
+      try {
+        const r = await fetch(new URL(`../assets/reference/${experiment}/${condition}.json`, import.meta.url));
+        a.reference = r.ok ? await r.json() : null;
+      } catch {
+        a.reference = null;
+      }
+    }));
+    if (this.arms.length && arms.every((a) => this.arms.includes(a))) {
+      const have = arms.filter((a) => a.reference);
+      const missing = arms.filter((a) => !a.reference).map((a) => a.label);
+      const sizes = [...new Set(have.map((a) => `${a.reference.seeds.length} seeds × ${a.reference.episodes} episodes`))];
+      note.textContent = (have.length
+        ? `Faint bands and dashed lines: the native reference runs at the same settings (${sizes.join(', ')}; `
+          + 'mean of 20 episodes ± one standard error across seeds; REPRODUCTION.md). The live runs draw over them.'
+        : 'No reference runs at these settings yet.')
+        + (have.length && missing.length ? ` Not run yet: ${missing.join(', ')}.` : '');
+      this.chart.touch();
+    }
   }
 
   /** Adds the settings in force in the playground above (its seed aside: seeds are 1..k). */
@@ -60,13 +105,13 @@ export class Compare {
     if (this.running) this.launch(this.arms[this.arms.length - 1]);
   }
 
-  add(label, settings) {
+  add(label, settings, referenceName = null) {
     if (this.arms.length >= MAX_ARMS) {
       this.onError(`compare: at most ${MAX_ARMS} configurations at once`);
       return;
     }
     const colour = ARM_COLOURS[this.arms.length % ARM_COLOURS.length];
-    this.arms.push({ label, settings, colour, worker: null, runs: new Map(), error: null });
+    this.arms.push({ label, settings, colour, worker: null, runs: new Map(), error: null, referenceName, reference: null });
     this.list();
     this.chart.touch();
   }
@@ -139,6 +184,7 @@ export class Compare {
     this.arms = [];
     this.title = '';
     this.$('compare-caption').textContent = '';
+    this.$('compare-reference').textContent = '';
     this.$('compare-run').textContent = 'Start';
     this.$('compare-seeds').disabled = false;
     this.list();
@@ -151,7 +197,12 @@ export class Compare {
     const arms = this.arms.filter((a) => a.runs.size).map((a) => ({
       label: a.label, colour: a.colour, runs: [...a.runs.values()].map((eps) => eps.map(f)),
     }));
-    return { title: `${this.title}: ${this.$('compare-metric').value} (mean of ${WINDOW} episodes)`, arms };
+    const metric = this.$('compare-metric').value in METRICS ? this.$('compare-metric').value : 'reward';
+    const references = this.arms.filter((a) => a.reference).map((a) => ({
+      label: a.label, colour: a.colour, at: a.reference.at, episodes: a.reference.episodes,
+      mean: a.reference.metrics[metric].mean, se: a.reference.metrics[metric].se,
+    }));
+    return { title: `${this.title}: ${metric} (mean of ${WINDOW} episodes)`, arms, references };
   }
 
   /** For the CSV export: one entry per configuration and seed. */
@@ -207,6 +258,13 @@ export class Compare {
       get drawn() { return me.chart.drawn; },
       get episodes() { return me.arms.map(finished); },
       get caption() { return me.$('compare-caption').textContent; },
+      get referenceNote() { return me.$('compare-reference').textContent; },
+      /** Each arm's reference runs: {name, seeds, episodes, settings}, or null. */
+      get references() {
+        return me.arms.map((a) => (a.reference
+          ? { name: a.referenceName, seeds: a.reference.seeds.length, episodes: a.reference.episodes, settings: a.reference.settings }
+          : null));
+      },
       /** Each arm's settings as its runs use them (null until its worker has started). */
       get resolved() { return me.arms.map((a) => a.resolved ?? null); },
     };

@@ -1,6 +1,8 @@
 // One-click comparisons: the paper's experiments 1-4 in the double T-maze, as settings (the URL
-// hash's keys) per configuration, each with what the paper found, what the long runs at the same
-// settings show (REPRODUCTION.md) and what the first minutes of live runs can show.
+// hash's keys) per configuration. Each arm names its reference runs (`experiment:condition` of
+// results/experiments, reduced to assets/reference/ by `sec-experiment reference`), which the
+// chart draws faint behind the live runs; the captions say what the paper found, what the
+// reference runs show (REPRODUCTION.md has the tables) and what the first minutes can show.
 
 const SEC = { bias: '1' };
 const NSEC = { bias: '0' };
@@ -10,53 +12,56 @@ export const COMPARE_PRESETS = {
     title: 'Experiment 1: SEC vs NSEC vs MFEC',
     caption: 'The paper (figure 4, table 1): in the double T-maze SEC collects the most reward, 2.3 times NSEC\'s, '
       + 'with a low policy entropy; NSEC, the same model without the sequential bias, collects less with a higher '
-      + 'entropy; MFEC far less. Our runs at these settings (the authors\' untrained encoder, 20 runs x 2000 '
-      + 'episodes each, REPRODUCTION.md): SEC 1.75 per episode against NSEC\'s 1.08 (1.62 times, p = 0.0001), '
-      + 'entropy 0.65 against 1.19 bits late in the runs. MFEC does not reproduce here: 0.02 per episode (5 runs), '
-      + 'below the reactive walk\'s 0.11, trapped by its greedy rule (REPRODUCTION.md). '
-      + 'Live, give it time: SEC acts from memory only once 5 sequences are stored (episode 96 in the median run) '
-      + 'and its curve separates from NSEC\'s after about 200 episodes, so the first minutes show the reactive walk in all three.',
+      + 'entropy; MFEC far less. The reference runs at these settings (the authors\' untrained encoder; SEC and NSEC '
+      + '20 seeds x 2000 episodes, MFEC 5): SEC and NSEC are together while the reactive walk explores, and SEC pulls '
+      + 'ahead once its memory acts (from episode 96 in the median run): 0.52 against 0.36 per episode at episode '
+      + '100, 1.06 against 0.63 at 200, 1.88 against 1.34 at the end; 1.62 times NSEC\'s reward over the run, less '
+      + 'than the paper\'s 2.3. MFEC does not reproduce: it stays near 0, below the reactive walk (0.12), where the '
+      + 'paper\'s got a third of SEC\'s (REPRODUCTION.md). Live, the first minutes cover the first few dozen '
+      + 'episodes, where all three curves still lie together: SEC acts from memory only once 5 sequences are stored.',
     arms: [
-      { label: 'SEC', settings: { ...SEC } },
-      { label: 'NSEC', settings: { ...NSEC } },
-      { label: 'MFEC', settings: { agent: 'mfec-ae' } },
+      { label: 'SEC', settings: { ...SEC }, reference: 'exp1:double-t-maze/SEC' },
+      { label: 'NSEC', settings: { ...NSEC }, reference: 'exp1:double-t-maze/NSEC' },
+      { label: 'MFEC', settings: { agent: 'mfec-ae' }, reference: 'exp1:double-t-maze/MFEC-ae' },
     ],
   },
   exp2: {
     title: 'Experiment 2: LTM capacity 125 and 1000',
     caption: 'The paper (figures 5 and 6): SEC beats NSEC at every memory size, and the gap grows as memory '
       + 'shrinks (1.6 times with 1000 sequences, 2.4 times with 125); SEC with 125 sequences gets 1.2 times the '
-      + 'reward of NSEC with 1000. The long runs of this experiment at the code preset are still to come '
-      + '(REPRODUCTION.md); with the trained encoder (3 runs x 600 episodes) SEC\'s entropy was lower at every size '
-      + 'and the reward gap did not show. Live, the 125-sequence memories fill first, after a few hundred episodes.',
+      + 'reward of NSEC with 1000. The reference runs of this experiment are under way: so far one seed at m = 125 '
+      + '(SEC 1.55 and NSEC 1.19 per episode at the end of 2000 episodes; one seed is a curve, not a result) and none '
+      + 'at m = 1000 (REPRODUCTION.md). The capacity matters only once the memory is full, which takes SEC about 380 '
+      + 'episodes for 125 sequences; live, the first minutes show the arms together.',
     arms: [
-      { label: 'SEC m=125', settings: { ...SEC, m: '125' } },
-      { label: 'NSEC m=125', settings: { ...NSEC, m: '125' } },
-      { label: 'SEC m=1000', settings: { ...SEC, m: '1000' } },
-      { label: 'NSEC m=1000', settings: { ...NSEC, m: '1000' } },
+      { label: 'SEC m=125', settings: { ...SEC, m: '125' }, reference: 'exp2:m125/SEC' },
+      { label: 'NSEC m=125', settings: { ...NSEC, m: '125' }, reference: 'exp2:m125/NSEC' },
+      { label: 'SEC m=1000', settings: { ...SEC, m: '1000' }, reference: 'exp2:m1000/SEC' },
+      { label: 'NSEC m=1000', settings: { ...NSEC, m: '1000' }, reference: 'exp2:m1000/NSEC' },
     ],
   },
   exp3: {
     title: 'Experiment 3: the value function and its ablations',
     caption: 'The paper (figure 7): removing one term of the value (noGi, noRR, noDist) costs no significant reward. '
-      + 'The long runs at the code preset are still to come (REPRODUCTION.md); with the trained encoder (3 runs x 600 '
-      + 'episodes) the seven variants learned at the same pace. Live, they stay together: they differ only once the '
-      + 'memory holds many sequences.',
+      + 'The reference runs at the code preset are still to come (REPRODUCTION.md); with the trained encoder (3 runs '
+      + 'x 600 episodes) the seven variants learned at the same pace. Live, they stay together: they differ only once '
+      + 'the memory holds many sequences, hundreds of episodes in.',
     arms: ['default', 'noGi', 'noDist', 'noRR', 'soloGi', 'soloDist', 'soloRR']
-      .map((v) => ({ label: `SEC ${v}`, settings: { ...SEC, value: v } })),
+      .map((v) => ({ label: `SEC ${v}`, settings: { ...SEC, value: v }, reference: `exp3:value-function/SEC-${v}` })),
   },
   exp4: {
     title: 'Experiment 4: forgetting',
     caption: 'The paper (figure 8): once the LTM is full, forgetting (FIFO, or the lowest reward first) helps '
-      + 'both models a little; the sequential bias matters more than forgetting. The long runs at the code preset are '
-      + 'still to come (REPRODUCTION.md); with the trained encoder (2 runs x 1000 episodes) every mode was a little above '
-      + 'none, not significantly. m = 125 here so that the memory fills within minutes; until it does, the arms are one.',
+      + 'both models a little; the sequential bias matters more than forgetting. The reference runs at the code preset '
+      + '(m = 500, as the paper) are still to come (REPRODUCTION.md); with the trained encoder (2 runs x 1000 '
+      + 'episodes) every mode was a little above none, not significantly. Forgetting acts only on a full memory, after '
+      + 'about 800 episodes for SEC: live, the arms are one for a long while.',
     arms: [
-      { label: 'SEC none', settings: { ...SEC, m: '125', forgetting: 'none' } },
-      { label: 'SEC fifo', settings: { ...SEC, m: '125', forgetting: 'fifo' } },
-      { label: 'SEC rwd', settings: { ...SEC, m: '125', forgetting: 'rwd' } },
-      { label: 'NSEC none', settings: { ...NSEC, m: '125', forgetting: 'none' } },
-      { label: 'NSEC rwd', settings: { ...NSEC, m: '125', forgetting: 'rwd' } },
+      { label: 'SEC none', settings: { ...SEC, forgetting: 'none' }, reference: 'exp4:forgetting/SEC-none' },
+      { label: 'SEC fifo', settings: { ...SEC, forgetting: 'fifo' }, reference: 'exp4:forgetting/SEC-fifo' },
+      { label: 'SEC rwd', settings: { ...SEC, forgetting: 'rwd' }, reference: 'exp4:forgetting/SEC-rwd' },
+      { label: 'NSEC none', settings: { ...NSEC, forgetting: 'none' }, reference: 'exp4:forgetting/NSEC-none' },
+      { label: 'NSEC rwd', settings: { ...NSEC, forgetting: 'rwd' }, reference: 'exp4:forgetting/NSEC-rwd' },
     ],
   },
 };

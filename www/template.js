@@ -90,6 +90,7 @@ export const TEMPLATE = `
       <button id="compare-clear" type="button">Clear</button>
     </div>
     <p id="compare-caption" class="caption"></p>
+    <p id="compare-reference" class="note" aria-live="polite"></p>
     <ol id="compare-arms" class="arms"></ol>
     <div id="compare-chart" class="compare-chart"></div>
   </section>

@@ -107,6 +107,37 @@ test('compare mode: a preset starts its runs; two configurations draw two series
   }
 });
 
+test('a preset draws its reference runs at once, made at the settings its arms run', async () => {
+  const problems = [];
+  const page = await open('', problems);
+  try {
+    await ready(page);
+    await page.click('#compare-exp1');
+    await page.waitForFunction(() => window.secPlayground.compare.drawn.references === 3, null, { timeout: 30000 });
+    const c = await page.evaluate(() => ({ ...window.secPlayground.compare }));
+    assert.equal(c.drawn.liveAtFirstReference, 0, 'the bands come before any live episode');
+    assert.equal(c.drawn.episodes, 2000, 'the x axis spans the reference runs');
+    assert.match(c.referenceNote, /20 seeds × 2000 episodes/);
+    await page.waitForTimeout(300); // the next redraw
+    assert.ok((await armPixels(page, '#0072b2')).band > 500, "SEC's reference band is drawn");
+    // The reference runs were made with exactly the settings the live arms run.
+    await page.waitForFunction(() => window.secPlayground.compare.resolved.every((s) => s), null, { timeout: 60000 });
+    const { resolved, references } = await page.evaluate(() => ({ ...window.secPlayground.compare }));
+    assert.equal(references.filter((r) => r).length, 3);
+    for (const [i, r] of references.entries()) {
+      const { seed, ...live } = resolved[i];
+      assert.deepEqual(live, r.settings, r.name);
+    }
+    // A preset whose reference runs are still to come says so.
+    await page.click('#compare-exp3');
+    await page.waitForFunction(() => /No reference runs/.test(window.secPlayground.compare.referenceNote));
+    assert.equal((await page.evaluate(() => window.secPlayground.compare.references)).filter((r) => r).length, 0);
+    assert.deepEqual(problems, []);
+  } finally {
+    await page.close();
+  }
+});
+
 /** Holds the arrow keys that steer the agent to (x, z), until `done()` or `ms` pass. */
 async function steer(page, x, z, done, ms) {
   const held = new Set();

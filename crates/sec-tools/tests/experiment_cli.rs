@@ -148,3 +148,30 @@ fn the_committed_orderings_are_regenerated_from_the_committed_runs() {
     assert!(reproduction.contains(&md), "REPRODUCTION.md quotes results/orderings.md");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The page's committed reference curves are what `sec-experiment reference` makes of the
+/// committed runs (like the orderings, this reads the working tree).
+#[test]
+fn the_committed_reference_curves_are_regenerated_from_the_committed_runs() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let dir = temp("reference");
+    let (ok, _, err) =
+        cli(&["reference", "--out", root.join("results/experiments").to_str().unwrap(), "--to", dir.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    let committed = root.join("assets/reference");
+    let index = std::fs::read_to_string(dir.join("index.json")).unwrap();
+    assert_eq!(index, std::fs::read_to_string(committed.join("index.json")).unwrap());
+    let listed: serde_json::Value = serde_json::from_str(&index).unwrap();
+    let refs = listed["references"].as_array().unwrap();
+    assert!(!refs.is_empty());
+    for r in refs {
+        let (exp, cond) = r["reference"].as_str().unwrap().split_once(':').unwrap();
+        let file = format!("{exp}/{cond}.json");
+        assert_eq!(
+            std::fs::read_to_string(dir.join(&file)).unwrap(),
+            std::fs::read_to_string(committed.join(&file)).unwrap(),
+            "{file}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

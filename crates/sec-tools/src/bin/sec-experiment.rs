@@ -8,6 +8,7 @@
 //!   sec-experiment orderings [--out results/experiments] [--trained results/experiments-trained]
 //!                            [--to results]
 //!   sec-experiment matching [--out results/experiments] [--frames 2000] [--seeds 3]
+//!   sec-experiment reference [--out results/experiments] [--to assets/reference]
 //!   sec-experiment list
 //!   sec-experiment record --config FILE.json --seed S --episodes N --events OUT.jsonl
 //!   sec-experiment trace --config FILE.json --seed S --events IN.jsonl [--trace OUT.jsonl]
@@ -31,6 +32,7 @@ const USAGE: &str = "usage:
   sec-experiment report EXPERIMENT [--out DIR]
   sec-experiment orderings [--out DIR] [--trained DIR] [--to DIR]
   sec-experiment matching [--out DIR] [--frames N] [--seeds N|A..B|A,B,C]
+  sec-experiment reference [--out DIR] [--to DIR]   (the page's reference curves)
   sec-experiment list
   sec-experiment record --config FILE.json --seed S --episodes N --events OUT.jsonl
   sec-experiment trace --config FILE.json --seed S --events IN.jsonl [--trace OUT.jsonl]
@@ -123,6 +125,18 @@ fn dispatch(args: &[String]) -> Result<(), String> {
             let seeds = runner::parse_seeds(o.get("seeds").copied().unwrap_or("3"))?;
             let out = PathBuf::from(o.get("out").copied().unwrap_or("results/experiments"));
             print!("{}", sec_tools::matching::report(&out.join("perception"), frames, &seeds)?);
+            Ok(())
+        }
+        "reference" => {
+            let (pos, o) = options(rest, &["out", "to"])?;
+            if !pos.is_empty() {
+                return Err(format!("reference takes no positional argument\n{USAGE}"));
+            }
+            let dir = |k: &str, d: &str| PathBuf::from(o.get(k).copied().unwrap_or(d));
+            println!(
+                "{}",
+                sec_tools::reference::references(&dir("out", "results/experiments"), &dir("to", "assets/reference"))?
+            );
             Ok(())
         }
         "record" => record(rest),
