@@ -31,9 +31,4 @@ run exp1 10 1000 --only "${others#,}"
 run exp3 10 2000
 run exp4 10 2000
 run perception 6 2000
-for exp in exp1 exp2 exp3 exp4 heading perception; do
-    "$bin" report "$exp" --out "$OUT" > /dev/null
-done
-"$bin" orderings --out "$OUT" > /dev/null
-"$bin" matching --out "$OUT" > /dev/null
-"$bin" reference --out "$OUT" > /dev/null
+OUT="$OUT" ./scripts/results.sh

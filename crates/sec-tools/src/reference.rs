@@ -15,8 +15,11 @@ use std::path::Path;
 /// means, smooth at this resolution).
 const POINTS: usize = 250;
 
+/// What a curve plots of an episode.
+type Metric = fn(&EpisodeMetrics) -> f64;
+
 /// The metrics the compare chart offers.
-const METRICS: [(&str, fn(&EpisodeMetrics) -> f64); 3] =
+const METRICS: [(&str, Metric); 3] =
     [("reward", |m| m.reward), ("entropy", |m| m.entropy), ("decisions", |m| m.decisions as f64)];
 
 /// Rounds to 4 significant digits, enough for a chart, and what keeps the files small.

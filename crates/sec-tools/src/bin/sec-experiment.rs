@@ -6,7 +6,7 @@
 //!   sec-experiment run --config FILE.json --name GROUP/MODEL [same options]
 //!   sec-experiment report EXPERIMENT [--out results/experiments]
 //!   sec-experiment orderings [--out results/experiments] [--trained results/experiments-trained]
-//!                            [--to results]
+//!                            [--to results] [--quote REPRODUCTION.md]
 //!   sec-experiment matching [--out results/experiments] [--frames 2000] [--seeds 3]
 //!   sec-experiment reference [--out results/experiments] [--to assets/reference]
 //!   sec-experiment list
@@ -30,7 +30,7 @@ const USAGE: &str = "usage:
                      [--only PREFIX,PREFIX]
   sec-experiment run --config FILE.json --name GROUP/MODEL [the same options]
   sec-experiment report EXPERIMENT [--out DIR]
-  sec-experiment orderings [--out DIR] [--trained DIR] [--to DIR]
+  sec-experiment orderings [--out DIR] [--trained DIR] [--to DIR] [--quote PAGE.md]
   sec-experiment matching [--out DIR] [--frames N] [--seeds N|A..B|A,B,C]
   sec-experiment reference [--out DIR] [--to DIR]   (the page's reference curves)
   sec-experiment list
@@ -97,7 +97,7 @@ fn dispatch(args: &[String]) -> Result<(), String> {
         "run" => run(rest),
         "report" => report(rest),
         "orderings" => {
-            let (pos, o) = options(rest, &["out", "trained", "to"])?;
+            let (pos, o) = options(rest, &["out", "trained", "to", "quote"])?;
             if !pos.is_empty() {
                 return Err(format!("orderings takes no positional argument\n{USAGE}"));
             }
@@ -107,6 +107,9 @@ fn dispatch(args: &[String]) -> Result<(), String> {
                 &dir("trained", "results/experiments-trained"),
                 &dir("to", "results"),
             )?;
+            if let Some(page) = o.get("quote") {
+                sec_tools::orderings::quote_into(Path::new(page), &md)?;
+            }
             print!("{md}");
             Ok(())
         }
