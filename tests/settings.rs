@@ -187,3 +187,27 @@ fn value_function_names_are_one_spelling_everywhere() {
     }
     assert!(serde_json::from_str::<ValueFn>("\"noRr\"").is_err(), "one spelling: noRR");
 }
+
+#[test]
+fn every_setting_has_a_group_and_names_real_agents() {
+    use sec_playground::experiment::settings::AGENTS;
+    for p in params() {
+        assert!(["run", "perception", "memory", "retrieval"].contains(&p.group), "{}: group {}", p.key, p.group);
+        assert!(p.agents.iter().all(|a| AGENTS.contains(a)), "{}: {:?}", p.key, p.agents);
+    }
+    let sec_only: Vec<&str> = params().iter().filter(|p| p.agents == ["sec"]).map(|p| p.key).collect();
+    assert!(sec_only.contains(&"alpha") && sec_only.contains(&"m") && !sec_only.contains(&"task"));
+}
+
+#[test]
+fn a_long_bad_value_is_cut_in_the_message() {
+    let long = "9".repeat(10_000);
+    let (_, _, errors) = from_settings(&settings(&[("alpha", long.as_str()), (long.as_str(), "1")]));
+    assert_eq!(errors.len(), 2);
+    for e in &errors {
+        let text = e.to_string();
+        assert!(text.len() < 400, "{} characters: {}", text.len(), &text[..200]);
+        assert!(text.contains("(10000 characters)"), "{text}");
+    }
+    assert_eq!(errors.iter().filter(|e| e.field == "alpha").count(), 1, "the parameter is still named");
+}

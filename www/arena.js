@@ -12,6 +12,8 @@ let env = null;
 let episodeReward = 0;
 let lastEpisode = null;
 let message = '';
+/** Where the arena comes from: a built-in task, or a loaded YAML file (kept across seed changes). */
+let source = { kind: 'task' };
 
 function showError(e) {
   const el = $('error');
@@ -23,27 +25,42 @@ function showError(e) {
 function settings() {
   const seed = Number($('seed').value);
   const t = Number($('limit').value);
-  if ($('seed').value === '' || !Number.isInteger(seed) || seed < 0) throw new Error(`seed: "${$('seed').value}" is out of range 0..=9007199254740991 (whole numbers)`);
-  if ($('limit').value === '' || !Number.isInteger(t)) throw new Error(`t: "${$('limit').value}" is out of range 0..=100000 (whole numbers)`);
+  const cut = (v) => (v.length > 40 ? `${v.slice(0, 40)}… (${v.length} characters)` : v);
+  if ($('seed').value === '' || !Number.isInteger(seed) || seed < 0) throw new Error(`seed: "${cut($('seed').value)}" is out of range 0..=9007199254740991 (whole numbers)`);
+  if ($('limit').value === '' || !Number.isInteger(t)) throw new Error(`t: "${cut($('limit').value)}" is out of range 0..=100000 (whole numbers)`);
   return { seed, t };
 }
 
-/** Replaces the environment only when the new one builds; otherwise the old one keeps running. */
-function rebuild(make) {
+/**
+ * Replaces the environment only when the new one builds (then the description changes too);
+ * otherwise the old one keeps running, described as it was.
+ */
+function rebuild(make, description) {
   try {
     const next = make(settings());
     env?.free();
     env = next;
     episodeReward = 0;
     showError(null);
+    $('description').textContent = description;
+    return true;
   } catch (e) {
     showError(e);
+    return false;
   }
 }
 
 function fromTask() {
-  rebuild(({ seed, t }) => new ArenaEnv($('task').value, seed, t));
-  try { $('description').textContent = taskDescription($('task').value); } catch { /* custom arena */ }
+  const task = $('task').value;
+  if (rebuild(({ seed, t }) => new ArenaEnv(task, seed, t), taskDescription(task))) source = { kind: 'task' };
+}
+
+/** The current source again, with the seed and limit now in the fields. */
+function again() {
+  if (source.kind === 'task') return fromTask();
+  const { name, text } = source;
+  // The file's own t until the limit field is edited.
+  rebuild(({ seed, t }) => ArenaEnv.fromYaml(name, text, seed, source.ownT ? undefined : t), `Custom arena ${name}`);
 }
 
 function draw() {
@@ -72,17 +89,23 @@ function tick(action) {
 await init();
 for (const name of taskNames()) $('task').add(new Option(name, name));
 fromTask();
-const action = keyboard(() => fromTask());
+const action = keyboard(() => again());
 $('task').addEventListener('change', fromTask);
-$('reset').addEventListener('click', fromTask);
-$('seed').addEventListener('change', fromTask);
-$('limit').addEventListener('change', fromTask);
+$('reset').addEventListener('click', again);
+$('seed').addEventListener('change', again);
+$('limit').addEventListener('change', () => {
+  if (source.kind === 'yaml') source.ownT = false;
+  again();
+});
 $('yaml').addEventListener('change', async (e) => {
   const file = e.target.files?.[0];
   if (!file) return;
   const text = await file.text();
-  rebuild(({ seed, t }) => ArenaEnv.fromYaml(file.name, text, seed, t));
-  $('description').textContent = `Custom arena ${file.name}`;
+  e.target.value = '';
+  if (rebuild(({ seed }) => ArenaEnv.fromYaml(file.name, text, seed, undefined), `Custom arena ${file.name}`)) {
+    source = { kind: 'yaml', name: file.name, text, ownT: true };
+    $('limit').value = String(env.agent().t); // the file's t
+  }
 });
 
 let last = performance.now();

@@ -8,6 +8,13 @@ export const WINDOW = 20;
 const REDRAW_MS = 100;
 const MARK = '#b3261e';
 
+/** Axes in the page's text colour (readable in dark mode too), with faint grid lines. */
+function axes(root) {
+  const ink = (root instanceof Element ? getComputedStyle(root).color : '') || '#222';
+  const grid = { stroke: 'rgba(128, 128, 128, 0.25)', width: 1 };
+  return [{ label: 'episode', size: 36, stroke: ink, grid, ticks: grid }, { stroke: ink, grid, ticks: grid }];
+}
+
 /** The mean of the last `WINDOW` values pushed (fewer at the start). */
 export class RollingMean {
   constructor() {
@@ -49,6 +56,11 @@ function markPlugin(marks) {
         ctx.fillStyle = MARK;
         ctx.font = `${10 * px}px system-ui, sans-serif`;
         ctx.setLineDash([4 * px, 3 * px]);
+        // Labels never overlap: each goes on the first of a few rows where it fits; when none
+        // has room, the last label drawn on the top row counts it ("+1").
+        const rows = [];
+        const ROWS = 4;
+        let merged = null;
         for (const m of marks) {
           const x = u.valToPos(m.episode, 'x', true);
           if (!(x >= bbox.left && x <= bbox.left + bbox.width)) continue;
@@ -62,8 +74,18 @@ function markPlugin(marks) {
           ctx.lineTo(x - 4 * px, bbox.top + bbox.height + 6 * px);
           ctx.lineTo(x + 4 * px, bbox.top + bbox.height + 6 * px);
           ctx.fill();
-          ctx.fillText(m.label, x + 3 * px, bbox.top + 11 * px);
+          const w = ctx.measureText(m.label).width + 6 * px;
+          let row = rows.findIndex((end) => end <= x);
+          if (row < 0 && rows.length < ROWS) row = rows.length;
+          if (row < 0) {
+            merged = merged ?? { x: rows[0], n: 0 };
+            merged.n += 1;
+            continue;
+          }
+          rows[row] = x + w;
+          ctx.fillText(m.label, x + 3 * px, bbox.top + (11 + 12 * row) * px);
         }
+        if (merged) ctx.fillText(`+${merged.n} more`, merged.x, bbox.top + 11 * px);
         ctx.restore();
       }],
     },
@@ -73,6 +95,7 @@ function markPlugin(marks) {
 /** The learning-curve panel in `root`. */
 export class Charts {
   constructor(root) {
+    this.root = root;
     this.marks = [];
     this.episodes = [];
     this.columns = CHARTS.map(() => ({ values: [], means: [], rolling: new RollingMean() }));
@@ -94,7 +117,7 @@ export class Charts {
         width,
         height: 170,
         scales: { x: { time: false } },
-        axes: [{ label: 'episode', size: 36 }, {}],
+        axes: axes(this.root),
         legend: { live: false },
         series,
         plugins: [markPlugin(this.marks)],
@@ -282,7 +305,7 @@ export class CompareChart {
         width,
         height: 260,
         scales: { x: { time: false }, y: { range: (u, min, max) => [Math.min(0, min), max > 0 ? max * 1.1 : 1] } },
-        axes: [{ label: 'episode', size: 36 }, {}],
+        axes: axes(this.root),
         legend: { show: false },
         series,
         bands,

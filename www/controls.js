@@ -47,6 +47,21 @@ function input(p) {
 export function buildControls(root, params, onChange) {
   const fields = new Map();
   const sliders = new Map();
+  const groups = new Map();
+  const groupOf = (name) => {
+    if (!groups.has(name)) {
+      const d = document.createElement('details');
+      d.className = 'group';
+      d.dataset.group = name;
+      d.open = true;
+      const s = document.createElement('summary');
+      s.textContent = GROUPS[name] ?? name;
+      d.append(s);
+      root.append(d);
+      groups.set(name, d);
+    }
+    return groups.get(name);
+  };
   for (const p of params) {
     const row = document.createElement('div');
     row.className = 'param';
@@ -86,8 +101,11 @@ export function buildControls(root, params, onChange) {
     help.id = `h-${p.key}`;
     help.className = 'help';
     help.textContent = p.help;
-    row.append(range, help);
-    root.append(row);
+    const unused = document.createElement('p');
+    unused.className = 'unused';
+    unused.hidden = true;
+    row.append(range, help, unused);
+    groupOf(p.group ?? 'run').append(row);
     fields.set(p.key, el);
   }
   return {
@@ -104,8 +122,24 @@ export function buildControls(root, params, onChange) {
     hide(keys) {
       for (const k of keys) root.querySelector(`.param[data-key="${k}"]`)?.setAttribute('hidden', '');
     },
+    /** Disables, with a note, the knobs that `agent` does not read. */
+    agent(agent) {
+      for (const p of params) {
+        const ignored = p.agents?.length > 0 && !p.agents.includes(agent);
+        const row = root.querySelector(`.param[data-key="${p.key}"]`);
+        row.classList.toggle('ignored', ignored);
+        for (const el of row.querySelectorAll('input, select')) el.disabled = ignored;
+        const note = row.querySelector('.unused');
+        note.hidden = !ignored;
+        note.textContent = ignored ? `Not used by ${AGENT_NAMES[agent] ?? agent}.` : '';
+      }
+    },
   };
 }
+
+/** The control groups' headings. */
+const GROUPS = { run: 'Run: task, agent, episode', perception: 'Perception', memory: 'Memory', retrieval: 'Retrieval and the bias T' };
+const AGENT_NAMES = { sec: 'SEC', 'mfec-ae': 'MFEC', 'mfec-rp': 'MFEC on a random projection', reactive: 'the reactive walk' };
 
 /**
  * Wires the run bar and the keyboard shortcuts to `actions`; the shortcuts listen on `target`

@@ -19,4 +19,6 @@ function postHeight() {
   window.parent.postMessage({ type: 'sec-playground:height', height }, '*');
 }
 new ResizeObserver(postHeight).observe(document.body);
+// Scrolled off the host page, the iframe pauses its runs (and carries on when it comes back).
+new IntersectionObserver(([e]) => pg.setOnScreen(e.isIntersecting)).observe(document.body);
 postHeight();

@@ -5,7 +5,8 @@
 import { buildControls, runControls, SPEEDS } from './controls.js';
 import { Charts } from './charts.js';
 import { Compare } from './compare.js';
-import { drawRgba, drawHeat, drawProbs, drawStatus } from './views.js';
+import { drawRgba, drawHeat, drawHeatScale, drawProbs, drawStatus } from './views.js';
+import { drawExplanation, whyLayer } from './explain.js';
 import { keyboard } from './keys.js';
 import { download, episodesCsv } from './export.js';
 import { TEMPLATE } from './template.js';
@@ -16,6 +17,10 @@ const DRIVE_SPEED = 8;
 const WASM = new URLSearchParams(location.search).get('wasm');
 
 const LAYERS = { C: 'contextual (memory)', R: 'reactive (random walk)', H: 'you (driving)' };
+/** View posts per second at max speed: enough to see the agent move, cheap next to the run. */
+const MAX_SPEED_VIEW_HZ = 4;
+/** The decisions/s readout is the rate over this window (ms). */
+const RATE_WINDOW_MS = 3000;
 
 export class Playground {
   /**
@@ -57,7 +62,7 @@ export class Playground {
       onError: (m) => this.showError(m),
       wasm: WASM,
     });
-    this.rate = { t: performance.now(), decisions: 0, perSecond: 0 };
+    this.rate = { samples: [], perSecond: null };
     for (const part of hide) {
       if (/^[a-z-]+$/i.test(part)) root.querySelector(`.playground .${part}, .playground #${part}`)?.setAttribute('hidden', '');
     }
@@ -98,9 +103,17 @@ export class Playground {
     if (location.hash !== h) history.replaceState(null, '', h);
   }
 
+  /** What the worker posts: every view while someone can see them, fewer at max speed, and
+   * the explanation of each decision while paused or stepping. */
   views() {
-    const watching = this.speed !== 'max' && this.visible;
-    this.send({ type: 'views', camera: watching, heat: watching ? this.$('heat-kind').value : null });
+    const watching = this.visible;
+    const fast = this.effectiveSpeed() === 'max';
+    const kind = this.$('heat-kind').value;
+    drawHeatScale(this.$('heat-scale'), this.$('heat-lo'), this.$('heat-hi'), kind);
+    this.send({
+      type: 'views', camera: watching, heat: watching ? kind : null,
+      hz: fast ? MAX_SPEED_VIEW_HZ : 30, explain: watching && !this.wantPlay,
+    });
   }
 
   /** The speed the worker runs at: the slider's, capped while a person drives. */
@@ -112,6 +125,7 @@ export class Playground {
   setPlaying(p) {
     this.wantPlay = p;
     this.send({ type: p && this.visible ? 'play' : 'pause' });
+    this.views();
   }
 
   /** On screen or not (the element's observer): off screen the run pauses, and carries on after. */
@@ -169,7 +183,10 @@ export class Playground {
     runControls($, {
       toggle: () => this.setPlaying(!this.wantPlay),
       step: (what) => {
-        this.wantPlay = false;
+        if (this.wantPlay) {
+          this.wantPlay = false;
+          this.views();
+        }
         this.send({ type: 'step', what });
       },
       reset: () => (this.fatal ? this.startWorker() : this.send({ type: 'reset' })),
@@ -213,6 +230,15 @@ export class Playground {
     this.listeners.push(() => target.removeEventListener(type, f));
   }
 
+  /** After an episode a person drove with record on: what it did to SEC's memory. */
+  afterDrive(m) {
+    const need = (this.lastView?.minSequences ?? 5) - m.ltm;
+    this.notice(m.goal
+      ? `Your episode reached the goal and is stored: the LTM holds ${m.ltm} sequence${m.ltm === 1 ? '' : 's'}. `
+        + (need > 0 ? `SEC acts from memory once it holds ${m.ltm + need}: ${need} more to go.` : 'SEC can act from memory now.')
+      : 'Your episode did not reach the goal, so nothing was stored.');
+  }
+
   exportCsv() {
     const runs = [{ name: 'main', settings: this.settings, seed: this.settings?.seed, episodes: this.log },
       ...this.compare.runs()];
@@ -240,6 +266,10 @@ export class Playground {
       get driving() { return me.driving; },
       get log() { return me.log; },
       get compare() { return me.compare.state; },
+      /** The last decision explained (while paused or stepping). */
+      get explanation() { return me.lastExplanation ?? null; },
+      /** The decisions/s readout's value. */
+      get rate() { return me.rate.perSecond; },
       /** Test hook: makes the simulation panic. */
       crash() { me.send({ type: 'crash' }); },
     };
@@ -254,22 +284,27 @@ export class Playground {
     for (const off of this.listeners) off();
   }
 
+  /** The decision rate: decisions counted by the run over the last few seconds of views. */
+  measureRate(v) {
+    const now = performance.now();
+    const s = this.rate.samples;
+    if (s.length && v.decisions < s[s.length - 1].d) s.length = 0; // a new run
+    s.push({ t: now, d: v.decisions });
+    while (s.length > 2 && now - s[1].t > RATE_WINDOW_MS) s.shift();
+    const dt = now - s[0].t;
+    this.rate.perSecond = dt >= 400 ? ((v.decisions - s[0].d) * 1000) / dt : this.rate.perSecond;
+  }
+
   status() {
     const v = this.lastView;
     if (!v) return;
-    const now = performance.now();
     const rate = this.rate;
-    if (now - rate.t > 1000) {
-      rate.perSecond = (rate.decisions * 1000) / (now - rate.t);
-      rate.t = now;
-      rate.decisions = 0;
-    }
     drawStatus(this.$('status'), [
       ['episode', String(v.episode)],
       ['env step', String(v.step)],
       ['reward', v.episodeReward.toFixed(3)],
       ['LTM', v.capacity ? `${v.ltm} / ${v.capacity}` : '–'],
-      ['decisions/s', rate.perSecond ? rate.perSecond.toFixed(0) : '–'],
+      ['decisions/s', !this.playing ? 'paused' : rate.perSecond == null ? '…' : rate.perSecond.toFixed(0)],
     ]);
   }
 }
@@ -291,6 +326,7 @@ Playground.prototype.handlers = {
     const first = this.settings === null;
     this.settings = msg.settings;
     this.controls.set(this.settings);
+    this.controls.agent(this.settings.agent);
     this.writeHash();
     if (msg.errors.length) {
       this.showError(`${msg.errors.join('; ')}. Using the default for ${msg.errors.length === 1 ? 'it' : 'them'}.`);
@@ -304,8 +340,14 @@ Playground.prototype.handlers = {
       if (!first) this.notice(msg.changes ? `New run: ${Object.keys(msg.changes).map((k) => this.label(k)).join(', ')} changed` : 'Run reset');
     } else if (msg.changes) {
       const what = Object.entries(msg.changes).map(([k, v]) => `${this.label(k)}=${v}`).join(' ');
+      const ignored = Object.keys(msg.changes).filter((k) => {
+        const agents = this.params.find((p) => p.key === k)?.agents ?? [];
+        return agents.length && !agents.includes(this.settings.agent);
+      });
       this.charts.mark(what);
-      this.notice(`Applied live: ${what}`);
+      this.notice(ignored.length
+        ? `Set ${what}; this agent (${this.settings.agent}) does not use ${ignored.map((k) => this.label(k)).join(', ')}.`
+        : `Applied live: ${what}`);
     }
     if (first || msg.fresh) this.setPlaying(this.wantPlay);
   },
@@ -313,8 +355,8 @@ Playground.prototype.handlers = {
     this.charts.push(list);
     this.episodes += list.length;
     for (const m of list) {
-      this.rate.decisions += m.decisions;
       this.log.push(m);
+      if (m.human && this.settings?.agent === 'sec' && this.$('record').checked) this.afterDrive(m);
     }
   },
   view(msg) {
@@ -331,14 +373,24 @@ Playground.prototype.handlers = {
     }
     if (msg.heat) drawHeat($('heat'), new Float32Array(msg.heat), msg.n, new Uint32Array(msg.selected), $('heat-kind').value);
     const v = msg.view;
+    this.measureRate(v);
     drawProbs($('probs'), v.p, v.action);
     $('entropy').textContent = `${v.entropy.toFixed(3)} bits`;
     $('entropy-meter').value = v.entropy;
     $('layer').textContent = LAYERS[v.layer] ?? '–';
+    $('why').textContent = whyLayer(v, this.settings?.agent);
+    $('gate-mse').textContent = this.settings?.agent === 'reactive' ? '–'
+      : `${v.gateMse >= 100 ? 'not measured yet' : v.gateMse.toFixed(4)}${v.gate != null ? ` (gate ${+v.gate.toPrecision(4)})` : ''}`;
+    if (msg.explain) {
+      this.lastExplanation = msg.explain;
+      drawExplanation($('explain'), msg.explain);
+    }
+    else if (this.wantPlay) $('explain').querySelector('.formula').textContent = 'Pause or step to see the last decision explained.';
     this.status();
   },
   state(msg) {
     this.playing = msg.playing;
+    if (!this.playing) this.rate.samples.length = 0;
     this.$('play').textContent = this.playing ? 'Pause' : 'Play';
     this.$('play').closest('.playground').dataset.playing = this.playing;
   },

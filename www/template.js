@@ -45,11 +45,16 @@ export const TEMPLATE = `
       </figure>
       <figure class="reconstruction">
         <canvas id="reconstruction" width="84" height="84" aria-label="The autoencoder's reconstruction of the camera image"></canvas>
-        <figcaption>Autoencoder reconstruction</figcaption>
+        <figcaption>Autoencoder reconstruction (the trained model); error
+          <output id="gate-mse" title="Mean squared reconstruction error of the last measured frame; memory may act only while it is below the gate">–</output></figcaption>
       </figure>
       <figure class="heat">
         <canvas id="heat" width="252" height="252" aria-label="Long-term memory heat map"></canvas>
-        <figcaption>LTM: sequences × STM positions,
+        <div class="heat-legend" aria-hidden="true">
+          <span id="heat-lo"></span><canvas id="heat-scale" width="120" height="10"></canvas><span id="heat-hi"></span>
+        </div>
+        <figcaption>LTM: one row per stored sequence (oldest at the top), one column per STM position
+          (newest, nearest the goal, at the right);
           <select id="heat-kind" aria-label="Heat map quantity">
             <option value="g">G (biased similarity)</option>
             <option value="t">T (sequential bias)</option>
@@ -62,10 +67,20 @@ export const TEMPLATE = `
         </table>
         <div class="entropy"><span>entropy</span><meter id="entropy-meter" min="0" max="3.17"></meter><output id="entropy"></output></div>
         <div class="layer">acting layer: <output id="layer">–</output></div>
+        <p id="why" class="why"></p>
         <figcaption>Action probabilities p (3×3 grid)</figcaption>
       </figure>
     </section>
   </div>
+  <details id="explain" class="explain">
+    <summary>Explain this decision</summary>
+    <p class="formula">Pause or step to see the last decision explained.</p>
+    <table>
+      <thead><tr><th>sequence</th><th>position</th><th>G</th><th>T</th><th>rr</th><th>d</th><th>action</th><th>value</th></tr></thead>
+      <tbody></tbody>
+      <tfoot></tfoot>
+    </table>
+  </details>
   <section id="charts" class="charts" aria-label="Learning curves"></section>
   <section id="compare" class="compare" aria-label="Compare configurations">
     <h2>Compare</h2>

@@ -27,7 +27,21 @@ function colour(t) {
 }
 
 /** Display ranges: G near the 0.98 threshold, T from 1 up to its fixed point 1.2. */
-const HEAT_RANGE = { g: [0.9, 1.05], t: [1, 1.2] };
+export const HEAT_RANGE = { g: [0.9, 1.05], t: [1, 1.2] };
+
+/** The heat map's colour scale: a gradient canvas and its two end values. */
+export function drawHeatScale(canvas, lo, hi, kind) {
+  const ctx = canvas.getContext('2d');
+  for (let x = 0; x < canvas.width; x++) {
+    const [R, G, B] = colour(x / (canvas.width - 1));
+    ctx.fillStyle = `rgb(${R}, ${G}, ${B})`;
+    ctx.fillRect(x, 0, 1, canvas.height);
+  }
+  const [a, b] = HEAT_RANGE[kind];
+  const name = kind === 'g' ? 'G' : 'T';
+  lo.textContent = `${name} ≤ ${a}`;
+  hi.textContent = `≥ ${b}`;
+}
 /** Most LTM rows drawn (the newest); the rest are summarised in the caption. */
 const MAX_ROWS = 1000;
 

@@ -4,7 +4,7 @@
 //
 // Messages in:  {type: 'start', settings}, {type: 'set', changes}, {type: 'play'}, {type: 'pause'},
 //               {type: 'speed', value}, {type: 'step', what: 'decision' | 'episode'},
-//               {type: 'reset'}, {type: 'views', camera, heat}, {type: 'drive', action, record},
+//               {type: 'reset'}, {type: 'views', camera, heat, hz, explain}, {type: 'drive', action, record},
 //               {type: 'saveMemory'}, {type: 'loadMemory', bytes}, {type: 'crash'} (a test hook)
 // Messages out: {type: 'ready', params, defaults, build}, {type: 'started', settings, errors, mode},
 //               {type: 'episodes', list}, {type: 'view', ...}, {type: 'state', playing},
@@ -12,14 +12,14 @@
 import init, { build, ensureModel, SecRun, parameters, parseSettings, applySettings, presetSettings, panicForTest } from './wasm.js';
 import { AdaptiveBatch, SLICE_MS, serveMessages } from './slices.js';
 
-/** Most view posts per second. */
+/** Most view posts per second while watching; the page asks for fewer at max speed. */
 const VIEW_HZ = 30;
 
 let run = null;
 let settings = null;
 let playing = false;
 let speed = Infinity; // decisions per second; Infinity is "max"
-let want = { camera: true, heat: 'g' };
+let want = { camera: true, heat: 'g', hz: VIEW_HZ, explain: false };
 // Decisions per call at max speed; each call aims at a quarter of the slice.
 const batch = new AdaptiveBatch(8, 10000, 1 / 4);
 let lastView = 0;
@@ -39,9 +39,10 @@ const copy = (view) => view.slice().buffer;
 
 function postView(force = false) {
   const now = performance.now();
-  if (!run || (!force && now - lastView < 1000 / VIEW_HZ)) return;
+  if (!run || (!force && now - lastView < 1000 / want.hz)) return;
   lastView = now;
   const msg = { type: 'view', view: run.view(), n: run.stmLength };
+  if (want.explain) msg.explain = run.explain();
   const transfer = [];
   if (want.camera) {
     msg.camera = copy(run.observation());
@@ -197,8 +198,13 @@ const handlers = {
     if (!panicForTest) throw new Error('crash: a test hook, in the test flavour only (?wasm=hooks)');
     panicForTest();
   },
-  views({ camera, heat }) {
-    want = { camera: !!camera, heat: heat === 't' || heat === 'g' ? heat : null };
+  views({ camera, heat, hz, explain }) {
+    want = {
+      camera: !!camera,
+      heat: heat === 't' || heat === 'g' ? heat : null,
+      hz: Math.min(VIEW_HZ, Math.max(1, Number(hz) || VIEW_HZ)),
+      explain: !!explain,
+    };
     postView(true);
   },
 };

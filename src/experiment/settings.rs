@@ -45,6 +45,24 @@ pub struct Param {
     pub kind: Kind,
     /// Applies to the running agent; otherwise a change starts a new run.
     pub live: bool,
+    /// The page's group of controls: run, perception, memory or retrieval.
+    pub group: &'static str,
+    /// The agents (`AGENTS` names) that use it; empty: every agent.
+    pub agents: &'static [&'static str],
+}
+
+/// The agents that read SEC's parameters.
+const SEC_ONLY: &[&str] = &["sec"];
+/// The agents whose states come from the perception.
+const EMBEDDERS: &[&str] = &["sec", "mfec-ae"];
+
+impl Param {
+    fn group(self, group: &'static str) -> Param {
+        Param { group, ..self }
+    }
+    fn agents(self, agents: &'static [&'static str]) -> Param {
+        Param { agents, ..self }
+    }
 }
 
 /// One setting: what the page shows (`param`) and how it reads and writes a run's configuration
@@ -63,15 +81,18 @@ fn number(key: &'static str, symbol: &'static str, help: &'static str, r: (f64, 
         help,
         kind: Kind::Number { min: r.0, max: r.1, min_open: open, step, auto: false },
         live: true,
+        group: "retrieval",
+        agents: SEC_ONLY,
     }
 }
 
 fn choice(key: &'static str, symbol: &'static str, help: &'static str, options: &[&str], live: bool) -> Param {
-    Param { key, symbol, help, kind: Kind::Choice { options: options.iter().map(|s| s.to_string()).collect() }, live }
+    let kind = Kind::Choice { options: options.iter().map(|s| s.to_string()).collect() };
+    Param { key, symbol, help, kind, live, group: "run", agents: &[] }
 }
 
 fn integer(key: &'static str, symbol: &'static str, help: &'static str, r: (u64, u64), live: bool) -> Param {
-    Param { key, symbol, help, kind: Kind::Integer { min: r.0, max: r.1 }, live }
+    Param { key, symbol, help, kind: Kind::Integer { min: r.0, max: r.1 }, live, group: "run", agents: &[] }
 }
 
 /// The agent choices of the page.
@@ -119,12 +140,12 @@ fn table() -> Vec<Setting> {
             set: |c, _, v| set_agent(c, AGENTS[v as usize]),
         },
         Setting {
-            param: choice("perception", "encoder", "Which encoder embeds the camera image: untrained random weights (what the authors' code ran) or the trained one (the paper's text); the trained one always runs the gate (a new run).", &names(&PerceptionKind::ALL), false),
+            param: choice("perception", "encoder", "Which encoder embeds the camera image: untrained random weights (what the authors' code ran) or the trained one (the paper's text); the trained one always runs the gate (a new run).", &names(&PerceptionKind::ALL), false).group("perception").agents(EMBEDDERS),
             get: |c, _| name_of(&PerceptionKind::ALL, c.perception),
             set: |c, _, v| c.perception = PerceptionKind::ALL[v as usize].1,
         },
         Setting {
-            param: Param { key: "embeddingScale", symbol: "scale", help: "Multiplies every embedding, so it sets how alike two views must be to pass θ_abs; auto: 1 untrained, the calibrated scale trained (a new run).", kind: Kind::Number { min: SCALE_RANGE.0 as f64, max: SCALE_RANGE.1 as f64, min_open: true, step: 0.01, auto: true }, live: false },
+            param: Param { key: "embeddingScale", symbol: "scale", help: "Multiplies every embedding, so it sets how alike two views must be to pass θ_abs; auto: 1 untrained, the calibrated scale trained (a new run).", kind: Kind::Number { min: SCALE_RANGE.0 as f64, max: SCALE_RANGE.1 as f64, min_open: true, step: 0.01, auto: true }, live: false, group: "perception", agents: EMBEDDERS },
             get: |c, _| c.scale_override().map_or("auto".to_string(), |s| s.to_string()),
             set: |c, _, v| {
                 c.embedding_scale = (!v.is_nan()).then_some(v as f32);
@@ -132,7 +153,7 @@ fn table() -> Vec<Setting> {
             },
         },
         Setting {
-            param: Param { key: "bias", symbol: "T", help: "Sequential bias: on is SEC, off is NSEC (T restarts at 1).", kind: Kind::Switch, live: true },
+            param: Param { key: "bias", symbol: "T", help: "Sequential bias: on is SEC, off is NSEC (T restarts at 1).", kind: Kind::Switch, live: true, group: "retrieval", agents: SEC_ONLY },
             get: |c, _| (c.agent.memory.sequential_bias as u8).to_string(),
             set: |c, _, v| c.agent.memory.sequential_bias = v == 1.0,
         },
@@ -162,22 +183,22 @@ fn table() -> Vec<Setting> {
             set: |c, _, v| c.agent.memory.theta_prop = v,
         },
         Setting {
-            param: integer("n", "n", "STM length: couplets per stored sequence (a new run).", (N_RANGE.0 as u64, N_RANGE.1 as u64), false),
+            param: integer("n", "n", "STM length: couplets per stored sequence (a new run).", (N_RANGE.0 as u64, N_RANGE.1 as u64), false).group("memory").agents(SEC_ONLY),
             get: |c, _| c.agent.memory.n.to_string(),
             set: |c, _, v| c.agent.memory.n = v as usize,
         },
         Setting {
-            param: integer("m", "m", "LTM capacity in sequences; a smaller m forgets the oldest now.", (M_RANGE.0 as u64, M_RANGE.1 as u64), true),
+            param: integer("m", "m", "LTM capacity in sequences; a smaller m forgets the oldest now.", (M_RANGE.0 as u64, M_RANGE.1 as u64), true).group("memory").agents(SEC_ONLY),
             get: |c, _| c.agent.memory.m.to_string(),
             set: |c, _, v| c.agent.memory.m = v as usize,
         },
         Setting {
-            param: choice("forgetting", "forget", "What a full LTM does: nothing, drop the oldest, the lowest reward, the 10% lowest, or one drawn by low reward.", &names(&Forgetting::ALL), true),
+            param: choice("forgetting", "forget", "What a full LTM does: nothing, drop the oldest, the lowest reward, the 10% lowest, or one drawn by low reward.", &names(&Forgetting::ALL), true).group("memory").agents(SEC_ONLY),
             get: |c, _| name_of(&Forgetting::ALL, c.agent.memory.forgetting),
             set: |c, _, v| c.agent.memory.forgetting = Forgetting::ALL[v as usize].1,
         },
         Setting {
-            param: choice("value", "value", "How a couplet's similarity g, relative reward rr and distance d make its value.", &names(&ValueFn::ALL), true),
+            param: choice("value", "value", "How a couplet's similarity g, relative reward rr and distance d make its value.", &names(&ValueFn::ALL), true).agents(SEC_ONLY).group("retrieval"),
             get: |c, _| name_of(&ValueFn::ALL, c.agent.memory.value_function),
             set: |c, _, v| c.agent.memory.value_function = ValueFn::ALL[v as usize].1,
         },
@@ -213,7 +234,17 @@ fn range_error(key: &str, value: &str, kind: &Kind) -> ConfigError {
         Kind::Choice { options } => format!("one of {}", options.join(", ")),
         Kind::Switch => "0 or 1".into(),
     };
-    ConfigError::new(key, format!("'{value}' is out of range {range}"))
+    ConfigError::new(shown(key), format!("'{}' is out of range {range}", shown(value)))
+}
+
+/// A value as an error message shows it: cut after 40 characters, so that a pasted page of text
+/// does not fill the screen.
+fn shown(value: &str) -> String {
+    const MAX: usize = 40;
+    match value.char_indices().nth(MAX) {
+        Some((at, _)) => format!("{}… ({} characters)", &value[..at], value.chars().count()),
+        None => value.to_string(),
+    }
 }
 
 /// The setting's value parsed and range-checked, as a number (choices: their index; `auto`:
@@ -247,7 +278,7 @@ pub fn apply(cfg: &mut RunConfig, seed: &mut u64, key: &str, value: &str) -> Res
     let all = table();
     let s = all.iter().find(|s| s.param.key == key).ok_or_else(|| {
         let keys: Vec<&str> = all.iter().map(|s| s.param.key).collect();
-        ConfigError::new(key, format!("is not a setting (settings: {})", keys.join(", ")))
+        ConfigError::new(shown(key), format!("is not a setting (settings: {})", keys.join(", ")))
     })?;
     let v = parse(&s.param, value)?;
     (s.set)(cfg, seed, v);

@@ -201,12 +201,23 @@ impl Couplet {
     pub const ZERO: Couplet = Couplet { embedding: [0.0; EMBEDDING], action: 0 };
 }
 
-/// A selected couplet (docs/ALGORITHM.md, retrieval): LTM row, column, and its G (bias included).
+/// A selected couplet (docs/ALGORITHM.md, retrieval): LTM row, column, its G (bias included)
+/// and the terms of its value, kept so that a decision can be explained term by term.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Selected {
     pub row: u32,
     pub col: u32,
     pub g: f64,
+    /// T of the couplet at the retrieval (1 without the bias).
+    pub t: f64,
+    /// Relative reward: its sequence's reward over the best selected sequence's.
+    pub rr: f64,
+    /// Distance to the goal, (n - col) / n.
+    pub d: f64,
+    /// The action it votes for.
+    pub action: u8,
+    /// Its value, added to Q of `action`.
+    pub value: f64,
 }
 
 /// STM, LTM, T and the selection masks, with the operations of sections 5-8.
@@ -417,12 +428,15 @@ impl Memory {
         }
         let rmax = self.selected.iter().map(|s| self.rewards[s.row as usize]).fold(f64::NEG_INFINITY, f64::max);
         self.q = [0.0; ACTIONS];
-        for s in &self.selected {
-            let rr = self.rewards[s.row as usize] / rmax;
-            let d = (n - s.col as usize) as f64 / n as f64;
-            let dist = libm::exp(-d / self.cfg.tau);
-            let a = self.actions[s.row as usize * n + s.col as usize] as usize;
-            self.q[a] += self.cfg.value_function.value(s.g, rr, dist);
+        for s in &mut self.selected {
+            let idx = s.row as usize * n + s.col as usize;
+            s.t = t.get(idx).copied().unwrap_or(1.0);
+            s.rr = self.rewards[s.row as usize] / rmax;
+            s.d = (n - s.col as usize) as f64 / n as f64;
+            let dist = libm::exp(-s.d / self.cfg.tau);
+            s.action = self.actions[idx];
+            s.value = self.cfg.value_function.value(s.g, s.rr, dist);
+            self.q[s.action as usize] += s.value;
         }
         // numpy's sums of 9 (pairwise); a p of 0 adds nothing (the authors' nan_to_num term is -0).
         let total = pairwise9(&self.q);
@@ -787,7 +801,8 @@ fn refine(mask: &mut [bool], keep: impl Fn(usize) -> bool, mut kept: impl FnMut(
 }
 
 fn push(selected: &mut Vec<Selected>, n: usize, idx: usize, g: f64) {
-    selected.push(Selected { row: (idx / n) as u32, col: (idx % n) as u32, g });
+    let (row, col) = ((idx / n) as u32, (idx % n) as u32);
+    selected.push(Selected { row, col, g, t: 1.0, rr: 0.0, d: 0.0, action: 0, value: 0.0 });
 }
 
 /// Calls `f` with the index of every true in `mask`, ascending. Few couplets are selected, so

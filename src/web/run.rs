@@ -8,7 +8,7 @@ use super::{js_err, seed_from_js};
 use crate::encoder::{reconstruction_to_rgba, Scratch, EMBEDDING, IMAGE};
 use crate::experiment::settings::{self, Settings};
 use crate::experiment::{Driver, EpisodeMetrics, Run, RunConfig};
-use crate::memory::ACTIONS;
+use crate::memory::{ValueFn, ACTIONS};
 use crate::render::Trail;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -58,6 +58,8 @@ export interface EpisodeMetrics {
 /** One of the page's settings, with its range. */
 export interface Param {
   key: string; symbol: string; help: string; live: boolean;
+  /** The page's group of controls, and the agents that read it (empty: all). */
+  group: "run" | "perception" | "memory" | "retrieval"; agents: string[];
   kind: { type: "number"; min: number; max: number; minOpen: boolean; step: number; auto: boolean }
     | { type: "integer"; min: number; max: number }
     | { type: "choice"; options: string[] }
@@ -72,6 +74,20 @@ export interface DecisionView {
   action: number | null; layer: "R" | "C" | "H" | null; selected: number; entropy: number;
   p: number[] | null; gateMse: number; ltm: number; capacity: number;
   episode: number; step: number; episodeReward: number; x: number; z: number; heading: number;
+  /** Decisions since the run started (a rate is its change over time). */
+  decisions: number;
+  /** SEC acts from memory only once the LTM holds this many sequences. */
+  minSequences: number;
+  /** The reconstruction gate's threshold (null: no gate). */
+  gate: number | null;
+}
+/** The last decision's contextual layer, term by term (empty when it selected nothing). */
+export interface Explanation {
+  /** Each selected couplet: LTM sequence and STM position, G = similarity x T, T, relative reward, distance, the action it votes for and its value. */
+  couplets: { sequence: number; position: number; g: number; t: number; rr: number; d: number; action: number; value: number }[];
+  /** Q per action (the sum of its couplets' values) and p = Q / sum Q. */
+  q: number[]; p: number[];
+  tau: number; valueFunction: string; thetaAbs: number; thetaProp: number; sequentialBias: boolean;
 }
 "#;
 
@@ -93,6 +109,35 @@ struct DecisionView {
     x: f32,
     z: f32,
     heading: f32,
+    decisions: f64,
+    min_sequences: usize,
+    gate: Option<f32>,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct ExplainedCouplet {
+    sequence: u32,
+    position: u32,
+    g: f64,
+    t: f64,
+    rr: f64,
+    d: f64,
+    action: u8,
+    value: f64,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct Explanation {
+    couplets: Vec<ExplainedCouplet>,
+    q: [f64; ACTIONS],
+    p: [f64; ACTIONS],
+    tau: f64,
+    value_function: &'static str,
+    theta_abs: f64,
+    theta_prop: f64,
+    sequential_bias: bool,
 }
 
 #[derive(Serialize)]
@@ -108,6 +153,8 @@ pub struct SecRun {
     pub(super) run: Run,
     seed: u64,
     last: Option<crate::agent::Decision>,
+    /// Decisions since the run started.
+    decisions: u64,
     trail: Trail,
     image: Vec<f32>,
     scratch: Scratch,
@@ -155,6 +202,7 @@ impl SecRun {
         Ok(SecRun {
             seed,
             last: None,
+            decisions: 0,
             trail: Trail::new(run.env().world().agent.pos),
             image: vec![0.0; IMAGE],
             scratch: Scratch::default(),
@@ -170,6 +218,7 @@ impl SecRun {
         let t = self.run.tick();
         if t.decision.is_some() {
             self.last = t.decision;
+            self.decisions += 1;
         }
         let at = self.run.env().world().agent.pos;
         match t.finished {
@@ -285,6 +334,51 @@ impl SecRun {
             x: a.pos.x,
             z: a.pos.y,
             heading: a.heading,
+            decisions: self.decisions as f64,
+            min_sequences: self.run.config().agent.min_sequences,
+            gate: self.run.config().agent.gate,
+        };
+        Ok(out.serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
+    }
+
+    /// The last decision's contextual layer term by term (`Explanation`): every selected couplet
+    /// with G, T, rr, d and its value, and how they sum into Q per action. Empty for a run
+    /// without SEC or a decision where nothing was selected.
+    #[wasm_bindgen(unchecked_return_type = "Explanation")]
+    pub fn explain(&self) -> Result<JsValue, JsError> {
+        let (couplets, q, p, cfg) = match self.run.agent() {
+            Some(a) if !a.memory.selected().is_empty() => {
+                let m = &a.memory;
+                let couplets = m
+                    .selected()
+                    .iter()
+                    .map(|s| ExplainedCouplet {
+                        sequence: s.row,
+                        position: s.col,
+                        g: s.g,
+                        t: s.t,
+                        rr: s.rr,
+                        d: s.d,
+                        action: s.action,
+                        value: s.value,
+                    })
+                    .collect();
+                (couplets, *m.q(), *m.p(), m.config().clone())
+            }
+            Some(a) => (Vec::new(), [0.0; ACTIONS], [0.0; ACTIONS], a.memory.config().clone()),
+            None => (Vec::new(), [0.0; ACTIONS], [0.0; ACTIONS], self.run.config().agent.memory.clone()),
+        };
+        let value_function =
+            ValueFn::ALL.iter().find(|(_, v)| *v == cfg.value_function).map_or("default", |(name, _)| name);
+        let out = Explanation {
+            couplets,
+            q,
+            p,
+            tau: cfg.tau,
+            value_function,
+            theta_abs: cfg.theta_abs,
+            theta_prop: cfg.theta_prop,
+            sequential_bias: cfg.sequential_bias,
         };
         Ok(out.serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
     }

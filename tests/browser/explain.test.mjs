@@ -1,0 +1,144 @@
+// The page explains what it shows, in real Chromium: why the reactive layer acts during the
+// warm-up, a decision's couplets summing into the Q of its action grid, live views and a true
+// decision rate at max speed, a phone-sized screen, the file:// message, and an embedded iframe
+// that pauses while scrolled out of sight.
+import { test, before, after, afterEach } from 'node:test';
+import assert from 'node:assert/strict';
+import { mkdirSync, writeFileSync } from 'node:fs';
+import { fileURLToPath } from 'node:url';
+import { ARTIFACTS, launch } from './harness.mjs';
+
+let server, browser, base;
+before(async () => { ({ server, browser, base } = await launch()); });
+after(async () => { await browser?.close(); server?.close(); });
+const pages = [];
+afterEach(async () => { for (const p of pages.splice(0)) if (!p.isClosed()) await p.close(); });
+
+async function open(path, viewport = { width: 1300, height: 1000 }) {
+  const page = await browser.newPage({ viewport });
+  pages.push(page);
+  const problems = [];
+  page.on('pageerror', (e) => problems.push(String(e)));
+  await page.goto(base + path);
+  await page.waitForFunction(() => window.secPlayground?.settings && window.secPlayground.view);
+  return { page, problems };
+}
+
+const maxSpeed = (page) => page.evaluate(() => {
+  const s = document.getElementById('speed');
+  s.value = s.max;
+  s.dispatchEvent(new Event('input'));
+});
+
+test('the warm-up says why the reactive layer acts, and a decision explains its Q term by term', async () => {
+  const { page, problems } = await open('#task=object-permanence&seed=2');
+  await page.waitForFunction(() => window.secPlayground.view.layer);
+  assert.match(await page.textContent('#why'), /memory holds \d of the 5 sequences SEC needs/);
+  assert.notEqual(await page.textContent('#gate-mse'), '–');
+  // Learn at max speed until the memory can act, then pause and step until it selects.
+  await maxSpeed(page);
+  await page.waitForFunction(() => window.secPlayground.view.ltm >= 5, null, { timeout: 120000, polling: 250 });
+  await page.click('#play');
+  await page.waitForFunction(() => !window.secPlayground.playing);
+  let e = null;
+  for (let i = 0; i < 400 && !(e?.couplets.length); i++) {
+    await page.click('#step-decision');
+    await page.waitForTimeout(15);
+    e = await page.evaluate(() => window.secPlayground.explanation);
+  }
+  assert.ok(e?.couplets.length, 'memory selected couplets within 400 decisions');
+  await page.waitForTimeout(200);
+  e = await page.evaluate(() => window.secPlayground.explanation);
+  // Every couplet's value adds to the Q of its action; p = Q / sum Q is the grid's.
+  const q = Array(9).fill(0);
+  for (const c of e.couplets) q[c.action] += c.value;
+  q.forEach((v, a) => assert.ok(Math.abs(v - e.q[a]) < 1e-9 * Math.max(1, e.q[a]), `Q[${a}]: ${v} vs ${e.q[a]}`));
+  const total = e.q.reduce((s, v) => s + v, 0);
+  const grid = await page.$$eval('#probs tbody td', (tds) => tds.map((td) => td.textContent));
+  e.q.forEach((v, a) => assert.equal(grid[a], (v / total).toFixed(2), `p of action ${a}`));
+  const rows = await page.$$eval('#explain tbody tr', (trs) => trs.length);
+  assert.equal(rows, Math.min(e.couplets.length, 200) + (e.couplets.length > 200 ? 1 : 0));
+  const sums = await page.$$eval('#explain tfoot tr', (trs) => trs.map((tr) => Number(tr.dataset.action)));
+  assert.deepEqual(sums, e.q.map((v, a) => (v > 0 ? a : -1)).filter((a) => a >= 0));
+  assert.match(await page.textContent('#explain .formula'), /G \/ Gmax > θ_prop/);
+  assert.deepEqual(problems, []);
+});
+
+test('at max speed the views keep moving and decisions/s is the true rate', async () => {
+  const { page } = await open('#task=double-t-maze');
+  await maxSpeed(page);
+  await page.waitForFunction(() => window.secPlayground.playing);
+  const pixels = () => page.evaluate(() => {
+    const c = document.getElementById('camera');
+    const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+    let h = 0;
+    for (let i = 0; i < d.length; i += 7) h = (h * 31 + d[i]) | 0;
+    return h;
+  });
+  await page.waitForTimeout(1500);
+  const a = await pixels();
+  await page.waitForTimeout(1000);
+  assert.notEqual(await pixels(), a, 'the camera image changed within 1 s at max speed');
+  // The readout against a count of the run's own decisions over 5 s.
+  const count = () => page.evaluate(() => ({ t: performance.now(), d: window.secPlayground.view.decisions }));
+  const c0 = await count();
+  await page.waitForTimeout(5000);
+  const c1 = await count();
+  const truth = ((c1.d - c0.d) * 1000) / (c1.t - c0.t);
+  const shown = await page.evaluate(() => window.secPlayground.rate);
+  const text = await page.evaluate(() => [...document.querySelectorAll('#status dt')]
+    .find((dt) => dt.textContent === 'decisions/s').nextElementSibling.textContent);
+  assert.equal(text, shown.toFixed(0));
+  assert.ok(Math.abs(shown - truth) <= 0.1 * truth, `readout ${shown} vs ${truth} decisions/s counted`);
+  // A slow speed is right too.
+  await page.evaluate(() => {
+    const s = document.getElementById('speed');
+    s.value = '3'; // 10/s
+    s.dispatchEvent(new Event('input'));
+  });
+  await page.waitForTimeout(4500);
+  const slow = await page.evaluate(() => window.secPlayground.rate);
+  assert.ok(slow > 7 && slow < 13, `at 10/s the readout says ${slow}`);
+});
+
+test('on a phone-sized screen nothing is wider than the screen and the camera comes first', async () => {
+  const { page } = await open('', { width: 390, height: 844 });
+  const width = await page.evaluate(() => document.documentElement.scrollWidth);
+  assert.ok(width <= 390, `the document is ${width} px wide`);
+  const order = await page.evaluate(() => {
+    const y = (sel) => document.querySelector(sel).getBoundingClientRect().top;
+    return { camera: y('#camera'), charts: y('#charts'), controls: y('#controls') };
+  });
+  assert.ok(order.camera < order.charts && order.charts < order.controls, `camera, charts, then controls: ${JSON.stringify(order)}`);
+  mkdirSync(ARTIFACTS, { recursive: true });
+  await page.screenshot({ path: fileURLToPath(new URL('phone.png', ARTIFACTS)), fullPage: false });
+});
+
+test('opened from disk, the page says how to serve it', async () => {
+  const page = await browser.newPage();
+  pages.push(page);
+  await page.goto(new URL('../../index.html', import.meta.url).href);
+  assert.ok(await page.isVisible('#file-note'));
+  assert.match(await page.textContent('#file-note'), /http\.server/);
+});
+
+test('an embedded iframe pauses while scrolled out of sight', async () => {
+  mkdirSync(ARTIFACTS, { recursive: true });
+  writeFileSync(new URL('iframe-host.html', ARTIFACTS), '<!doctype html><body style="margin:0">'
+    + '<iframe id="f" src="/embed.html#task=detour" style="width:1200px;height:900px;border:0"></iframe>'
+    + '<div style="height:4000px"></div></body>');
+  const page = await browser.newPage({ viewport: { width: 1300, height: 900 } });
+  pages.push(page);
+  await page.goto(`${base}test-artifacts/iframe-host.html`);
+  const frame = () => page.frames().find((f) => f.url().includes('embed.html'));
+  await page.waitForFunction(() => true);
+  await frame().waitForFunction(() => window.secPlayground?.playing, null, { timeout: 60000 });
+  const step = () => frame().evaluate(() => window.secPlayground.decisions ?? window.secPlayground.view.decisions);
+  await page.evaluate(() => window.scrollTo(0, 3000));
+  await frame().waitForFunction(() => !window.secPlayground.playing, null, { timeout: 10000 });
+  const a = await step();
+  await page.waitForTimeout(1500);
+  assert.equal(await step(), a, 'no decision while out of sight');
+  await page.evaluate(() => window.scrollTo(0, 0));
+  await frame().waitForFunction((s) => window.secPlayground.view.decisions > s, a, { timeout: 10000 });
+});
