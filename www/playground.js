@@ -5,7 +5,8 @@
 import { buildControls, runControls, SPEEDS } from './controls.js';
 import { Charts } from './charts.js';
 import { Compare } from './compare.js';
-import { drawRgba, drawHeat, drawHeatScale, drawProbs, drawStatus } from './views.js';
+import { drawRgba, drawEmbedding, drawHeat, drawHeatScale, drawProbs, drawStatus } from './views.js';
+import { Tour } from './tour.js';
 import { drawExplanation, whyLayer } from './explain.js';
 import { keyboard } from './keys.js';
 import { download, episodesCsv } from './export.js';
@@ -37,7 +38,11 @@ export class Playground {
     this.root = root;
     this.$ = (id) => root.querySelector(`#${id}`);
     this.useHash = hash;
-    this.initial = hash ? { ...settings, ...readHash() } : { ...settings };
+    const fromHash = hash ? readHash() : {};
+    // `tour` in the address opens the guided tour; it is not a setting of the run.
+    this.tourAsked = 'tour' in fromHash;
+    delete fromHash.tour;
+    this.initial = { ...settings, ...fromHash };
     this.hidden = hide;
     this.worker = null;
     this.fatal = false;
@@ -63,6 +68,14 @@ export class Playground {
       wasm: WASM,
     });
     this.rate = { samples: [], perSecond: null };
+    this.tour = new Tour(root, {
+      onStart: () => {
+        // One real decision to look at: the run pauses and steps once.
+        this.setPlaying(false);
+        if (this.settings) this.send({ type: 'step', what: 'decision' });
+      },
+      view: () => this.lastView,
+    });
     for (const part of hide) {
       if (/^[a-z-]+$/i.test(part)) root.querySelector(`.playground .${part}, .playground #${part}`)?.setAttribute('hidden', '');
     }
@@ -209,7 +222,16 @@ export class Playground {
     $('drive').addEventListener('click', () => this.setDriving(!this.driving));
     this.listen(document, 'visibilitychange', () => this.setVisible(this.onScreen && !document.hidden));
     // Someone edits the link: apply what changed (validated by the core like any control).
-    if (this.useHash) this.listen(window, 'hashchange', () => this.set(readHash()));
+    if (this.useHash) {
+      this.listen(window, 'hashchange', () => {
+        const h = readHash();
+        if ('tour' in h) {
+          delete h.tour;
+          this.tour.start();
+        }
+        this.set(h);
+      });
+    }
     $('record').addEventListener('change', () => this.driving && this.setDriving(true));
     $('heat-kind').addEventListener('change', () => this.views());
     $('export-csv').addEventListener('click', () => this.exportCsv());
@@ -266,6 +288,7 @@ export class Playground {
       get driving() { return me.driving; },
       get log() { return me.log; },
       get compare() { return me.compare.state; },
+      get tour() { return me.tour.state; },
       /** The last decision explained (while paused or stepping). */
       get explanation() { return me.lastExplanation ?? null; },
       /** The decisions/s readout's value. */
@@ -350,6 +373,10 @@ Playground.prototype.handlers = {
         : `Applied live: ${what}`);
     }
     if (first || msg.fresh) this.setPlaying(this.wantPlay);
+    if (first && this.tourAsked) {
+      this.tourAsked = false;
+      this.tour.start();
+    }
   },
   episodes({ list }) {
     this.charts.push(list);
@@ -375,6 +402,7 @@ Playground.prototype.handlers = {
     const v = msg.view;
     this.measureRate(v);
     drawProbs($('probs'), v.p, v.action);
+    drawEmbedding($('embedding'), v.embedding);
     $('entropy').textContent = `${v.entropy.toFixed(3)} bits`;
     $('entropy-meter').value = v.entropy;
     $('layer').textContent = LAYERS[v.layer] ?? '–';

@@ -12,6 +12,7 @@ export const TEMPLATE = `
       <input id="speed" type="range" min="0" max="9" step="1" value="8">
       <output id="speed-out">1000/s</output>
     </label>
+    <button id="tour" type="button" title="A guided tour through one decision (or add #tour to the address)">Tour</button>
     <span class="presets">Preset
       <button id="preset-code" type="button" title="The authors' code: θ_abs 0.98, θ_prop 0.995, α 0.01">code</button>
       <button id="preset-paper" type="button" title="The paper's text: θ_abs 0.995, θ_prop 0.98, α 0.1 (D2, D3)">paper</button>
@@ -43,6 +44,10 @@ export const TEMPLATE = `
         <canvas id="arena" width="252" height="252" aria-label="Top-down view of the arena with the agent's trail"></canvas>
         <figcaption>Top-down: agent, heading, trail</figcaption>
       </figure>
+      <figure class="embedding">
+        <canvas id="embedding" width="252" height="70" aria-label="The encoder's 20 numbers for the last decision's frame"></canvas>
+        <figcaption>Embedding: the encoder's 20 numbers for this frame</figcaption>
+      </figure>
       <figure class="reconstruction">
         <canvas id="reconstruction" width="84" height="84" aria-label="The autoencoder's reconstruction of the camera image"></canvas>
         <figcaption>Autoencoder reconstruction (the trained model); error
@@ -72,6 +77,16 @@ export const TEMPLATE = `
       </figure>
     </section>
   </div>
+  <aside id="tour-box" class="tour-box" role="dialog" aria-labelledby="tour-title" hidden>
+    <p class="tour-count"></p>
+    <h3 id="tour-title"></h3>
+    <p class="tour-text"></p>
+    <div class="tour-buttons">
+      <button id="tour-back" type="button">Back</button>
+      <button id="tour-next" type="button">Next</button>
+      <button id="tour-close" type="button">Close</button>
+    </div>
+  </aside>
   <details id="explain" class="explain">
     <summary>Explain this decision</summary>
     <p class="formula">Pause or step to see the last decision explained.</p>

@@ -82,6 +82,25 @@ export function drawHeat(canvas, values, n, selected, kind) {
   return shown;
 }
 
+/** The embedding's 20 numbers as bars from a zero line (scaled to the largest magnitude). */
+export function drawEmbedding(canvas, e) {
+  const ctx = canvas.getContext('2d');
+  const { width: w, height: h } = canvas;
+  ctx.clearRect(0, 0, w, h);
+  if (!e) return;
+  const max = Math.max(1e-9, ...e.map(Math.abs));
+  const bw = w / e.length;
+  const zero = e.some((v) => v < 0) ? h / 2 : h - 1;
+  const scale = (zero === h - 1 ? h - 2 : h / 2 - 1) / max;
+  ctx.fillStyle = '#1d9ad6';
+  e.forEach((v, i) => {
+    const y = v * scale;
+    ctx.fillRect(i * bw + 1, y >= 0 ? zero - y : zero, bw - 2, Math.abs(y));
+  });
+  ctx.fillStyle = 'rgba(128, 128, 128, 0.6)';
+  ctx.fillRect(0, zero, w, 1);
+}
+
 /** The 3x3 action grid (rows a0: none, forward, backward; columns a1: none, right, left). */
 export function drawProbs(table, p, action) {
   const body = table.tBodies[0];

@@ -123,6 +123,12 @@ impl Agent {
         &self.cfg
     }
 
+    /// The last decision's couplet: the frame's embedding and the action taken (it enters the
+    /// STM at the next decision).
+    pub fn last_couplet(&self) -> &Couplet {
+        &self.previous
+    }
+
     /// Applies new parameters to the running agent (see `Memory::reconfigure`); on error
     /// nothing changes.
     pub fn reconfigure(&mut self, cfg: AgentConfig) -> Result<(), ConfigError> {

@@ -80,6 +80,8 @@ export interface DecisionView {
   minSequences: number;
   /** The reconstruction gate's threshold (null: no gate). */
   gate: number | null;
+  /** The 20 numbers the perception made of the last decision's frame (null without SEC). */
+  embedding: number[] | null;
 }
 /** The last decision's contextual layer, term by term (empty when it selected nothing). */
 export interface Explanation {
@@ -112,6 +114,7 @@ struct DecisionView {
     decisions: f64,
     min_sequences: usize,
     gate: Option<f32>,
+    embedding: Option<Vec<f32>>,
 }
 
 #[derive(Serialize)]
@@ -337,6 +340,7 @@ impl SecRun {
             decisions: self.decisions as f64,
             min_sequences: self.run.config().agent.min_sequences,
             gate: self.run.config().agent.gate,
+            embedding: self.run.agent().map(|a| a.last_couplet().embedding.to_vec()),
         };
         Ok(out.serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
     }

@@ -142,3 +142,60 @@ test('an embedded iframe pauses while scrolled out of sight', async () => {
   await page.evaluate(() => window.scrollTo(0, 0));
   await frame().waitForFunction((s) => window.secPlayground.view.decisions > s, a, { timeout: 10000 });
 });
+
+test('the tour opens from #tour and walks through every stage of a decision, each on its view', async () => {
+  const { page, problems } = await open('#task=object-permanence&tour');
+  await page.waitForFunction(() => window.secPlayground.tour.stage === 0);
+  assert.ok(await page.isVisible('#tour-box'));
+  assert.ok(await page.isHidden('#error'), '`tour` is not reported as a bad setting');
+  assert.equal((await page.evaluate(() => window.secPlayground.settings)).task, 'object-permanence');
+  await page.waitForFunction(() => !window.secPlayground.playing && window.secPlayground.view.action != null);
+  const e = await page.evaluate(() => window.secPlayground.view.embedding);
+  assert.equal(e.length, 20, 'the embedding view has the decision\'s 20 numbers');
+  const n = await page.evaluate(() => window.secPlayground.tour.stages);
+  assert.ok(n >= 10);
+  const titles = [];
+  for (let i = 0; i < n; i++) {
+    const s = await page.evaluate(() => ({ ...window.secPlayground.tour }));
+    assert.equal(s.stage, i);
+    assert.equal(s.focused.length, 1, `stage ${i + 1} highlights one view`);
+    titles.push(await page.textContent('#tour-title'));
+    await page.click('#tour-next');
+  }
+  assert.ok(await page.isHidden('#tour-box'), 'Done closes it');
+  assert.equal(new Set(titles).size, n);
+  assert.equal((await page.evaluate(() => window.secPlayground.tour.focused)).length, 0);
+  // The button starts it again; Back goes back.
+  await page.click('#tour');
+  await page.click('#tour-next');
+  await page.click('#tour-back');
+  assert.equal(await page.evaluate(() => window.secPlayground.tour.stage), 0);
+  assert.deepEqual(problems, []);
+});
+
+test('text colours pass WCAG AA contrast in the light and the dark scheme', async () => {
+  for (const scheme of ['light', 'dark']) {
+    const page = await browser.newPage({ colorScheme: scheme });
+    pages.push(page);
+    await page.goto(base);
+    await page.waitForFunction(() => window.secPlayground?.view);
+    const ratios = await page.evaluate(() => {
+      const rgb = (s) => s.match(/[\d.]+/g).slice(0, 3).map(Number);
+      const lum = (c) => {
+        const [r, g, b] = c.map((v) => { const x = v / 255; return x <= 0.03928 ? x / 12.92 : ((x + 0.055) / 1.055) ** 2.4; });
+        return 0.2126 * r + 0.7152 * g + 0.0722 * b;
+      };
+      const bg = rgb(getComputedStyle(document.body).backgroundColor);
+      const ratio = (el) => {
+        const a = lum(rgb(getComputedStyle(el).color));
+        const b = lum(bg);
+        return (Math.max(a, b) + 0.05) / (Math.min(a, b) + 0.05);
+      };
+      return {
+        text: ratio(document.body), help: ratio(document.querySelector('.param .help')),
+        why: ratio(document.getElementById('why')), caption: ratio(document.querySelector('figcaption')),
+      };
+    });
+    for (const [what, r] of Object.entries(ratios)) assert.ok(r >= 4.5, `${scheme}: ${what} contrast ${r.toFixed(2)}`);
+  }
+});
