@@ -2,7 +2,7 @@
 // same seeds, their curves overlaid in one chart with standard-error bands; one-click presets
 // for the paper's experiments 1-4.
 import { ARM_COLOURS, CompareChart, WINDOW } from './charts.js';
-import { COMPARE_PRESETS, PRESET_BASE } from './presets.js';
+import { COMPARE_PRESETS, PRESET_BASE, exp1In } from './presets.js';
 
 /** Most configurations at once (each is a worker). */
 const MAX_ARMS = 8;
@@ -40,6 +40,7 @@ export class Compare {
     $('compare-run').addEventListener('click', () => (this.running ? this.pause() : this.start()));
     $('compare-clear').addEventListener('click', () => this.clear());
     $('compare-metric').addEventListener('change', () => this.chart.touch());
+    $('compare-task').addEventListener('change', () => this.preset('exp1'));
   }
 
   /** The seeds every configuration runs: 1..k. */
@@ -50,12 +51,12 @@ export class Compare {
 
   /** Replaces the configurations with a preset's, draws its reference runs and starts them. */
   preset(name) {
-    const p = COMPARE_PRESETS[name];
+    const p = name === 'exp1' ? exp1In(this.$('compare-task').value) : { ...COMPARE_PRESETS[name], base: PRESET_BASE };
     this.clear();
     this.chart.reset();
     this.title = p.title;
     this.$('compare-caption').textContent = p.caption;
-    for (const arm of p.arms) this.add(arm.label, { ...PRESET_BASE, ...arm.settings }, arm.reference);
+    for (const arm of p.arms) this.add(arm.label, { ...p.base, ...arm.settings }, arm.reference);
     this.loadReferences();
     this.start();
   }

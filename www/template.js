@@ -104,6 +104,10 @@ export const TEMPLATE = `
     <div class="compare-bar">
       <span>Paper's experiments:
         <button id="compare-exp1" type="button">1: SEC vs NSEC vs MFEC</button>
+        <select id="compare-task" aria-label="Experiment 1's task">
+          <option value="double-t-maze">in the double T-maze</option><option value="detour">in the detour</option>
+          <option value="cylinder">in the cylinder</option><option value="object-permanence">in object permanence</option>
+        </select>
         <button id="compare-exp2" type="button">2: LTM 125–1000</button>
         <button id="compare-exp3" type="button">3: value function</button>
         <button id="compare-exp4" type="button">4: forgetting</button>

@@ -132,6 +132,11 @@ test('a preset draws its reference runs at once, made at the settings its arms r
     await page.click('#compare-exp3');
     await page.waitForFunction(() => /No reference runs/.test(window.secPlayground.compare.referenceNote));
     assert.equal((await page.evaluate(() => window.secPlayground.compare.references)).filter((r) => r).length, 0);
+    // Experiment 1 in another task of the paper's table 1.
+    await page.selectOption('#compare-task', 'detour');
+    await page.waitForFunction(() => /detour/.test(window.secPlayground.compare.caption));
+    await page.waitForFunction(() => window.secPlayground.compare.resolved.every((s) => s), null, { timeout: 60000 });
+    assert.deepEqual((await page.evaluate(() => window.secPlayground.compare.resolved)).map((s) => s.task), ['detour', 'detour', 'detour']);
     assert.deepEqual(problems, []);
   } finally {
     await page.close();
