@@ -20,6 +20,8 @@ pub enum Stream {
     Projection = 2,
     /// The untrained encoder's Glorot weights (D20).
     UntrainedEncoder = 3,
+    /// DQN's initial network weights.
+    Network = 4,
 }
 
 /// The generator of `stream` of `seed`.

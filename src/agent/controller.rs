@@ -30,6 +30,8 @@ pub struct Step {
     pub goal_event: bool,
     /// A decision is taken at this step.
     pub decides: bool,
+    /// The step ended the episode (a goal, a death or the time limit).
+    pub done: bool,
 }
 
 /// What a decision sees.
@@ -80,9 +82,16 @@ pub trait Controller: Send {
         false
     }
 
-    /// Every env step, before the decision due at it. Returns whether it took the step's goal
-    /// event (SEC stores its STM), which the run's event log records.
-    fn on_step(&mut self, step: &Step, rng: &mut ChaCha8Rng) -> bool;
+    /// Whether `on_step` needs this step's frame (DQN stores a transition with it on decision and
+    /// reward frames); the run then renders it.
+    fn wants_frame(&self, _step: &Step) -> bool {
+        false
+    }
+
+    /// Every env step, before the decision due at it; `frame` is the step's image (RGB floats)
+    /// when `wants_frame` asked for it. Returns whether it took the step's goal event (SEC stores
+    /// its STM), which the run's event log records.
+    fn on_step(&mut self, step: &Step, frame: Option<&[f32]>, rng: &mut ChaCha8Rng) -> bool;
 
     /// The action for this frame. `gate_mse` measures the reconstruction error of the frame,
     /// on demand (an autoencoder pass).

@@ -393,7 +393,7 @@ impl Controller for Mfec {
         }
     }
 
-    fn on_step(&mut self, step: &Step, _: &mut ChaCha8Rng) -> bool {
+    fn on_step(&mut self, step: &Step, _: Option<&[f32]>, _: &mut ChaCha8Rng) -> bool {
         self.frame(step.reward, step.episode_reward, step.good_goal, step.decides);
         false
     }

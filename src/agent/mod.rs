@@ -3,6 +3,7 @@
 //! when it selected something, the LTM holds enough sequences and the reconstruction gate is open.
 
 pub mod controller;
+pub mod dqn;
 pub mod mfec;
 pub mod reactive;
 
@@ -225,7 +226,7 @@ impl Controller for Agent {
 
     /// Storage on the goal event, before this frame's decision, so the last decision's couplet
     /// is not in the sequence (D4, D12).
-    fn on_step(&mut self, step: &Step, rng: &mut ChaCha8Rng) -> bool {
+    fn on_step(&mut self, step: &Step, _: Option<&[f32]>, rng: &mut ChaCha8Rng) -> bool {
         if step.goal_event {
             self.goal(step.episode_reward, rng);
         }

@@ -57,7 +57,7 @@ impl Controller for Reactive {
         Input::Nothing
     }
 
-    fn on_step(&mut self, _: &Step, _: &mut ChaCha8Rng) -> bool {
+    fn on_step(&mut self, _: &Step, _: Option<&[f32]>, _: &mut ChaCha8Rng) -> bool {
         false
     }
 

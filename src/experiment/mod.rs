@@ -4,6 +4,7 @@
 //! one JSON line per episode.
 
 use crate::agent::controller::{Controller, EpisodeEnd, Input, Observation, Step};
+use crate::agent::dqn::DqnConfig;
 use crate::agent::mfec::{Embedding, Mfec, MfecConfig, RandomProjection};
 use crate::agent::{Agent, AgentConfig, Decision, Layer, Reactive};
 use crate::arena::{Action, ConfigError, Env, EnvConfig, StartHeading, StepOutcome, Task};
@@ -39,6 +40,8 @@ pub struct RunConfig {
     pub agent: AgentConfig,
     /// MFEC's parameters (used when `kind` is mfec).
     pub mfec: MfecConfig,
+    /// DQN's parameters (used when `kind` is dqn; the agent runs natively, `crates/sec-dqn`).
+    pub dqn: DqnConfig,
     /// Which encoder embeds the frames: `untrained` (the authors' code, D20) or `trained` (the
     /// paper's text). The trained model runs the reconstruction gate either way.
     pub perception: PerceptionKind,
@@ -62,6 +65,7 @@ impl Default for RunConfig {
             kind: AgentKind::Sec,
             agent: AgentConfig::default(),
             mfec: MfecConfig::default(),
+            dqn: DqnConfig::default(),
             perception: PerceptionKind::Untrained,
             embedding_scale: None,
             raw_embeddings: false,
@@ -91,7 +95,8 @@ impl RunConfig {
             }
         }
         self.agent.validate()?;
-        self.mfec.validate()
+        self.mfec.validate()?;
+        self.dqn.validate()
     }
 
     /// The embedding scale the run uses, if it overrides the perception's own.
@@ -120,11 +125,25 @@ pub enum AgentKind {
     Mfec,
     /// The reactive layer alone.
     Reactive,
+    /// The authors' DQN: a Nature CNN on the camera image, trained with burn (native only).
+    Dqn,
 }
 
+/// Builds the agents the core does not hold itself (DQN, trained with burn in `crates/sec-dqn`,
+/// which the wasm build leaves out): `None` for a kind it does not know either.
+pub type AgentFactory = fn(&RunConfig, u64, &mut ChaCha8Rng) -> Option<Result<Box<dyn Controller>, ConfigError>>;
+
 /// The run's agent, drawing its initial state from the agent stream `rng`: the one place that
-/// knows every agent kind.
-fn controller(cfg: &RunConfig, seed: u64, rng: &mut ChaCha8Rng) -> Result<Box<dyn Controller>, ConfigError> {
+/// knows every agent kind (those of `extra` aside).
+fn controller(
+    cfg: &RunConfig,
+    seed: u64,
+    rng: &mut ChaCha8Rng,
+    extra: Option<AgentFactory>,
+) -> Result<Box<dyn Controller>, ConfigError> {
+    if let Some(made) = extra.and_then(|f| f(cfg, seed, rng)) {
+        return made;
+    }
     Ok(match cfg.kind {
         AgentKind::Sec => Box::new(Agent::new(cfg.agent.clone(), rng)?),
         AgentKind::Mfec => {
@@ -137,6 +156,12 @@ fn controller(cfg: &RunConfig, seed: u64, rng: &mut ChaCha8Rng) -> Result<Box<dy
             }
         }
         AgentKind::Reactive => Box::new(Reactive::new(rng)),
+        AgentKind::Dqn => {
+            return Err(ConfigError::new(
+                "kind",
+                "dqn is trained with burn and runs only natively, through sec-experiment (not in this build)",
+            ))
+        }
     })
 }
 
@@ -184,12 +209,17 @@ impl Run {
     /// A run of `cfg` with `seed`: refused when `cfg` is out of range, or when the task's
     /// trained model (the gate's) cannot be had.
     pub fn new(cfg: RunConfig, seed: u64) -> Result<Self, Error> {
+        Self::with_agents(cfg, seed, None)
+    }
+
+    /// `new`, with `extra` building the agents the core does not hold (DQN).
+    pub fn with_agents(cfg: RunConfig, seed: u64, extra: Option<AgentFactory>) -> Result<Self, Error> {
         cfg.validate()?;
         let task = cfg.task()?;
         let perception = Perception::new(cfg.perception, &cfg.task, cfg.scale_override(), seed)?;
         let env = Env::new(EnvConfig { task, t: cfg.t }, seed)?;
         let mut rng = seed::rng(seed, Stream::Agent);
-        let controller = controller(&cfg, seed, &mut rng)?;
+        let controller = controller(&cfg, seed, &mut rng, extra)?;
         Ok(Run {
             cfg,
             env,
@@ -404,8 +434,13 @@ impl Run {
                 good_goal: out.good_goal,
                 goal_event,
                 decides,
+                done: self.env.is_over(),
             };
-            if self.controller.on_step(&step, &mut self.rng) {
+            let frame = self.controller.wants_frame(&step).then(|| {
+                self.env.observation().to_rgb_f32(&mut self.image);
+                self.image.as_slice()
+            });
+            if self.controller.on_step(&step, frame, &mut self.rng) {
                 let reward = ep.metrics.reward;
                 if let Some(ev) = self.sec_events() {
                     ev.push(trace::Event::Goal { reward });

@@ -111,6 +111,7 @@ fn agent_name(cfg: &RunConfig) -> &'static str {
     match (cfg.kind, cfg.mfec.embedding) {
         (AgentKind::Sec, _) => "sec",
         (AgentKind::Reactive, _) => "reactive",
+        (AgentKind::Dqn, _) => "dqn",
         (AgentKind::Mfec, Embedding::Autoencoder) => "mfec-ae",
         (AgentKind::Mfec, Embedding::RandomProjection) => "mfec-rp",
     }

@@ -25,7 +25,8 @@ export interface RunConfig {
   /** Episode limit in env steps (null: the task's, 1000). */
   t?: number | null;
   decisionPeriod?: number;
-  kind?: "sec" | "mfec" | "reactive";
+  /** "dqn" runs only natively (sec-experiment): the page refuses it by name. */
+  kind?: "sec" | "mfec" | "reactive" | "dqn";
   agent?: {
     memory?: {
       n?: number; m?: number; thetaAbs?: number; thetaProp?: number;
@@ -39,6 +40,11 @@ export interface RunConfig {
     embedding?: "autoencoder" | "random-projection"; k?: number; capacity?: number; gamma?: number;
     epsilon?: number; warmupDecisions?: number; warmupRewardedEpisodes?: number; sumRewards?: boolean;
     bookkeeping?: "authors" | "per-episode";
+  };
+  dqn?: {
+    learningRate?: number; gamma?: number; batchSize?: number; replaySize?: number; randomDecisions?: number;
+    epsilonDecisions?: number; epsilonStart?: number; epsilonEnd?: number; trainEvery?: number; targetSync?: number;
+    sumRewards?: boolean;
   };
   /** Which encoder embeds the frames: untrained (the authors' code, the default) or trained. */
   perception?: "untrained" | "trained";

@@ -160,7 +160,8 @@ fn run_job(job: &Job, out: &Path, episodes: usize, bar: &ProgressBar) -> Result<
     let part = path.with_extension("part");
     let file = fs::File::create(&part).map_err(|e| format!("{}: {e}", part.display()))?;
     let mut w = BufWriter::new(file);
-    let mut run = Run::new(job.config.clone(), job.seed).map_err(|e| format!("{}: {e}", job.condition))?;
+    let mut run = Run::with_agents(job.config.clone(), job.seed, Some(sec_dqn::factory))
+        .map_err(|e| format!("{}: {e}", job.condition))?;
     for _ in 0..episodes {
         let m = run.episode();
         writeln!(w, "{}", m.to_json()).map_err(|e| format!("{}: {e}", part.display()))?;

@@ -86,7 +86,7 @@ fn read_config(path: &str) -> Result<RunConfig, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("--config {path}: {e}"))?;
     let cfg: RunConfig = serde_json::from_str(&text).map_err(|e| format!("--config {path}: {e}"))?;
     // Building a run validates every parameter, naming it.
-    Run::new(cfg.clone(), 0).map_err(|e| format!("--config {path}: {e}"))?;
+    Run::with_agents(cfg.clone(), 0, Some(sec_dqn::factory)).map_err(|e| format!("--config {path}: {e}"))?;
     Ok(cfg)
 }
 

@@ -1,0 +1,71 @@
+//! DQN's speed on one core: the network's decision (one frame's Q) and a training step (batch 32,
+//! online and target networks, backward, RMSprop), and the multiply-adds per second they reach.
+//! `cargo run --release -p sec-dqn --bin dqn-bench` (BENCHMARKS.md has the numbers).
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use sec_dqn::Dqn;
+use sec_playground::agent::controller::{Controller, Step};
+use sec_playground::agent::dqn::DqnConfig;
+use std::time::Instant;
+
+/// Multiply-adds of one frame's forward pass: the three convolutions and the two dense layers.
+const FORWARD_MACS: f64 = (20.0 * 20.0 * 32.0 * 192.0)
+    + (9.0 * 9.0 * 64.0 * 512.0)
+    + (7.0 * 7.0 * 64.0 * 576.0)
+    + (3136.0 * 512.0)
+    + (512.0 * 9.0);
+
+fn main() {
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    let mut dqn = Dqn::new(DqnConfig::default(), 1, &mut rng).expect("the defaults are valid");
+    for k in 0..64u32 {
+        let frame = vec![(k % 200) as f32 / 255.0; 84 * 84 * 3];
+        let step = Step {
+            reward: -0.001,
+            episode_reward: -0.1,
+            good_goal: false,
+            goal_event: false,
+            decides: true,
+            done: false,
+        };
+        dqn.on_step(&step, Some(&frame), &mut rng);
+    }
+    let img = vec![0.3f32; 84 * 84 * 3];
+    let n = 200;
+    dqn.q(&img);
+    let t0 = Instant::now();
+    for _ in 0..n {
+        std::hint::black_box(dqn.q(&img));
+    }
+    let decide = t0.elapsed().as_secs_f64() / n as f64;
+    dqn.train_step(&mut rng);
+    let steps = 30;
+    let t0 = Instant::now();
+    for _ in 0..steps {
+        std::hint::black_box(dqn.train_step(&mut rng));
+    }
+    let train = t0.elapsed().as_secs_f64() / steps as f64;
+    // A training step: the online forward and its backward (about twice a forward) and the
+    // target's forward, each over the batch.
+    let train_macs = FORWARD_MACS * 32.0 * 4.0;
+    println!(
+        "decision (one frame's Q): {:.2} ms, {:.0}/s, {:.2} GMAC/s",
+        decide * 1e3,
+        1.0 / decide,
+        FORWARD_MACS / decide / 1e9
+    );
+    println!(
+        "training step (batch 32): {:.1} ms, {:.1}/s, {:.2} GMAC/s",
+        train * 1e3,
+        1.0 / train,
+        train_macs / train / 1e9
+    );
+    // The authors' schedule: 250 decisions and 62.5 training steps per 1000-step episode.
+    let episode = 250.0 * decide + 62.5 * train;
+    println!(
+        "a 1000-step double T-maze episode: about {:.1} s of network time; 1000 episodes: {:.0} min",
+        episode,
+        episode * 1000.0 / 60.0
+    );
+}

@@ -1,0 +1,76 @@
+//! The replay buffer: the last `capacity` transitions (state, action, reward, next state, done),
+//! as the authors' deque keeps them. Their agent always continues from the next state it stored,
+//! so transition k's state is transition k-1's next state: one ring of frames holds both, and the
+//! buffer costs one 84x84x3 byte frame per transition instead of two float ones.
+
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+use std::collections::VecDeque;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Meta {
+    pub action: u8,
+    pub reward: f32,
+    pub done: bool,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct Replay {
+    capacity: usize,
+    /// Frames of the stored transitions' states, then the newest next state.
+    frames: VecDeque<Vec<u8>>,
+    meta: VecDeque<Meta>,
+}
+
+/// One sampled transition.
+pub struct Sample<'a> {
+    pub state: &'a [u8],
+    pub next: &'a [u8],
+    pub meta: Meta,
+}
+
+impl Replay {
+    pub fn new(capacity: usize) -> Self {
+        Replay { capacity, frames: VecDeque::new(), meta: VecDeque::new() }
+    }
+
+    pub fn len(&self) -> usize {
+        self.meta.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.meta.is_empty()
+    }
+
+    /// Whether the chain has a state to continue from.
+    pub fn started(&self) -> bool {
+        !self.frames.is_empty()
+    }
+
+    /// The first state, before any transition.
+    pub fn start(&mut self, frame: Vec<u8>) {
+        self.frames.clear();
+        self.meta.clear();
+        self.frames.push_back(frame);
+    }
+
+    /// A transition from the newest state to `next`; the oldest falls out of a full buffer.
+    pub fn push(&mut self, meta: Meta, next: Vec<u8>) {
+        debug_assert!(self.started(), "start() first");
+        self.meta.push_back(meta);
+        self.frames.push_back(next);
+        if self.meta.len() > self.capacity {
+            self.meta.pop_front();
+            self.frames.pop_front();
+        }
+    }
+
+    pub fn get(&self, i: usize) -> Sample<'_> {
+        Sample { state: &self.frames[i], next: &self.frames[i + 1], meta: self.meta[i] }
+    }
+
+    /// `n` indices drawn uniformly with replacement (numpy's `randint(0, len, n)`).
+    pub fn sample_indices(&self, n: usize, rng: &mut ChaCha8Rng) -> Vec<usize> {
+        (0..n).map(|_| rng.gen_range(0..self.len() as u32) as usize).collect()
+    }
+}

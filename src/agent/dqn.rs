@@ -1,0 +1,101 @@
+//! DQN's parameters, as the authors' `run_agent_dqn.py` sets them (docs/ALGORITHM.md, "DQN").
+//! The network itself is trained with burn in the native crate `crates/sec-dqn`, so burn never
+//! reaches the wasm build; the core only validates the configuration and runs the agent through
+//! the `Controller` hooks when a native tool supplies it (`experiment::Run::with_agents`).
+
+use crate::arena::ConfigError;
+
+/// DQN's (and ERLAM's network's) parameters. Defaults are the authors'.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "camelCase", default, deny_unknown_fields)]
+pub struct DqnConfig {
+    /// RMSprop's learning rate.
+    pub learning_rate: f64,
+    pub gamma: f64,
+    pub batch_size: usize,
+    /// Transitions the replay buffer keeps (the authors ran 25,000 and a 5,000 variant).
+    pub replay_size: usize,
+    /// Decisions taken by the reactive walk before the network's own.
+    pub random_decisions: u64,
+    /// Decisions over which epsilon falls linearly from `epsilon_start` to `epsilon_end`.
+    pub epsilon_decisions: u64,
+    pub epsilon_start: f64,
+    pub epsilon_end: f64,
+    /// A training step every this many decisions.
+    pub train_every: u64,
+    /// The target network is synced every this many decisions.
+    pub target_sync: u64,
+    /// Deviation D13 undone: a transition's reward sums the frames since the last one, instead of
+    /// the authors' single frame's reward (or the episode's, on a goal frame).
+    pub sum_rewards: bool,
+}
+
+impl Default for DqnConfig {
+    fn default() -> Self {
+        DqnConfig {
+            learning_rate: 2.5e-4,
+            gamma: 0.99,
+            batch_size: 32,
+            replay_size: 25_000,
+            random_decisions: 1250,
+            epsilon_decisions: 25_000,
+            epsilon_start: 1.0,
+            epsilon_end: 0.1,
+            train_every: 4,
+            target_sync: 2500,
+            sum_rewards: false,
+        }
+    }
+}
+
+fn range(field: &str, value: impl std::fmt::Display, allowed: &str) -> Result<(), ConfigError> {
+    Err(ConfigError::new(format!("dqn.{field}"), format!("{value} is out of range {allowed}")))
+}
+
+impl DqnConfig {
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        let unit = |v: f64| v.is_finite() && (0.0..=1.0).contains(&v);
+        if !(self.learning_rate.is_finite() && self.learning_rate > 0.0 && self.learning_rate <= 1.0) {
+            return range("learningRate", self.learning_rate, "(0, 1]");
+        }
+        if !unit(self.gamma) {
+            return range("gamma", self.gamma, "[0, 1]");
+        }
+        if !(1..=4096).contains(&self.batch_size) {
+            return range("batchSize", self.batch_size, "1..=4096");
+        }
+        if !(self.batch_size..=1_000_000).contains(&self.replay_size) {
+            return range(
+                "replaySize",
+                self.replay_size,
+                &format!("{}..=1000000 (at least batchSize)", self.batch_size),
+            );
+        }
+        if self.random_decisions > 100_000_000 {
+            return range("randomDecisions", self.random_decisions, "0..=100000000");
+        }
+        if !(1..=100_000_000).contains(&self.epsilon_decisions) {
+            return range("epsilonDecisions", self.epsilon_decisions, "1..=100000000");
+        }
+        if !unit(self.epsilon_start) {
+            return range("epsilonStart", self.epsilon_start, "[0, 1]");
+        }
+        if !unit(self.epsilon_end) || self.epsilon_end > self.epsilon_start {
+            return range("epsilonEnd", self.epsilon_end, &format!("[0, epsilonStart = {}]", self.epsilon_start));
+        }
+        if !(1..=100_000).contains(&self.train_every) {
+            return range("trainEvery", self.train_every, "1..=100000");
+        }
+        if !(1..=100_000_000).contains(&self.target_sync) {
+            return range("targetSync", self.target_sync, "1..=100000000");
+        }
+        Ok(())
+    }
+
+    /// Epsilon after one more decision: the authors subtract (start - end) / epsilon_decisions
+    /// after every decision and stop at `epsilon_end` (repeated subtraction, as they did).
+    pub fn next_epsilon(&self, epsilon: f64) -> f64 {
+        let step = (self.epsilon_start - self.epsilon_end) / self.epsilon_decisions as f64;
+        (epsilon - step).max(self.epsilon_end)
+    }
+}
