@@ -23,7 +23,7 @@ run exp1 20 2000 --only double-t-maze/SEC,double-t-maze/NSEC
 run exp1 5 2000 --only double-t-maze/MFEC-ae,double-t-maze/MFEC-rp,double-t-maze/reactive
 run heading 5 2000
 run exp2 10 2000
-run exp1 3 1000 --only double-t-maze/DQN
+run exp1 3 1000 --only double-t-maze/DQN,double-t-maze/ERLAM
 others=""
 for task in detour cylinder object-permanence; do
     for model in SEC NSEC MFEC-ae; do others="$others,$task/$model"; done

@@ -99,3 +99,59 @@ impl DqnConfig {
         (epsilon - step).max(self.epsilon_end)
     }
 }
+
+/// ERLAM's associative memory (its network and exploration are `DqnConfig`'s), as the authors'
+/// `run_agent_erlam.py` sets it.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "camelCase", default, deny_unknown_fields)]
+pub struct ErlamConfig {
+    /// The weight of the graph's target in the loss, mean[(Y - Q)^2 + lambda (G - Q)^2].
+    pub lambda: f64,
+    /// Graph nodes kept (the authors ran 25,000 and a 5,000 variant).
+    pub nodes: usize,
+    /// Evict the least recently improved node when the graph is full (the authors': on).
+    pub forgetting: bool,
+    /// Value propagation every this many episodes.
+    pub propagate_every: u64,
+    /// A state within this Euclidean distance of a stored node's embedding is that node.
+    pub merge_distance: f64,
+    /// Propagation stops when a sweep changes the returns by at most this much in total.
+    pub converge: f64,
+}
+
+impl Default for ErlamConfig {
+    fn default() -> Self {
+        ErlamConfig {
+            lambda: 0.3,
+            nodes: 25_000,
+            forgetting: true,
+            propagate_every: 50,
+            merge_distance: 0.02,
+            converge: 1e-6,
+        }
+    }
+}
+
+impl ErlamConfig {
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        let bad = |field: &str, value: String, allowed: &str| {
+            Err(ConfigError::new(format!("erlam.{field}"), format!("{value} is out of range {allowed}")))
+        };
+        if !(self.lambda.is_finite() && (0.0..=100.0).contains(&self.lambda)) {
+            return bad("lambda", self.lambda.to_string(), "[0, 100]");
+        }
+        if !(2..=1_000_000).contains(&self.nodes) {
+            return bad("nodes", self.nodes.to_string(), "2..=1000000");
+        }
+        if !(1..=1_000_000).contains(&self.propagate_every) {
+            return bad("propagateEvery", self.propagate_every.to_string(), "1..=1000000");
+        }
+        if !(self.merge_distance.is_finite() && self.merge_distance >= 0.0 && self.merge_distance <= 1e6) {
+            return bad("mergeDistance", self.merge_distance.to_string(), "[0, 1e6]");
+        }
+        if !(self.converge.is_finite() && self.converge > 0.0 && self.converge <= 1e6) {
+            return bad("converge", self.converge.to_string(), "(0, 1e6]");
+        }
+        Ok(())
+    }
+}

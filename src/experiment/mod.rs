@@ -4,7 +4,7 @@
 //! one JSON line per episode.
 
 use crate::agent::controller::{Controller, EpisodeEnd, Input, Observation, Step};
-use crate::agent::dqn::DqnConfig;
+use crate::agent::dqn::{DqnConfig, ErlamConfig};
 use crate::agent::mfec::{Embedding, Mfec, MfecConfig, RandomProjection};
 use crate::agent::{Agent, AgentConfig, Decision, Layer, Reactive};
 use crate::arena::{Action, ConfigError, Env, EnvConfig, StartHeading, StepOutcome, Task};
@@ -40,8 +40,11 @@ pub struct RunConfig {
     pub agent: AgentConfig,
     /// MFEC's parameters (used when `kind` is mfec).
     pub mfec: MfecConfig,
-    /// DQN's parameters (used when `kind` is dqn; the agent runs natively, `crates/sec-dqn`).
+    /// DQN's parameters (used when `kind` is dqn or erlam; the agents run natively,
+    /// `crates/sec-dqn`).
     pub dqn: DqnConfig,
+    /// ERLAM's associative memory (used when `kind` is erlam).
+    pub erlam: ErlamConfig,
     /// Which encoder embeds the frames: `untrained` (the authors' code, D20) or `trained` (the
     /// paper's text). The trained model runs the reconstruction gate either way.
     pub perception: PerceptionKind,
@@ -66,6 +69,7 @@ impl Default for RunConfig {
             agent: AgentConfig::default(),
             mfec: MfecConfig::default(),
             dqn: DqnConfig::default(),
+            erlam: ErlamConfig::default(),
             perception: PerceptionKind::Untrained,
             embedding_scale: None,
             raw_embeddings: false,
@@ -96,7 +100,8 @@ impl RunConfig {
         }
         self.agent.validate()?;
         self.mfec.validate()?;
-        self.dqn.validate()
+        self.dqn.validate()?;
+        self.erlam.validate()
     }
 
     /// The embedding scale the run uses, if it overrides the perception's own.
@@ -127,6 +132,8 @@ pub enum AgentKind {
     Reactive,
     /// The authors' DQN: a Nature CNN on the camera image, trained with burn (native only).
     Dqn,
+    /// DQN with ERLAM's associative memory graph over the trained autoencoder's embeddings.
+    Erlam,
 }
 
 /// Builds the agents the core does not hold itself (DQN, trained with burn in `crates/sec-dqn`,
@@ -156,10 +163,10 @@ fn controller(
             }
         }
         AgentKind::Reactive => Box::new(Reactive::new(rng)),
-        AgentKind::Dqn => {
+        AgentKind::Dqn | AgentKind::Erlam => {
             return Err(ConfigError::new(
                 "kind",
-                "dqn is trained with burn and runs only natively, through sec-experiment (not in this build)",
+                "dqn and erlam are trained with burn and run only natively, through sec-experiment (not in this build)",
             ))
         }
     })

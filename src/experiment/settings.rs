@@ -112,6 +112,7 @@ fn agent_name(cfg: &RunConfig) -> &'static str {
         (AgentKind::Sec, _) => "sec",
         (AgentKind::Reactive, _) => "reactive",
         (AgentKind::Dqn, _) => "dqn",
+        (AgentKind::Erlam, _) => "erlam",
         (AgentKind::Mfec, Embedding::Autoencoder) => "mfec-ae",
         (AgentKind::Mfec, Embedding::RandomProjection) => "mfec-rp",
     }

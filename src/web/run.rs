@@ -25,8 +25,8 @@ export interface RunConfig {
   /** Episode limit in env steps (null: the task's, 1000). */
   t?: number | null;
   decisionPeriod?: number;
-  /** "dqn" runs only natively (sec-experiment): the page refuses it by name. */
-  kind?: "sec" | "mfec" | "reactive" | "dqn";
+  /** "dqn" and "erlam" run only natively (sec-experiment): the page refuses them by name. */
+  kind?: "sec" | "mfec" | "reactive" | "dqn" | "erlam";
   agent?: {
     memory?: {
       n?: number; m?: number; thetaAbs?: number; thetaProp?: number;
@@ -46,6 +46,7 @@ export interface RunConfig {
     epsilonDecisions?: number; epsilonStart?: number; epsilonEnd?: number; trainEvery?: number; targetSync?: number;
     sumRewards?: boolean;
   };
+  erlam?: { lambda?: number; nodes?: number; forgetting?: boolean; propagateEvery?: number; mergeDistance?: number; converge?: number };
   /** Which encoder embeds the frames: untrained (the authors' code, the default) or trained. */
   perception?: "untrained" | "trained";
   /** Replaces the embedding scale, in (0, 1e6] (null: 1 untrained, the calibrated scale trained). */

@@ -20,21 +20,25 @@
 //! One deviation: the authors count frames across episodes, so their decision clock does not
 //! restart with an episode; here, as for SEC, every episode starts its clock at its first frame.
 
+pub mod graph;
 pub mod net;
 pub mod replay;
 
 use burn::optim::{GradientsParams, ModuleOptimizer, RmsPropConfig};
 use burn::prelude::*;
 use burn::tensor::TensorData;
-use net::{batch, values, NatureCnn};
+use graph::{Graph, Pending};
+use net::{values, NatureCnn};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use replay::{Meta, Replay};
 use sec_playground::agent::controller::{Controller, EpisodeEnd, Input, MemoryUse, Observation, Step};
 use sec_playground::agent::dqn::DqnConfig;
+use sec_playground::agent::dqn::ErlamConfig;
 use sec_playground::agent::mfec::softmax_entropy_bits;
 use sec_playground::agent::{Decision, Layer, Reactive};
 use sec_playground::arena::ConfigError;
+use sec_playground::encoder::{bundled, Autoencoder, Scratch, EMBEDDING};
 use sec_playground::experiment::{AgentKind, RunConfig};
 use sec_playground::memory::ACTIONS;
 use sec_playground::seed::{self, Stream};
@@ -46,10 +50,37 @@ pub fn device() -> Device {
 
 /// Builds the agents of this crate for `Run::with_agents`.
 pub fn factory(cfg: &RunConfig, seed: u64, rng: &mut ChaCha8Rng) -> Option<Result<Box<dyn Controller>, ConfigError>> {
-    match cfg.kind {
-        AgentKind::Dqn => Some(Dqn::new(cfg.dqn.clone(), seed, rng).map(|d| Box::new(d) as Box<dyn Controller>)),
-        _ => None,
-    }
+    let made = match cfg.kind {
+        AgentKind::Dqn => Dqn::new(cfg.dqn.clone(), seed, rng),
+        AgentKind::Erlam => Dqn::erlam(cfg.dqn.clone(), cfg.erlam.clone(), &cfg.task, seed, rng),
+        _ => return None,
+    };
+    Some(made.map(|d| Box::new(d) as Box<dyn Controller>))
+}
+
+/// Where the training batches come from: DQN's replay buffer, or ERLAM's graph.
+enum Memory {
+    Replay(Replay),
+    Graph(Box<Associative>),
+}
+
+/// ERLAM's side: the graph, the trained autoencoder that embeds its states (the raw bottleneck,
+/// as the authors' `dense_1`), and the state the next transition starts from.
+struct Associative {
+    graph: Graph,
+    lambda: f64,
+    encoder: Autoencoder,
+    scratch: Scratch,
+    state: Option<(Vec<u8>, [f32; EMBEDDING])>,
+    episodes: u64,
+}
+
+/// One training batch: the transitions and the graph's value of each (0 for DQN).
+struct Batch<'a> {
+    states: Vec<&'a [u8]>,
+    nexts: Vec<&'a [u8]>,
+    meta: Vec<Meta>,
+    graph: Vec<f32>,
 }
 
 type Rms = ModuleOptimizer;
@@ -62,7 +93,7 @@ pub struct Dqn {
     /// The target network (a validation copy: no autodiff).
     target: NatureCnn,
     optim: Rms,
-    replay: Replay,
+    memory: Memory,
     reactive: Reactive,
     epsilon: f64,
     decisions: u64,
@@ -83,7 +114,7 @@ impl Dqn {
         // PyTorch's RMSprop defaults, as the authors' optimiser: alpha 0.99, eps 1e-8, no momentum.
         let optim = RmsPropConfig::new().with_alpha(0.99).with_epsilon(1e-8).with_momentum(0.0).init();
         Ok(Dqn {
-            replay: Replay::new(cfg.replay_size),
+            memory: Memory::Replay(Replay::new(cfg.replay_size)),
             reactive: Reactive::new(rng),
             epsilon: cfg.epsilon_start,
             decisions: 0,
@@ -98,8 +129,40 @@ impl Dqn {
         })
     }
 
+    /// ERLAM: this DQN with the associative graph over `task`'s trained autoencoder.
+    pub fn erlam(
+        cfg: DqnConfig,
+        graph: ErlamConfig,
+        task: &str,
+        seed: u64,
+        rng: &mut ChaCha8Rng,
+    ) -> Result<Self, ConfigError> {
+        graph.validate()?;
+        let mut encoder = bundled::autoencoder(task).map_err(|e| ConfigError::new("erlam", e.to_string()))?;
+        encoder.embedding_scale = 1.0;
+        let mut dqn = Dqn::new(cfg, seed, rng)?;
+        let gamma = dqn.cfg.gamma;
+        dqn.memory = Memory::Graph(Box::new(Associative {
+            lambda: graph.lambda,
+            graph: Graph::new(graph, gamma),
+            encoder,
+            scratch: Scratch::default(),
+            state: None,
+            episodes: 0,
+        }));
+        Ok(dqn)
+    }
+
     pub fn config(&self) -> &DqnConfig {
         &self.cfg
+    }
+
+    /// ERLAM's graph, if this is ERLAM.
+    pub fn graph(&self) -> Option<&Graph> {
+        match &self.memory {
+            Memory::Graph(a) => Some(&a.graph),
+            Memory::Replay(_) => None,
+        }
     }
 
     pub fn epsilon(&self) -> f64 {
@@ -110,8 +173,20 @@ impl Dqn {
         self.decisions
     }
 
-    pub fn replay(&self) -> &Replay {
-        &self.replay
+    /// DQN's replay buffer, if this is DQN.
+    pub fn replay(&self) -> Option<&Replay> {
+        match &self.memory {
+            Memory::Replay(r) => Some(r),
+            Memory::Graph(_) => None,
+        }
+    }
+
+    /// Transitions the training batches are drawn from.
+    fn stored(&self) -> usize {
+        match &self.memory {
+            Memory::Replay(r) => r.len(),
+            Memory::Graph(a) => a.graph.len(),
+        }
     }
 
     pub fn network(&self) -> &NatureCnn {
@@ -130,34 +205,56 @@ impl Dqn {
         std::array::from_fn(|a| q[a] as f64)
     }
 
-    /// One RMSprop step on a batch drawn from the replay buffer; returns the loss.
+    /// One RMSprop step on a batch drawn from the replay buffer (DQN) or the graph's nodes
+    /// (ERLAM); returns the loss, mean[(Y - Q)^2 + lambda (G - Q)^2] (lambda 0 for DQN: MSE).
     pub fn train_step(&mut self, rng: &mut ChaCha8Rng) -> f32 {
-        let idx = self.replay.sample_indices(self.cfg.batch_size, rng);
-        let samples: Vec<_> = idx.iter().map(|&i| self.replay.get(i)).collect();
-        let states: Vec<&[u8]> = samples.iter().map(|s| s.state).collect();
-        let nexts: Vec<&[u8]> = samples.iter().map(|s| s.next).collect();
-        let n = samples.len();
-        let q2 = values(self.target.forward(batch(&nexts, &self.device)));
-        let y: Vec<f32> = samples
+        let n = self.cfg.batch_size;
+        let (batch, lambda) = match &self.memory {
+            Memory::Replay(r) => {
+                let samples: Vec<_> = r.sample_indices(n, rng).into_iter().map(|i| r.get(i)).collect();
+                let batch = Batch {
+                    states: samples.iter().map(|s| s.state).collect(),
+                    nexts: samples.iter().map(|s| s.next).collect(),
+                    meta: samples.iter().map(|s| s.meta).collect(),
+                    graph: vec![0.0; n],
+                };
+                (batch, 0.0)
+            }
+            Memory::Graph(a) => {
+                let ids = a.graph.sample(n, rng);
+                let nodes: Vec<_> = ids.iter().map(|id| a.graph.node(*id).expect("sampled from the graph")).collect();
+                let batch = Batch {
+                    states: nodes.iter().map(|n| n.state.as_slice()).collect(),
+                    nexts: nodes.iter().map(|n| n.next_state.as_slice()).collect(),
+                    meta: nodes.iter().map(|n| Meta { action: n.action, reward: n.reward, done: n.done }).collect(),
+                    graph: ids.iter().map(|&id| a.graph.value(id) as f32).collect(),
+                };
+                (batch, a.lambda as f32)
+            }
+        };
+        let q2 = values(self.target.forward(net::batch(&batch.nexts, &self.device)));
+        let y: Vec<f32> = batch
+            .meta
             .iter()
             .enumerate()
-            .map(|(b, s)| {
+            .map(|(b, m)| {
                 let best = q2[b * ACTIONS..(b + 1) * ACTIONS].iter().copied().fold(f32::NEG_INFINITY, f32::max);
-                s.meta.reward + self.cfg.gamma as f32 * (1.0 - s.meta.done as u8 as f32) * best
+                m.reward + self.cfg.gamma as f32 * (1.0 - m.done as u8 as f32) * best
             })
             .collect();
         // Q(s, a) through a one-hot mask of the actions taken.
         let mut mask = vec![0.0f32; n * ACTIONS];
-        for (b, s) in samples.iter().enumerate() {
-            mask[b * ACTIONS + s.meta.action as usize] = 1.0;
+        for (b, m) in batch.meta.iter().enumerate() {
+            mask[b * ACTIONS + m.action as usize] = 1.0;
         }
-        let x = batch(&states, &self.device);
+        let x = net::batch(&batch.states, &self.device);
+        let graph = Tensor::<1>::from_data(TensorData::new(batch.graph, [n]), &self.device);
         let net = self.net.take().expect("the network is back after every step");
         let q1 = net.forward(x);
         let mask = Tensor::<2>::from_data(TensorData::new(mask, [n, ACTIONS]), &self.device);
         let target = Tensor::<1>::from_data(TensorData::new(y, [n]), &self.device);
         let taken = (q1 * mask).sum_dim(1).reshape([n]);
-        let loss = (taken - target).square().mean();
+        let loss = ((target - taken.clone()).square() + (graph - taken).square() * lambda).mean();
         let value = values(loss.clone())[0];
         let grads = GradientsParams::from_grads(loss.backward(), &net);
         self.net = Some(self.optim.step(self.cfg.learning_rate, net, grads));
@@ -197,11 +294,6 @@ impl Controller for Dqn {
     fn on_step(&mut self, step: &Step, frame: Option<&[f32]>, rng: &mut ChaCha8Rng) -> bool {
         self.pending += step.reward;
         let Some(frame) = frame else { return false };
-        if !self.replay.started() {
-            self.replay.start(to_bytes(frame));
-            self.pending = 0.0;
-            return false;
-        }
         let reward = if self.cfg.sum_rewards {
             self.pending
         } else if step.reward > 0.0 {
@@ -209,10 +301,42 @@ impl Controller for Dqn {
         } else {
             step.reward
         };
+        let bytes = to_bytes(frame);
+        let action = self.action;
+        let stored = match &mut self.memory {
+            Memory::Replay(r) if !r.started() => {
+                r.start(bytes);
+                false
+            }
+            Memory::Replay(r) => {
+                r.push(Meta { action, reward: reward as f32, done: step.done }, bytes);
+                true
+            }
+            Memory::Graph(a) => {
+                let mut e = [0.0; EMBEDDING];
+                a.encoder.encode(frame, &mut a.scratch, &mut e);
+                let stored = match a.state.take() {
+                    Some((state, embedding)) => {
+                        let next_state = bytes.clone();
+                        a.graph.remember(Pending {
+                            embedding,
+                            state,
+                            next_state,
+                            action,
+                            reward: reward as f32,
+                            done: step.done,
+                        });
+                        true
+                    }
+                    None => false,
+                };
+                a.state = Some((bytes, e));
+                stored
+            }
+        };
         self.pending = 0.0;
-        self.replay.push(Meta { action: self.action, reward: reward as f32, done: step.done }, to_bytes(frame));
-        if step.decides && self.decisions > 0 {
-            if self.decisions % self.cfg.train_every == 0 && self.replay.len() >= self.cfg.batch_size {
+        if stored && step.decides && self.decisions > 0 {
+            if self.decisions % self.cfg.train_every == 0 && self.stored() >= self.cfg.batch_size {
                 self.train_step(rng);
             }
             if self.decisions % self.cfg.target_sync == 0 {
@@ -238,13 +362,23 @@ impl Controller for Dqn {
         Decision { action, layer, selected: !explore }
     }
 
-    fn on_episode_end(&mut self, _: &EpisodeEnd) {}
+    /// ERLAM adds the episode to its graph and, every `propagateEvery` episodes, propagates.
+    fn on_episode_end(&mut self, _: &EpisodeEnd) {
+        if let Memory::Graph(a) = &mut self.memory {
+            a.episodes += 1;
+            a.graph.end_episode();
+            a.graph.propagate(a.episodes);
+        }
+    }
 
     fn entropy(&self) -> f64 {
         self.entropy
     }
 
     fn memory_use(&self) -> MemoryUse {
-        MemoryUse { used: self.replay.len(), capacity: self.cfg.replay_size }
+        match &self.memory {
+            Memory::Replay(r) => MemoryUse { used: r.len(), capacity: self.cfg.replay_size },
+            Memory::Graph(a) => MemoryUse { used: a.graph.len(), capacity: a.graph.capacity() },
+        }
     }
 }

@@ -65,7 +65,7 @@ fn a_training_step_fits_the_targets_and_sync_copies_the_network() {
         assert!(dqn.wants_frame(&step));
         dqn.on_step(&step, Some(&frame), &mut rng());
     }
-    assert_eq!(dqn.replay().len(), 8);
+    assert_eq!(dqn.replay().unwrap().len(), 8);
     let first = dqn.train_step(&mut rng());
     let mut last = first;
     for _ in 0..30 {
@@ -128,4 +128,99 @@ fn bad_dqn_parameters_are_refused_by_name() {
     }
     let e = serde_json::from_str::<RunConfig>(r#"{"kind":"dqn","dqn":{"lr":0.1}}"#).unwrap_err().to_string();
     assert!(e.contains("unknown field `lr`"), "{e}");
+}
+
+use sec_dqn::graph::{Graph, LinkKey, Pending};
+use sec_playground::agent::dqn::ErlamConfig;
+
+fn pending(e: f32, action: u8, reward: f32) -> Pending {
+    let mut embedding = [0.0; 20];
+    embedding[0] = e;
+    Pending { embedding, state: vec![], next_state: vec![], action, reward, done: false }
+}
+
+#[test]
+fn the_graph_adds_episodes_backwards_and_merges_near_states() {
+    let cfg = ErlamConfig { nodes: 100, ..ErlamConfig::default() };
+    let mut g = Graph::new(cfg, 0.5);
+    // A -> B -> C, the last paying 1: returns backwards with gamma 0.5.
+    for (e, a, r) in [(0.0, 1, 0.0), (1.0, 2, 0.0), (2.0, 3, 1.0)] {
+        g.remember(pending(e, a, r));
+    }
+    g.end_episode();
+    assert_eq!(g.len(), 3);
+    let rt: Vec<f64> = g.ids().iter().map(|&id| g.node(id).unwrap().rt).collect();
+    assert_eq!(rt, [1.0, 0.5, 0.25], "inserted from the episode's end: C, B, A");
+    let [c, b, a] = [g.ids()[0], g.ids()[1], g.ids()[2]];
+    assert_eq!(g.node(a).unwrap().next.get(&LinkKey::Action(1)), Some(&b), "A's action led to B");
+    assert_eq!(g.value(a), 0.5, "the graph's value of A: Rt of the node its action led to");
+    assert_eq!(g.value(c), 0.0, "no successor");
+    // A second episode passes 0.01 from A (within 0.02: the same node) straight to C's neighbour.
+    for (e, act, r) in [(0.01, 4, 0.0), (2.005, 3, 2.0)] {
+        g.remember(pending(e, act, r));
+    }
+    g.end_episode();
+    assert_eq!(g.len(), 3, "both states merged into A and C");
+    assert_eq!(g.node(c).unwrap().rt, 2.0, "the better return is kept");
+    assert_eq!(g.node(a).unwrap().rt, 1.0, "A: 0 + 0.5 x 2");
+    assert_eq!(g.node(a).unwrap().next.get(&LinkKey::Action(4)), Some(&c));
+}
+
+#[test]
+fn value_propagation_spreads_the_best_successor_return() {
+    let cfg = ErlamConfig { nodes: 100, propagate_every: 2, ..ErlamConfig::default() };
+    let mut g = Graph::new(cfg, 0.5);
+    // Episode 1: X -> Y (pays 0). Episode 2: Y' (= Y) -> Z paying 4.
+    g.remember(pending(0.0, 1, 0.0));
+    g.remember(pending(1.0, 1, 0.0));
+    g.end_episode();
+    g.remember(pending(1.0, 2, 0.0));
+    g.remember(pending(3.0, 2, 4.0));
+    g.end_episode();
+    let x = *g.ids().iter().find(|&&id| g.node(id).unwrap().embedding[0] == 0.0).unwrap();
+    assert_eq!(g.node(x).unwrap().rt, 0.0, "before propagation X only knows its own episode");
+    g.propagate(1);
+    assert_eq!(g.node(x).unwrap().rt, 0.0, "not a propagation episode (every 2)");
+    g.propagate(2);
+    // Y = 0 + 0.5 x 4 = 2 (it already had it); X = 0 + 0.5 x Rt(Y) = 1.
+    assert_eq!(g.node(x).unwrap().rt, 1.0);
+    assert!(g.last_sweeps >= 2, "sweeps until nothing changes");
+}
+
+#[test]
+fn a_full_graph_evicts_its_least_recently_improved_node_and_rekeys_links() {
+    let cfg = ErlamConfig { nodes: 3, ..ErlamConfig::default() };
+    let mut g = Graph::new(cfg, 0.5);
+    for (e, a, r) in [(0.0, 1, 0.0), (1.0, 1, 0.0), (2.0, 1, 1.0)] {
+        g.remember(pending(e, a, r));
+    }
+    g.end_episode();
+    // The third insertion filled it: the oldest stamp (the first inserted, C) went at once.
+    assert_eq!(g.len(), 2, "the authors' graph holds capacity - 1");
+    let a = *g.ids().iter().find(|&&id| g.node(id).unwrap().embedding[0] == 0.0).unwrap();
+    assert!(g.node(a).unwrap().next.keys().all(|k| matches!(k, LinkKey::Node(_))), "links re-keyed by node id");
+    assert_eq!(g.value(a), 0.0, "so the graph's value no longer finds A's successor");
+}
+
+#[test]
+fn erlam_runs_episodes_through_the_core_run_loop() {
+    let cfg = RunConfig {
+        task: "object-permanence".into(),
+        kind: AgentKind::Erlam,
+        t: Some(100),
+        dqn: DqnConfig { random_decisions: 10, batch_size: 8, epsilon_decisions: 50, ..DqnConfig::default() },
+        erlam: ErlamConfig { propagate_every: 2, ..ErlamConfig::default() },
+        ..RunConfig::default()
+    };
+    let play = || {
+        let mut run = Run::with_agents(cfg.clone(), 4, Some(factory)).unwrap();
+        (0..3).map(|_| run.episode().to_json()).collect::<Vec<_>>()
+    };
+    let a = play();
+    assert_eq!(a, play(), "a run is a function of its seed");
+    let m: Vec<serde_json::Value> = a.iter().map(|l| serde_json::from_str(l).unwrap()).collect();
+    let nodes: Vec<u64> = m.iter().map(|m| m["ltm"].as_u64().unwrap()).collect();
+    assert!(nodes[0] > 0 && nodes[2] >= nodes[0], "the graph grows at episode ends: {nodes:?}");
+    let e = RunConfig { erlam: ErlamConfig { nodes: 1, ..ErlamConfig::default() }, ..cfg }.validate().unwrap_err();
+    assert_eq!(e.field, "erlam.nodes");
 }

@@ -1,0 +1,246 @@
+//! ERLAM's associative memory graph, as the authors' `AssociativeMemory` keeps it: a node per
+//! distinct state (its trained-autoencoder embedding, merged with the nearest stored node when it
+//! lies within `mergeDistance`), holding its transition, the best return seen from it (Rt), and
+//! links to the nodes that followed it. At every episode's end the episode is added backwards
+//! with discounted returns; every `propagateEvery` episodes Rt is propagated through the links
+//! until the total change is at most 1e-6. The network samples its training batches from the
+//! nodes, with the graph's value of each node's successor as the second target.
+//!
+//! Two quirks of the authors' code are kept, because their numbers come from them:
+//! - a full graph evicts its least recently improved node as soon as it reaches the capacity, so
+//!   it holds capacity - 1 nodes, and the eviction re-keys every node's links by node id instead
+//!   of by action, so a link made before an eviction no longer counts for the graph's value;
+//! - the merge test uses a k-d tree of the nodes as they were when the episode ended.
+
+use kiddo::immutable::float::kdtree::ImmutableKdTree;
+use kiddo::SquaredEuclidean;
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+use sec_playground::agent::dqn::ErlamConfig;
+use sec_playground::encoder::EMBEDDING;
+use std::collections::HashMap;
+
+/// What a node's links are keyed by: the action that led to the next node, or (after an
+/// eviction re-keyed them, as the authors' code does) that node's id.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum LinkKey {
+    Action(u8),
+    Node(u64),
+}
+
+#[derive(Clone, Debug)]
+pub struct Node {
+    pub id: u64,
+    pub embedding: [f32; EMBEDDING],
+    pub state: Vec<u8>,
+    pub next_state: Vec<u8>,
+    /// Position in the episode that created it (value propagation goes from the latest).
+    pub t: usize,
+    pub action: u8,
+    pub reward: f32,
+    pub done: bool,
+    /// The best discounted return seen from this node.
+    pub rt: f64,
+    /// Successor node ids.
+    pub next: HashMap<LinkKey, u64>,
+    pub stamp: u64,
+}
+
+/// One transition of the episode in progress.
+#[derive(Clone, Debug)]
+pub struct Pending {
+    pub embedding: [f32; EMBEDDING],
+    pub state: Vec<u8>,
+    pub next_state: Vec<u8>,
+    pub action: u8,
+    pub reward: f32,
+    pub done: bool,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct Graph {
+    cfg: ErlamConfig,
+    gamma: f64,
+    nodes: HashMap<u64, Node>,
+    /// Node ids in insertion order (the authors' dict order, which their sampling indexes).
+    order: Vec<u64>,
+    /// Exact embeddings to their node (the authors' hash keys).
+    by_bits: HashMap<[u32; EMBEDDING], u64>,
+    next_id: u64,
+    stamp: u64,
+    episode: Vec<Pending>,
+    /// Sweeps the last propagation needed.
+    pub last_sweeps: usize,
+}
+
+fn sq_dist(a: &[f32; EMBEDDING], b: &[f32; EMBEDDING]) -> f32 {
+    a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum()
+}
+
+impl Graph {
+    pub fn new(cfg: ErlamConfig, gamma: f64) -> Self {
+        Graph { cfg, gamma, ..Graph::default() }
+    }
+
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    pub fn capacity(&self) -> usize {
+        self.cfg.nodes
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    pub fn node(&self, id: u64) -> Option<&Node> {
+        self.nodes.get(&id)
+    }
+
+    /// The nodes in insertion order.
+    pub fn ids(&self) -> &[u64] {
+        &self.order
+    }
+
+    /// A transition of the episode in progress (added to the graph at its end).
+    pub fn remember(&mut self, p: Pending) {
+        self.episode.push(p);
+    }
+
+    /// The node for `e`: a stored one within the merge distance (in the tree of the nodes as
+    /// they were before this episode), if any.
+    fn merge_target(
+        &self,
+        tree: &Option<(ImmutableKdTree<f32, u32, EMBEDDING, 32>, Vec<u64>)>,
+        e: &[f32; EMBEDDING],
+    ) -> Option<u64> {
+        let (tree, ids) = tree.as_ref()?;
+        let nn = tree.nearest_one::<SquaredEuclidean>(e);
+        let id = ids[nn.item as usize];
+        let limit = (self.cfg.merge_distance * self.cfg.merge_distance) as f32;
+        // The tree's squared distance, checked again exactly (the node may have been evicted).
+        let node = self.nodes.get(&id)?;
+        (nn.distance < limit && sq_dist(&node.embedding, e) < limit).then_some(id)
+    }
+
+    /// The episode's end: its transitions added backwards with discounted returns.
+    pub fn end_episode(&mut self) {
+        let episode = std::mem::take(&mut self.episode);
+        let tree = (!self.nodes.is_empty()).then(|| {
+            let ids: Vec<u64> = self.order.clone();
+            let points: Vec<[f32; EMBEDDING]> = ids.iter().map(|id| self.nodes[id].embedding).collect();
+            (ImmutableKdTree::new_from_slice(&points), ids)
+        });
+        let mut rt = 0.0f64;
+        let mut previous: Option<u64> = None;
+        for (t, p) in episode.into_iter().enumerate().rev() {
+            rt = p.reward as f64 + self.gamma * rt;
+            let merged = self.merge_target(&tree, &p.embedding);
+            // An exact match of a node added during this episode (the authors' hash key) merges too.
+            let key = merged.or_else(|| self.by_bits.get(&p.embedding.map(f32::to_bits)).copied());
+            match key {
+                Some(id) => {
+                    let stamp = self.stamp;
+                    let node = self.nodes.get_mut(&id).expect("listed");
+                    if rt > node.rt {
+                        node.rt = rt;
+                        node.stamp = stamp;
+                        self.stamp += 1;
+                    }
+                    if let Some(prev) = previous {
+                        node.next.insert(LinkKey::Action(p.action), prev);
+                    }
+                    previous = Some(id);
+                }
+                None => {
+                    if self.nodes.len() < self.cfg.nodes {
+                        let id = self.next_id;
+                        self.next_id += 1;
+                        let mut next = HashMap::new();
+                        if let Some(prev) = previous {
+                            next.insert(LinkKey::Action(p.action), prev);
+                        }
+                        let node = Node {
+                            id,
+                            embedding: p.embedding,
+                            state: p.state,
+                            next_state: p.next_state,
+                            t,
+                            action: p.action,
+                            reward: p.reward,
+                            done: p.done,
+                            rt,
+                            next,
+                            stamp: self.stamp,
+                        };
+                        self.stamp += 1;
+                        self.by_bits.insert(node.embedding.map(f32::to_bits), id);
+                        self.nodes.insert(id, node);
+                        self.order.push(id);
+                        previous = Some(id);
+                    }
+                    if self.cfg.forgetting && self.nodes.len() >= self.cfg.nodes {
+                        self.evict_lru();
+                    }
+                }
+            }
+        }
+    }
+
+    fn evict_lru(&mut self) {
+        let Some(&lru) = self.order.iter().min_by_key(|id| self.nodes[id].stamp) else { return };
+        if let Some(node) = self.nodes.remove(&lru) {
+            self.by_bits.remove(&node.embedding.map(f32::to_bits));
+        }
+        self.order.retain(|&id| id != lru);
+        for node in self.nodes.values_mut() {
+            node.next = node.next.values().filter(|&&n| n != lru).map(|&n| (LinkKey::Node(n), n)).collect();
+        }
+    }
+
+    /// Value propagation after episode number `episodes` (1-based), every `propagateEvery`.
+    pub fn propagate(&mut self, episodes: u64) {
+        if episodes % self.cfg.propagate_every != 0 {
+            return;
+        }
+        // Latest position in its episode first; equal positions in insertion order.
+        let mut ids = self.order.clone();
+        ids.sort_by_key(|id| std::cmp::Reverse(self.nodes[id].t));
+        self.last_sweeps = 0;
+        loop {
+            let mut change = 0.0f64;
+            for id in &ids {
+                let node = &self.nodes[id];
+                let best = node
+                    .next
+                    .values()
+                    .filter(|&&n| n != *id)
+                    .filter_map(|n| self.nodes.get(n))
+                    .map(|n| n.rt)
+                    .fold(None, |b: Option<f64>, r| Some(b.map_or(r, |b| b.max(r))));
+                if let Some(best) = best {
+                    let update = node.reward as f64 + self.gamma * best;
+                    let node = self.nodes.get_mut(id).expect("listed");
+                    change += (update - node.rt).abs();
+                    node.rt = update;
+                }
+            }
+            self.last_sweeps += 1;
+            if change <= self.cfg.converge || self.last_sweeps >= 100_000 {
+                break;
+            }
+        }
+    }
+
+    /// `n` node ids drawn uniformly with replacement, from the nodes in insertion order.
+    pub fn sample(&self, n: usize, rng: &mut ChaCha8Rng) -> Vec<u64> {
+        (0..n).map(|_| self.order[rng.gen_range(0..self.order.len() as u32) as usize]).collect()
+    }
+
+    /// The graph's value of a node: Rt of the node its own action led to, 0 without that link.
+    pub fn value(&self, id: u64) -> f64 {
+        let node = &self.nodes[&id];
+        node.next.get(&LinkKey::Action(node.action)).and_then(|n| self.nodes.get(n)).map_or(0.0, |n| n.rt)
+    }
+}
