@@ -2,11 +2,13 @@
 //! online and target networks, backward, RMSprop), and the multiply-adds per second they reach.
 //! `cargo run --release -p sec-dqn --bin dqn-bench` (BENCHMARKS.md has the numbers).
 
-use rand::SeedableRng;
+use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use sec_dqn::graph::{Graph, Pending};
 use sec_dqn::Dqn;
 use sec_playground::agent::controller::{Controller, Step};
 use sec_playground::agent::dqn::DqnConfig;
+use sec_playground::agent::dqn::ErlamConfig;
 use std::time::Instant;
 
 /// Multiply-adds of one frame's forward pass: the three convolutions and the two dense layers.
@@ -67,5 +69,43 @@ fn main() {
         "a 1000-step double T-maze episode: about {:.1} s of network time; 1000 episodes: {:.0} min",
         episode,
         episode * 1000.0 / 60.0
+    );
+    erlam_graph(&mut rng);
+}
+
+/// ERLAM's graph work near its capacity: adding a 250-transition episode (the k-d tree rebuilt,
+/// the merges, the evictions) and a value propagation, with random 20-number embeddings (frames
+/// left empty: the graph only moves them).
+fn erlam_graph(rng: &mut ChaCha8Rng) {
+    let cfg = ErlamConfig::default();
+    let mut g = Graph::new(cfg.clone(), 0.99);
+    let episode = |rng: &mut ChaCha8Rng, g: &mut Graph| {
+        for i in 0..250 {
+            let embedding = std::array::from_fn(|_| rng.gen_range(0.0f32..1.0));
+            let reward = if i == 249 { 2.997 } else { -0.001 };
+            let action = rng.gen_range(0..9);
+            g.remember(Pending { embedding, state: vec![], next_state: vec![], action, reward, done: i == 249 });
+        }
+    };
+    while g.len() < cfg.nodes - 1 {
+        episode(rng, &mut g);
+        g.end_episode();
+    }
+    let n = 20;
+    let t0 = Instant::now();
+    for _ in 0..n {
+        episode(rng, &mut g);
+        g.end_episode();
+    }
+    let add = t0.elapsed().as_secs_f64() / n as f64;
+    let t0 = Instant::now();
+    g.propagate(cfg.propagate_every);
+    let propagate = t0.elapsed().as_secs_f64();
+    println!(
+        "ERLAM graph at {} nodes: an episode added in {:.0} ms; a propagation {:.2} s ({} sweeps)",
+        g.len(),
+        add * 1e3,
+        propagate,
+        g.last_sweeps
     );
 }
