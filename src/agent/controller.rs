@@ -5,6 +5,10 @@
 use super::{Agent, Decision};
 use crate::encoder::EMBEDDING;
 use rand_chacha::ChaCha8Rng;
+use std::io::{Read, Write};
+
+/// What a controller without checkpoints answers `save_state` and `load_state`.
+pub const NO_CHECKPOINT: &str = "this agent does not checkpoint";
 
 /// What a controller's decisions read of the frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -105,6 +109,23 @@ pub trait Controller: Send {
 
     /// How full its memory is.
     fn memory_use(&self) -> MemoryUse;
+
+    /// Whether it can write its state to a checkpoint (`experiment::checkpoint`).
+    fn checkpoints(&self) -> bool {
+        false
+    }
+
+    /// Writes, between two episodes, everything it has learned and every counter and draw state
+    /// it keeps, so that `load_state` on a controller freshly built from the same configuration
+    /// and seed continues exactly as this one would.
+    fn save_state(&self, _out: &mut dyn Write) -> Result<(), String> {
+        Err(NO_CHECKPOINT.into())
+    }
+
+    /// Restores what `save_state` wrote; on an error the controller is to be dropped.
+    fn load_state(&mut self, _input: &mut dyn Read) -> Result<(), String> {
+        Err(NO_CHECKPOINT.into())
+    }
 
     /// The SEC agent, for what only SEC has (live parameters, memory files, the page's views).
     fn sec(&self) -> Option<&Agent> {

@@ -14,7 +14,7 @@ pub const TURN_1: u8 = Action::RIGHT.index() as u8;
 pub const TURN_2: u8 = Action::LEFT.index() as u8;
 
 /// The walk's state: a counter through `straight` forward steps then `turns` turns.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Reactive {
     c: u32,
     straight: u32,
@@ -73,5 +73,18 @@ impl Controller for Reactive {
 
     fn memory_use(&self) -> MemoryUse {
         MemoryUse::default()
+    }
+
+    fn checkpoints(&self) -> bool {
+        true
+    }
+
+    fn save_state(&self, out: &mut dyn std::io::Write) -> Result<(), String> {
+        serde_json::to_writer(out, self).map_err(|e| e.to_string())
+    }
+
+    fn load_state(&mut self, input: &mut dyn std::io::Read) -> Result<(), String> {
+        *self = serde_json::from_reader(input).map_err(|e| e.to_string())?;
+        Ok(())
     }
 }

@@ -14,6 +14,7 @@ use crate::error::Error;
 use crate::memory::{self, ACTIONS};
 use crate::render::Frame;
 use crate::seed::{self, Stream};
+pub mod checkpoint;
 #[cfg(feature = "test-hooks")]
 pub mod fixtures;
 pub mod metrics;
@@ -175,6 +176,7 @@ fn controller(
 /// A run in progress.
 pub struct Run {
     cfg: RunConfig,
+    seed: u64,
     env: Env,
     perception: Perception,
     scratch: Scratch,
@@ -229,6 +231,7 @@ impl Run {
         let controller = controller(&cfg, seed, &mut rng, extra)?;
         Ok(Run {
             cfg,
+            seed,
             env,
             perception,
             scratch: Scratch::default(),
@@ -244,6 +247,10 @@ impl Run {
 
     pub fn config(&self) -> &RunConfig {
         &self.cfg
+    }
+
+    pub fn seed(&self) -> u64 {
+        self.seed
     }
 
     /// Applies `cfg` mid-run (the page's live controls): SEC's parameters act from the next

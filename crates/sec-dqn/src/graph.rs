@@ -18,21 +18,24 @@ use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use sec_playground::agent::dqn::ErlamConfig;
 use sec_playground::encoder::EMBEDDING;
+use sec_playground::memory::ACTIONS;
 use std::collections::HashMap;
 
 /// What a node's links are keyed by: the action that led to the next node, or (after an
 /// eviction re-keyed them, as the authors' code does) that node's id.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum LinkKey {
     Action(u8),
     Node(u64),
 }
 
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Node {
     pub id: u64,
     pub embedding: [f32; EMBEDDING],
+    #[serde(with = "serde_bytes")]
     pub state: Vec<u8>,
+    #[serde(with = "serde_bytes")]
     pub next_state: Vec<u8>,
     /// Position in the episode that created it (value propagation goes from the latest).
     pub t: usize,
@@ -47,24 +50,30 @@ pub struct Node {
 }
 
 /// One transition of the episode in progress.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Pending {
     pub embedding: [f32; EMBEDDING],
+    #[serde(with = "serde_bytes")]
     pub state: Vec<u8>,
+    #[serde(with = "serde_bytes")]
     pub next_state: Vec<u8>,
     pub action: u8,
     pub reward: f32,
     pub done: bool,
 }
 
-#[derive(Clone, Debug, Default)]
+/// A checkpoint holds everything but the settings (the run's own) and `by_bits` (rebuilt).
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Graph {
+    #[serde(skip)]
     cfg: ErlamConfig,
+    #[serde(skip)]
     gamma: f64,
     nodes: HashMap<u64, Node>,
     /// Node ids in insertion order (the authors' dict order, which their sampling indexes).
     order: Vec<u64>,
     /// Exact embeddings to their node (the authors' hash keys).
+    #[serde(skip)]
     by_bits: HashMap<[u32; EMBEDDING], u64>,
     next_id: u64,
     stamp: u64,
@@ -84,6 +93,43 @@ impl Graph {
 
     pub fn len(&self) -> usize {
         self.nodes.len()
+    }
+
+    /// A graph read from a checkpoint, given the settings of `fresh` (the run's): refused unless it is one
+    /// `end_episode` could have made (between episodes, every listed node stored once, links and
+    /// frames sound, no more nodes than the capacity).
+    pub fn restored(mut self, fresh: &Graph, frame_len: usize) -> Result<Graph, String> {
+        self.cfg = fresh.cfg.clone();
+        self.gamma = fresh.gamma;
+        if !self.episode.is_empty() {
+            return Err("graph: written during an episode".into());
+        }
+        if self.nodes.len() > self.cfg.nodes || self.order.len() != self.nodes.len() {
+            return Err(format!(
+                "graph: {} nodes, {} listed, capacity {}",
+                self.nodes.len(),
+                self.order.len(),
+                self.cfg.nodes
+            ));
+        }
+        for id in &self.order {
+            let node = self.nodes.get(id).ok_or_else(|| format!("graph: node {id} is listed but not stored"))?;
+            let sound = node.id == *id
+                && *id < self.next_id
+                && (node.action as usize) < ACTIONS
+                && node.state.len() == frame_len
+                && node.next_state.len() == frame_len
+                && node.rt.is_finite()
+                && node.reward.is_finite()
+                && node.embedding.iter().all(|x| x.is_finite());
+            if !sound {
+                return Err(format!("graph: node {id} is not sound"));
+            }
+            if self.by_bits.insert(node.embedding.map(f32::to_bits), *id).is_some() {
+                return Err(format!("graph: node {id} repeats another's embedding"));
+            }
+        }
+        Ok(self)
     }
 
     pub fn capacity(&self) -> usize {

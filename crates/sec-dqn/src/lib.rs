@@ -20,6 +20,7 @@
 //! One deviation: the authors count frames across episodes, so their decision clock does not
 //! restart with an episode; here, as for SEC, every episode starts its clock at its first frame.
 
+pub mod checkpoint;
 pub mod graph;
 pub mod net;
 pub mod replay;
@@ -85,6 +86,11 @@ struct Batch<'a> {
 
 type Rms = ModuleOptimizer;
 
+/// PyTorch's RMSprop defaults, as the authors' optimiser: alpha 0.99, eps 1e-8, no momentum.
+fn optimiser_config() -> RmsPropConfig {
+    RmsPropConfig::new().with_alpha(0.99).with_epsilon(1e-8).with_momentum(0.0)
+}
+
 pub struct Dqn {
     cfg: DqnConfig,
     device: Device,
@@ -111,8 +117,7 @@ impl Dqn {
         // The network's initial weights from their own stream of the run's seed.
         let net = NatureCnn::new(&mut seed::rng(seed, Stream::Network), &device);
         let target = net.valid();
-        // PyTorch's RMSprop defaults, as the authors' optimiser: alpha 0.99, eps 1e-8, no momentum.
-        let optim = RmsPropConfig::new().with_alpha(0.99).with_epsilon(1e-8).with_momentum(0.0).init();
+        let optim = optimiser_config().init();
         Ok(Dqn {
             memory: Memory::Replay(Replay::new(cfg.replay_size)),
             reactive: Reactive::new(rng),
@@ -380,5 +385,17 @@ impl Controller for Dqn {
             Memory::Replay(r) => MemoryUse { used: r.len(), capacity: self.cfg.replay_size },
             Memory::Graph(a) => MemoryUse { used: a.graph.len(), capacity: a.graph.capacity() },
         }
+    }
+
+    fn checkpoints(&self) -> bool {
+        true
+    }
+
+    fn save_state(&self, out: &mut dyn std::io::Write) -> Result<(), String> {
+        checkpoint::save(self, out)
+    }
+
+    fn load_state(&mut self, input: &mut dyn std::io::Read) -> Result<(), String> {
+        checkpoint::load(self, input)
     }
 }

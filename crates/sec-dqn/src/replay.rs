@@ -5,19 +5,21 @@
 
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
+use sec_playground::memory::ACTIONS;
 use std::collections::VecDeque;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Meta {
     pub action: u8,
     pub reward: f32,
     pub done: bool,
 }
 
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Replay {
     capacity: usize,
     /// Frames of the stored transitions' states, then the newest next state.
+    #[serde(with = "frames")]
     frames: VecDeque<Vec<u8>>,
     meta: VecDeque<Meta>,
 }
@@ -69,8 +71,45 @@ impl Replay {
         Sample { state: &self.frames[i], next: &self.frames[i + 1], meta: self.meta[i] }
     }
 
+    /// Whether a buffer read from a checkpoint is one `push` could have made: a frame per
+    /// transition and one more, frames of `frame_len` bytes, at most `capacity` transitions.
+    pub fn check(&self, capacity: usize, frame_len: usize) -> Result<(), String> {
+        if self.capacity != capacity || self.meta.len() > capacity {
+            return Err(format!(
+                "replay: {} transitions of capacity {}, not {capacity}",
+                self.meta.len(),
+                self.capacity
+            ));
+        }
+        if self.frames.len() != self.meta.len() + usize::from(!self.frames.is_empty()) {
+            return Err(format!("replay: {} frames for {} transitions", self.frames.len(), self.meta.len()));
+        }
+        if self.frames.iter().any(|f| f.len() != frame_len) {
+            return Err(format!("replay: a frame is not {frame_len} bytes"));
+        }
+        if let Some(m) = self.meta.iter().find(|m| m.action as usize >= ACTIONS || !m.reward.is_finite()) {
+            return Err(format!("replay: a transition of action {} and reward {}", m.action, m.reward));
+        }
+        Ok(())
+    }
+
     /// `n` indices drawn uniformly with replacement (numpy's `randint(0, len, n)`).
     pub fn sample_indices(&self, n: usize, rng: &mut ChaCha8Rng) -> Vec<usize> {
         (0..n).map(|_| rng.gen_range(0..self.len() as u32) as usize).collect()
+    }
+}
+
+/// The frames as CBOR byte strings (a sequence of integers would double the size).
+mod frames {
+    use serde::{Deserialize, Deserializer, Serializer};
+    use serde_bytes::{ByteBuf, Bytes};
+    use std::collections::VecDeque;
+
+    pub fn serialize<S: Serializer>(frames: &VecDeque<Vec<u8>>, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(frames.iter().map(|f| Bytes::new(f)))
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<VecDeque<Vec<u8>>, D::Error> {
+        Ok(Vec::<ByteBuf>::deserialize(d)?.into_iter().map(ByteBuf::into_vec).collect())
     }
 }

@@ -224,3 +224,65 @@ fn erlam_runs_episodes_through_the_core_run_loop() {
     let e = RunConfig { erlam: ErlamConfig { nodes: 1, ..ErlamConfig::default() }, ..cfg }.validate().unwrap_err();
     assert_eq!(e.field, "erlam.nodes");
 }
+
+/// Plays `before` episodes, checkpoints, drops the run, resumes it and plays `after` more: the
+/// log equals the one of a run never interrupted.
+fn resumed_equals_uninterrupted(cfg: RunConfig, seed: u64, before: usize, after: usize) -> Vec<u8> {
+    let play = |run: &mut Run, n: usize| (0..n).map(|_| run.episode().to_json()).collect::<Vec<_>>();
+    let mut whole = Run::with_agents(cfg.clone(), seed, Some(factory)).unwrap();
+    let expected = play(&mut whole, before + after);
+    let mut first = Run::with_agents(cfg.clone(), seed, Some(factory)).unwrap();
+    let mut got = play(&mut first, before);
+    let mut bytes = Vec::new();
+    first.save_checkpoint(&mut bytes).unwrap();
+    drop(first);
+    let mut resumed = Run::resume(cfg, seed, Some(factory), &mut bytes.as_slice()).unwrap();
+    got.extend(play(&mut resumed, after));
+    assert_eq!(got, expected);
+    bytes
+}
+
+fn short_dqn() -> DqnConfig {
+    DqnConfig {
+        random_decisions: 20,
+        batch_size: 8,
+        replay_size: 50,
+        epsilon_decisions: 120,
+        target_sync: 25,
+        ..DqnConfig::default()
+    }
+}
+
+#[test]
+fn a_dqn_run_resumed_from_a_checkpoint_plays_as_if_never_interrupted() {
+    // Interrupted mid-training: replay full, epsilon half-way, the target synced, Adam-free RMSprop
+    // state accumulated; the entropy in the log is of the network's own Q values.
+    let cfg = RunConfig {
+        task: "object-permanence".into(),
+        kind: AgentKind::Dqn,
+        t: Some(120),
+        dqn: short_dqn(),
+        ..RunConfig::default()
+    };
+    let bytes = resumed_equals_uninterrupted(cfg.clone(), 3, 2, 3);
+    // A checkpoint is refused by a run of another agent, and a truncated one by its own.
+    let erlam = RunConfig { kind: AgentKind::Erlam, ..cfg.clone() };
+    let e = Run::resume(erlam, 3, Some(factory), &mut bytes.as_slice()).err().unwrap();
+    assert_eq!(e.field(), "config");
+    let e = Run::resume(cfg, 3, Some(factory), &mut &bytes[..bytes.len() / 2]).err().unwrap();
+    assert_eq!(e.field(), "agent");
+}
+
+#[test]
+fn an_erlam_run_resumed_from_a_checkpoint_plays_as_if_never_interrupted() {
+    // A small graph that evicts, propagation every 2 episodes, the checkpoint after an odd one.
+    let cfg = RunConfig {
+        task: "object-permanence".into(),
+        kind: AgentKind::Erlam,
+        t: Some(100),
+        dqn: short_dqn(),
+        erlam: ErlamConfig { propagate_every: 2, nodes: 40, ..ErlamConfig::default() },
+        ..RunConfig::default()
+    };
+    resumed_equals_uninterrupted(cfg, 4, 3, 3);
+}

@@ -26,6 +26,9 @@ pub struct Arm {
     pub per_episode: f64,
     /// Per-run totals, when the runs are there.
     pub totals: Option<Vec<f64>>,
+    /// Per-run rewards of each episode, when the runs are there (to cut an arm to another's
+    /// length).
+    pub rewards: Option<Vec<Vec<f64>>>,
     /// Per-run mean entropy over the last 10 % of the episodes, when the runs are there; else
     /// only the mean.
     pub entropy_late: Option<Vec<f64>>,
@@ -45,8 +48,28 @@ fn from_runs(c: &ConditionRuns) -> Arm {
         per_episode: mean(&totals) / n as f64,
         entropy_late_mean: mean(&late),
         totals: Some(totals),
+        rewards: Some(c.runs.iter().map(|r| r.iter().map(|m| m.reward).collect()).collect()),
         entropy_late: Some(late),
         p_vs_reference: None,
+    }
+}
+
+impl Arm {
+    /// The arm over its runs' first `n` episodes (its reward only), if its runs are there and
+    /// that long.
+    fn cut(&self, n: usize) -> Option<Arm> {
+        let rewards: Vec<Vec<f64>> = self.rewards.as_ref()?.iter().map(|r| r[..n.min(r.len())].to_vec()).collect();
+        if rewards.iter().any(|r| r.len() < n) {
+            return None;
+        }
+        let totals: Vec<f64> = rewards.iter().map(|r| r.iter().sum()).collect();
+        Some(Arm {
+            episodes: n,
+            per_episode: mean(&totals) / n as f64,
+            totals: Some(totals),
+            rewards: Some(rewards),
+            ..self.clone()
+        })
     }
 }
 
@@ -74,6 +97,7 @@ pub fn arms(dir: &Path) -> Vec<Arm> {
                 episodes: num("episodes").unwrap_or(0.0) as usize,
                 per_episode: num("per_episode").unwrap_or(f64::NAN),
                 totals: None,
+                rewards: None,
                 entropy_late: None,
                 entropy_late_mean: num("entropy_last10").unwrap_or(f64::NAN),
                 p_vs_reference: num("p_uncorrected"),
@@ -268,6 +292,24 @@ pub fn orderings(code: &Path, trained: &Path, out: &Path) -> Result<String, Stri
                 format!("SEC > {other}"),
                 paper(other),
                 [(pair(&trees[0], other, Claim::More), "×"), (pair(&trees[1], other, Claim::More), "×")],
+            );
+        }
+        // The deep baselines: their own family of two, SEC cut to their runs' length.
+        let deep = |tree: &Tree, other: &str| {
+            let arms = tree.arms("exp1");
+            let (sec, dqn) = (format!("{task}/SEC"), format!("{task}/{other}"));
+            let Some(baseline) = find(arms, &dqn) else { return verdict(&[], &sec, &dqn, Claim::More, 2) };
+            let Some(cut) = find(arms, &sec).and_then(|s| s.cut(baseline.episodes)) else {
+                return verdict(&[], &sec, &dqn, Claim::More, 2);
+            };
+            verdict(&[cut, baseline.clone()], &sec, &dqn, Claim::More, 2)
+        };
+        for other in ["DQN", "ERLAM"] {
+            add(
+                &format!("exp1 {task}"),
+                format!("SEC > {other} (over {other}'s episodes)"),
+                paper(other),
+                [(deep(&trees[0], other), "×"), (deep(&trees[1], other), "×")],
             );
         }
         add(

@@ -31,7 +31,12 @@ impl ConditionRuns {
 
     /// Per run: the tables' reward summed over the episodes.
     pub fn totals(&self) -> Vec<f64> {
-        self.runs.iter().map(|r| r.iter().map(|m| m.reward).sum()).collect()
+        self.totals_over(usize::MAX)
+    }
+
+    /// Per run: the reward summed over its first `n` episodes (all of them if it has fewer).
+    pub fn totals_over(&self, n: usize) -> Vec<f64> {
+        self.runs.iter().map(|r| r.iter().take(n).map(|m| m.reward).sum()).collect()
     }
 
     /// Per run: the mean of `f` over the episodes in [from, to) (fractions of the run).
@@ -134,7 +139,8 @@ pub fn report(dir: &Path, description: &str) -> Result<String, String> {
          Reward is R_ep when positive, else 0; totals are summed over the run's episodes and the paper's are \
          over 5000, so compare the per-episode columns; the paper's final-episode reward (section 9) is for episode 5000. Entropy (bits) is the authors' stale-inclusive mean \
          per episode, averaged over the first and last 10% of the run; p is a two-sided Mann-Whitney U test \
-         of the run totals against the group's first model (shown when both have at least 2 runs), \
+         of the run totals against the group's first model (shown when both have at least 2 runs; over the \
+         first episodes both have when their runs differ in length), \
          Bonferroni-corrected over the comparisons within the group (a group is one figure or table of \
          the paper: a task, a memory size); summary.csv also has it uncorrected. Curves: {WINDOW}-episode \
          window, mean and standard error across runs.\n",
@@ -173,10 +179,13 @@ pub fn report(dir: &Path, description: &str) -> Result<String, String> {
                     format!("{m:.digits$} ± {h:.digits$}")
                 }
             };
+            // Runs of different lengths (DQN's 1000 episodes against SEC's 2000) are compared
+            // over the episodes both have.
+            let common = n.min(reference.runs[0].len());
             let raw = if std::ptr::eq(*c, reference) || c.runs.len() < 2 || reference.runs.len() < 2 {
                 None
             } else {
-                Some(mann_whitney(&totals, &reference.totals()).1)
+                Some(mann_whitney(&c.totals_over(common), &reference.totals_over(common)).1)
             };
             let p = raw.map(|p| (p * bonferroni).min(1.0));
             let paper = c.condition.paper_total;

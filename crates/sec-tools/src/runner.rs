@@ -4,7 +4,9 @@
 //! every report regenerated from them).
 //!
 //! Resumable: a finished run is a complete `.jsonl.gz` file and is skipped; an unfinished one is
-//! a `.part` file and starts again (runs are deterministic, so nothing differs but the time spent).
+//! a `.part` file, continued from its `.ckpt` checkpoint where its agent writes them (DQN and
+//! ERLAM, whose runs take hours), and started again otherwise (runs are deterministic, so either
+//! way nothing differs but the time spent).
 //! `--shard i/N` takes every N-th job, so shards on several machines write disjoint files into
 //! copies of the same tree, which merge by copying.
 
@@ -15,7 +17,7 @@ use sec_playground::experiment::presets::Condition;
 use sec_playground::experiment::{Run, RunConfig};
 use sec_playground::seed::MAX_SEED;
 use std::fs;
-use std::io::{BufWriter, Read, Write};
+use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
@@ -154,21 +156,75 @@ pub fn jobs(conditions: &[Condition], seeds: &[u64], (shard, of): (usize, usize)
     all.enumerate().filter(|(i, _)| i % of == shard - 1).map(|(_, j)| j).collect()
 }
 
-/// Plays one job's `episodes` into `<file>.part`, then renames it into place.
-fn run_job(job: &Job, out: &Path, episodes: usize, bar: &ProgressBar) -> Result<(), String> {
+/// Where an interrupted run's checkpoint lies, beside its `.part` file.
+pub fn checkpoint_path(out: &Path, condition: &str, seed: u64) -> PathBuf {
+    run_path(out, condition, seed).with_extension("ckpt")
+}
+
+/// The run to continue and the log lines it has played: from the checkpoint an interrupted run
+/// left, with the first lines of its `.part` file (those the checkpoint had played; any written
+/// after it are played again), or a fresh run.
+fn start(job: &Job, part: &Path, ckpt: &Path) -> Result<(Run, Vec<String>), String> {
+    if let (Ok(file), Ok(text)) = (fs::File::open(ckpt), fs::read_to_string(part)) {
+        match Run::resume(job.config.clone(), job.seed, Some(sec_dqn::factory), &mut BufReader::new(file)) {
+            Ok(run) => {
+                let played = run.env().episode() as usize;
+                let lines: Vec<String> = text.lines().take(played).map(str::to_string).collect();
+                if lines.len() == played {
+                    return Ok((run, lines));
+                }
+            }
+            Err(e) => eprintln!("{}: not resumed ({e}); the run starts again", ckpt.display()),
+        }
+    }
+    let run = Run::with_agents(job.config.clone(), job.seed, Some(sec_dqn::factory))
+        .map_err(|e| format!("{}: {e}", job.condition))?;
+    Ok((run, Vec::new()))
+}
+
+/// Writes the run's checkpoint in place of the last (through a temporary file, so an
+/// interruption leaves the previous one whole).
+fn save_checkpoint(run: &Run, ckpt: &Path) -> Result<(), String> {
+    let tmp = ckpt.with_extension("ckpt.tmp");
+    let mut w = BufWriter::new(fs::File::create(&tmp).map_err(|e| format!("{}: {e}", tmp.display()))?);
+    run.save_checkpoint(&mut w).map_err(|e| format!("{}: {e}", tmp.display()))?;
+    w.flush().map_err(|e| format!("{}: {e}", tmp.display()))?;
+    drop(w);
+    fs::rename(&tmp, ckpt).map_err(|e| format!("{}: {e}", ckpt.display()))
+}
+
+/// Plays one job's episodes into `<file>.part`, up to `stop` of them (`episodes` but in tests),
+/// with a checkpoint every `every` episodes (0: none) when the agent can write one.
+fn play(job: &Job, out: &Path, episodes: usize, every: usize, stop: usize, bar: &ProgressBar) -> Result<(), String> {
     let path = run_path(out, &job.condition, job.seed);
-    let part = path.with_extension("part");
+    let (part, ckpt) = (path.with_extension("part"), checkpoint_path(out, &job.condition, job.seed));
+    let (mut run, played) = start(job, &part, &ckpt)?;
     let file = fs::File::create(&part).map_err(|e| format!("{}: {e}", part.display()))?;
     let mut w = BufWriter::new(file);
-    let mut run = Run::with_agents(job.config.clone(), job.seed, Some(sec_dqn::factory))
-        .map_err(|e| format!("{}: {e}", job.condition))?;
-    for _ in 0..episodes {
+    for line in &played {
+        writeln!(w, "{line}").map_err(|e| format!("{}: {e}", part.display()))?;
+    }
+    bar.inc(played.len() as u64);
+    for i in played.len()..stop.min(episodes) {
         let m = run.episode();
         writeln!(w, "{}", m.to_json()).map_err(|e| format!("{}: {e}", part.display()))?;
         bar.inc(1);
+        let n = i + 1;
+        if every > 0 && n % every == 0 && n < episodes && run.can_checkpoint() {
+            // The log first: a checkpoint never runs ahead of the lines it continues.
+            w.flush().map_err(|e| format!("{}: {e}", part.display()))?;
+            save_checkpoint(&run, &ckpt)?;
+        }
     }
-    w.flush().map_err(|e| format!("{}: {e}", part.display()))?;
-    drop(w);
+    w.flush().map_err(|e| format!("{}: {e}", part.display()))
+}
+
+/// Plays one job's `episodes` (resuming an interrupted run from its checkpoint), then gzips the
+/// log into place and removes the checkpoint.
+fn run_job(job: &Job, out: &Path, episodes: usize, every: usize, bar: &ProgressBar) -> Result<(), String> {
+    play(job, out, episodes, every, episodes, bar)?;
+    let path = run_path(out, &job.condition, job.seed);
+    let part = path.with_extension("part");
     let text = fs::read(&part).map_err(|e| format!("{}: {e}", part.display()))?;
     let mut gz = GzEncoder::new(Vec::new(), flate2::Compression::best());
     gz.write_all(&text).map_err(|e| format!("{}: {e}", path.display()))?;
@@ -176,12 +232,24 @@ fn run_job(job: &Job, out: &Path, episodes: usize, bar: &ProgressBar) -> Result<
     fs::write(&tmp, gz.finish().map_err(|e| format!("{}: {e}", path.display()))?)
         .map_err(|e| format!("{}: {e}", tmp.display()))?;
     fs::rename(&tmp, &path).map_err(|e| format!("{}: {e}", path.display()))?;
-    fs::remove_file(&part).map_err(|e| format!("{}: {e}", part.display()))
+    fs::remove_file(&part).map_err(|e| format!("{}: {e}", part.display()))?;
+    let ckpt = checkpoint_path(out, &job.condition, job.seed);
+    match fs::remove_file(&ckpt) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(format!("{}: {e}", ckpt.display())),
+        _ => Ok(()),
+    }
 }
 
 /// Runs the unfinished `jobs` on `threads` threads with a progress bar on standard error (a line
-/// per finished run when it is not a terminal). Returns (runs made, runs already there).
-pub fn run_all(jobs: &[Job], out: &Path, episodes: usize, threads: usize) -> Result<(usize, usize), String> {
+/// per finished run when it is not a terminal), each checkpointing every `every` episodes (0:
+/// never; only agents that can, DQN and ERLAM). Returns (runs made, runs already there).
+pub fn run_all(
+    jobs: &[Job],
+    out: &Path,
+    episodes: usize,
+    every: usize,
+    threads: usize,
+) -> Result<(usize, usize), String> {
     let todo: Vec<&Job> =
         jobs.iter().filter(|j| finished_episodes(&run_path(out, &j.condition, j.seed)) < episodes).collect();
     let skipped = jobs.len() - todo.len();
@@ -199,7 +267,7 @@ pub fn run_all(jobs: &[Job], out: &Path, episodes: usize, threads: usize) -> Res
             s.spawn(|| loop {
                 let i = next.fetch_add(1, Ordering::Relaxed);
                 let Some(job) = todo.get(i) else { break };
-                match run_job(job, out, episodes, &bar) {
+                match run_job(job, out, episodes, every, &bar) {
                     Ok(()) => {
                         let n = done.fetch_add(1, Ordering::Relaxed) + 1;
                         let line = format!("{}/{} runs: {} seed {}", n, todo.len(), job.condition, job.seed);
@@ -220,4 +288,56 @@ pub fn run_all(jobs: &[Job], out: &Path, episodes: usize, threads: usize) -> Res
         return Err(format!("{} run(s) failed; the first: {e}", errors.len()));
     }
     Ok((todo.len(), skipped))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sec_playground::agent::dqn::DqnConfig;
+    use sec_playground::experiment::AgentKind;
+
+    fn dir(name: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("sec-runner-test-{}-{name}", std::process::id()));
+        let _ = fs::remove_dir_all(&d);
+        fs::create_dir_all(d.join("c/dqn")).unwrap();
+        d
+    }
+
+    #[test]
+    fn an_interrupted_run_resumes_from_its_checkpoint_to_the_same_log() {
+        let dqn = DqnConfig { random_decisions: 10, batch_size: 4, replay_size: 30, ..DqnConfig::default() };
+        let config = RunConfig {
+            task: "object-permanence".into(),
+            kind: AgentKind::Dqn,
+            t: Some(60),
+            dqn,
+            ..RunConfig::default()
+        };
+        let job = Job { condition: "c/dqn".into(), config, seed: 2 };
+        let bar = ProgressBar::hidden();
+        let whole = dir("whole");
+        run_job(&job, &whole, 6, 0, &bar).unwrap();
+        let expected = read_run_text(&run_path(&whole, "c/dqn", 2)).unwrap();
+
+        // Killed after episode 5 with the checkpoint of episode 4: the fifth is played again.
+        let cut = dir("cut");
+        play(&job, &cut, 6, 2, 5, &bar).unwrap();
+        let ckpt = checkpoint_path(&cut, "c/dqn", 2);
+        assert!(ckpt.exists(), "a checkpoint was left");
+        let part = run_path(&cut, "c/dqn", 2).with_extension("part");
+        assert_eq!(fs::read_to_string(&part).unwrap().lines().count(), 5);
+        run_job(&job, &cut, 6, 2, &bar).unwrap();
+        assert_eq!(read_run_text(&run_path(&cut, "c/dqn", 2)).unwrap(), expected);
+        assert!(!ckpt.exists() && !part.exists(), "a finished run leaves only its log");
+
+        // A corrupt checkpoint is not used: the run starts again, to the same log.
+        let bad = dir("bad");
+        play(&job, &bad, 6, 2, 3, &bar).unwrap();
+        fs::write(checkpoint_path(&bad, "c/dqn", 2), b"SECCKPT1garbage").unwrap();
+        run_job(&job, &bad, 6, 2, &bar).unwrap();
+        assert_eq!(read_run_text(&run_path(&bad, "c/dqn", 2)).unwrap(), expected);
+        for d in [whole, cut, bad] {
+            fs::remove_dir_all(d).unwrap();
+        }
+    }
 }

@@ -1,6 +1,8 @@
 //! DQN's speed on one core: the network's decision (one frame's Q) and a training step (batch 32,
 //! online and target networks, backward, RMSprop), and the multiply-adds per second they reach.
 //! `cargo run --release -p sec-dqn --bin dqn-bench` (BENCHMARKS.md has the numbers).
+//! `dqn-bench --graph RUN.jsonl.ckpt` times a value propagation of the graph an ERLAM run's
+//! checkpoint holds (a real graph, whose merged states form long chains) instead.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -9,6 +11,7 @@ use sec_dqn::Dqn;
 use sec_playground::agent::controller::{Controller, Step};
 use sec_playground::agent::dqn::DqnConfig;
 use sec_playground::agent::dqn::ErlamConfig;
+use sec_playground::experiment::checkpoint::Header;
 use std::time::Instant;
 
 /// Multiply-adds of one frame's forward pass: the three convolutions and the two dense layers.
@@ -19,6 +22,16 @@ const FORWARD_MACS: f64 = (20.0 * 20.0 * 32.0 * 192.0)
     + (512.0 * 9.0);
 
 fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if let [flag, path] = args.as_slice() {
+        if flag == "--graph" {
+            if let Err(e) = real_graph(path) {
+                eprintln!("dqn-bench: {path}: {e}");
+                std::process::exit(1);
+            }
+            return;
+        }
+    }
     let mut rng = ChaCha8Rng::seed_from_u64(1);
     let mut dqn = Dqn::new(DqnConfig::default(), 1, &mut rng).expect("the defaults are valid");
     for k in 0..64u32 {
@@ -108,4 +121,23 @@ fn erlam_graph(rng: &mut ChaCha8Rng) {
         propagate,
         g.last_sweeps
     );
+}
+
+/// A value propagation of the graph in an ERLAM run's checkpoint.
+fn real_graph(path: &str) -> Result<(), String> {
+    let mut input = std::io::BufReader::new(std::fs::File::open(path).map_err(|e| e.to_string())?);
+    let header = Header::read(&mut input).map_err(|e| e.to_string())?;
+    let mut g = sec_dqn::checkpoint::graph(&header.config, &mut input)?;
+    let t0 = Instant::now();
+    g.propagate(header.config.erlam.propagate_every);
+    println!(
+        "ERLAM graph of {} ({} episodes, seed {}): {} nodes; a propagation {:.2} s ({} sweeps)",
+        header.config.task,
+        header.episodes,
+        header.seed,
+        g.len(),
+        t0.elapsed().as_secs_f64(),
+        g.last_sweeps
+    );
+    Ok(())
 }

@@ -3,6 +3,7 @@
 //!
 //!   sec-experiment run EXPERIMENT [--seeds 20|1..20|1,5,9] [--episodes 5000] [--jobs N]
 //!                      [--shard i/N] [--out results/experiments] [--only GROUP/MODEL,...]
+//!                      [--checkpoint-every 50]
 //!   sec-experiment run --config FILE.json --name GROUP/MODEL [same options]
 //!   sec-experiment report EXPERIMENT [--out results/experiments]
 //!   sec-experiment orderings [--out results/experiments] [--trained results/experiments-trained]
@@ -13,7 +14,8 @@
 //!   sec-experiment record --config FILE.json --seed S --episodes N --events OUT.jsonl
 //!   sec-experiment trace --config FILE.json --seed S --events IN.jsonl [--trace OUT.jsonl]
 //!
-//! Runs go to `OUT/EXPERIMENT/<group>/<model>/seed-S.jsonl`, one JSON line per episode.
+//! Runs go to `OUT/EXPERIMENT/<group>/<model>/seed-S.jsonl.gz`, one JSON line per episode; a DQN
+//! or ERLAM run in progress keeps a checkpoint `seed-S.jsonl.ckpt` beside its log and resumes from it.
 
 use sec_playground::experiment::presets::{self, Condition, EXPERIMENTS};
 use sec_playground::experiment::trace::trace;
@@ -27,7 +29,7 @@ use std::process::ExitCode;
 
 const USAGE: &str = "usage:
   sec-experiment run EXPERIMENT [--seeds N|A..B|A,B,C] [--episodes N] [--jobs N] [--shard i/N] [--out DIR]
-                     [--only PREFIX,PREFIX]
+                     [--only PREFIX,PREFIX] [--checkpoint-every N]
   sec-experiment run --config FILE.json --name GROUP/MODEL [the same options]
   sec-experiment report EXPERIMENT [--out DIR]
   sec-experiment orderings [--out DIR] [--trained DIR] [--to DIR] [--quote PAGE.md]
@@ -36,7 +38,8 @@ const USAGE: &str = "usage:
   sec-experiment list
   sec-experiment record --config FILE.json --seed S --episodes N --events OUT.jsonl
   sec-experiment trace --config FILE.json --seed S --events IN.jsonl [--trace OUT.jsonl]
-defaults: --seeds 1..20, --episodes 5000, --jobs all cores, --shard 1/1, --out results/experiments";
+defaults: --seeds 1..20, --episodes 5000, --jobs all cores, --shard 1/1, --out results/experiments,
+  --checkpoint-every 50 (episodes; 0: never; DQN and ERLAM runs, which resume from it mid-run)";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -153,7 +156,8 @@ fn dispatch(args: &[String]) -> Result<(), String> {
 }
 
 fn run(args: &[String]) -> Result<(), String> {
-    let (pos, o) = options(args, &["seeds", "episodes", "jobs", "shard", "out", "config", "name", "only"])?;
+    let (pos, o) =
+        options(args, &["seeds", "episodes", "jobs", "shard", "out", "config", "name", "only", "checkpoint-every"])?;
     let seeds = runner::parse_seeds(o.get("seeds").copied().unwrap_or("1..20"))?;
     let episodes = number("episodes", o.get("episodes").copied().unwrap_or("5000"), 1usize, 1_000_000)?;
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
@@ -162,6 +166,7 @@ fn run(args: &[String]) -> Result<(), String> {
         None => cores,
     };
     let shard = runner::parse_shard(o.get("shard").copied().unwrap_or("1/1"))?;
+    let every = number("checkpoint-every", o.get("checkpoint-every").copied().unwrap_or("50"), 0usize, 1_000_000)?;
     let out = PathBuf::from(o.get("out").copied().unwrap_or("results/experiments"));
     let (experiment, conditions): (String, Vec<Condition>) = match (pos.as_slice(), o.get("config")) {
         ([name], None) => (name.to_string(), presets::experiment(name).map_err(|e| e.to_string())?),
@@ -210,7 +215,7 @@ fn run(args: &[String]) -> Result<(), String> {
         dir.display()
     );
     let t0 = std::time::Instant::now();
-    let (made, skipped) = runner::run_all(&jobs_list, &dir, episodes, jobs)?;
+    let (made, skipped) = runner::run_all(&jobs_list, &dir, episodes, every, jobs)?;
     eprintln!("{made} runs made, {skipped} already there, in {:.0} s", t0.elapsed().as_secs_f64());
     Ok(())
 }

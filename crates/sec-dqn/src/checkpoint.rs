@@ -1,0 +1,141 @@
+//! DQN's and ERLAM's state in a run checkpoint (`sec_playground::experiment::checkpoint`), as
+//! CBOR: the online and target networks and the RMSprop state as burn writes them (burnpack
+//! bytes, which keep the parameter ids the optimiser state is keyed by), the replay buffer or the
+//! graph with its frames as byte strings, the reactive walk and the counters. Written between
+//! episodes; loaded onto an agent built from the same configuration and seed.
+
+use crate::graph::Graph;
+use crate::net::NatureCnn;
+use crate::replay::Replay;
+use crate::{optimiser_config, Dqn, Memory};
+use burn::module::Module;
+use burn::store::ModuleRecord;
+use burn::tensor::Bytes;
+use sec_playground::agent::Reactive;
+use sec_playground::encoder::{EMBEDDING, IMAGE};
+use sec_playground::experiment::RunConfig;
+use sec_playground::memory::ACTIONS;
+use serde_bytes::ByteBuf;
+use std::io::{BufReader, BufWriter, Read, Write};
+
+/// The agent's state, with the memory as `M`: borrowed to write, owned when read.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct Saved<M> {
+    online: ByteBuf,
+    target: ByteBuf,
+    optimiser: ByteBuf,
+    reactive: Reactive,
+    epsilon: f64,
+    decisions: u64,
+    action: u8,
+    pending: f64,
+    entropy: f64,
+    memory: M,
+}
+
+/// ERLAM's state besides the graph: the frame the next transition starts from (with its
+/// embedding) and the episodes added so far.
+type Start = Option<(ByteBuf, [f32; EMBEDDING])>;
+
+#[derive(serde::Serialize)]
+enum MemoryOut<'a> {
+    Replay(&'a Replay),
+    Graph { graph: &'a Graph, start: Start, episodes: u64 },
+}
+
+#[derive(serde::Deserialize)]
+enum MemoryIn {
+    Replay(Replay),
+    Graph { graph: Box<Graph>, start: Start, episodes: u64 },
+}
+
+fn network_bytes(net: &NatureCnn) -> Result<ByteBuf, String> {
+    let bytes = net.clone().into_record().into_bytes().map_err(|e| format!("network: {e}"))?;
+    Ok(ByteBuf::from(bytes.to_vec()))
+}
+
+fn network_from(net: NatureCnn, bytes: ByteBuf, what: &str) -> Result<NatureCnn, String> {
+    let record =
+        ModuleRecord::from_bytes(Bytes::from_bytes_vec(bytes.into_vec())).map_err(|e| format!("{what}: {e}"))?;
+    net.try_load_record(record).map_err(|e| format!("{what}: {e}"))
+}
+
+pub(crate) fn save(dqn: &Dqn, out: &mut dyn Write) -> Result<(), String> {
+    let memory = match &dqn.memory {
+        Memory::Replay(r) => MemoryOut::Replay(r),
+        Memory::Graph(a) => MemoryOut::Graph {
+            graph: &a.graph,
+            start: a.state.as_ref().map(|(s, e)| (ByteBuf::from(s.clone()), *e)),
+            episodes: a.episodes,
+        },
+    };
+    let optimiser = dqn.optim.into_bytes().map_err(|e| format!("optimiser: {e}"))?;
+    let saved = Saved {
+        online: network_bytes(dqn.network())?,
+        target: network_bytes(&dqn.target)?,
+        optimiser: ByteBuf::from(optimiser.to_vec()),
+        reactive: dqn.reactive.clone(),
+        epsilon: dqn.epsilon,
+        decisions: dqn.decisions,
+        action: dqn.action,
+        pending: dqn.pending,
+        entropy: dqn.entropy,
+        memory,
+    };
+    let mut out = BufWriter::new(out);
+    ciborium::into_writer(&saved, &mut out).map_err(|e| e.to_string())?;
+    out.flush().map_err(|e| e.to_string())
+}
+
+/// Loads onto `dqn` (freshly built from the run's configuration and seed); on an error `dqn` is
+/// to be dropped.
+pub(crate) fn load(dqn: &mut Dqn, input: &mut dyn Read) -> Result<(), String> {
+    let saved: Saved<MemoryIn> = ciborium::from_reader(BufReader::new(input)).map_err(|e| e.to_string())?;
+    let Saved { online, target, optimiser, reactive, epsilon, decisions, action, pending, entropy, memory } = saved;
+    match (memory, &mut dqn.memory) {
+        (MemoryIn::Replay(r), Memory::Replay(replay)) => {
+            r.check(dqn.cfg.replay_size, IMAGE)?;
+            *replay = r;
+        }
+        (MemoryIn::Graph { graph, start, episodes }, Memory::Graph(a)) => {
+            a.graph = (*graph).restored(&a.graph, IMAGE)?;
+            a.state = match start {
+                Some((s, _)) if s.len() != IMAGE => return Err("erlam: the start frame is not a frame".into()),
+                Some((s, e)) => Some((s.into_vec(), e)),
+                None => None,
+            };
+            a.episodes = episodes;
+        }
+        _ => return Err("the checkpoint is of the other agent (dqn or erlam)".into()),
+    }
+    let (low, high) = (dqn.cfg.epsilon_end.min(dqn.cfg.epsilon_start), dqn.cfg.epsilon_end.max(dqn.cfg.epsilon_start));
+    if !(low..=high).contains(&epsilon) {
+        return Err(format!("epsilon: {epsilon} is out of range {low}..={high}"));
+    }
+    if action as usize >= ACTIONS || !pending.is_finite() || !entropy.is_finite() {
+        return Err("the last action, the pending reward or the entropy is not sound".into());
+    }
+    dqn.net = Some(network_from(dqn.network().clone(), online, "online network")?);
+    dqn.target = network_from(dqn.target.clone(), target, "target network")?;
+    dqn.optim = optimiser_config()
+        .init()
+        .from_bytes(Bytes::from_bytes_vec(optimiser.into_vec()))
+        .map_err(|e| format!("optimiser: {e}"))?;
+    dqn.reactive = reactive;
+    dqn.epsilon = epsilon;
+    dqn.decisions = decisions;
+    dqn.action = action;
+    dqn.pending = pending;
+    dqn.entropy = entropy;
+    Ok(())
+}
+
+/// ERLAM's graph as a checkpoint of a run of `cfg` holds it (`input` past the run's header): the
+/// benchmark's real graph.
+pub fn graph(cfg: &RunConfig, input: &mut dyn Read) -> Result<Graph, String> {
+    let saved: Saved<MemoryIn> = ciborium::from_reader(BufReader::new(input)).map_err(|e| e.to_string())?;
+    match saved.memory {
+        MemoryIn::Graph { graph, .. } => (*graph).restored(&Graph::new(cfg.erlam.clone(), cfg.dqn.gamma), IMAGE),
+        MemoryIn::Replay(_) => Err("a DQN checkpoint has no graph".into()),
+    }
+}
