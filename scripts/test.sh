@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Runs every test: the fast gate (fmt, clippy, docs), native Rust tests, the wasm tests under
-# Node, and the page in real Chromium.
+# Runs every test: the fast gate (fmt, clippy, docs), native Rust tests, the Python package's
+# pytest suite, the wasm tests under Node, and the page in real Chromium.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
@@ -9,6 +9,8 @@ echo "== the fast gate (scripts/lint.sh)"
 ./scripts/setup.sh
 echo "== native tests (cargo test --workspace)"
 cargo test --workspace
+echo "== the Python package (scripts/python-test.sh: maturin develop, pytest)"
+./scripts/python-test.sh
 echo "== release wasm build for the page"
 ./scripts/build.sh
 echo "== the page's test flavour (pkg/hooks: the test hooks on)"

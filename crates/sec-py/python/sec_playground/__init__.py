@@ -1,0 +1,35 @@
+"""SEC Playground from Python: the Animal-AI arenas of Freire, Amil & Verschure's "Sequential
+memory improves sample and memory efficiency in Episodic Control" as Gymnasium environments,
+SEC, NSEC, MFEC and the reactive walk as runs, and the bundled encoders.
+
+    import gymnasium as gym
+    import sec_playground  # registers SecPlayground/DoubleTMaze-v0 and the others
+    env = gym.make("SecPlayground/DoubleTMaze-v0", frame_skip=4)
+    obs, info = env.reset(seed=1)
+
+Everything runs in Rust (the same core as the browser playground and the native experiments);
+a run is a pure function of its configuration and seed, on every platform.
+"""
+
+from ._core import MAX_SEED, TASKS, Encoder, fingerprint
+from .envs import ENV_IDS, ArenaEnv, ArenaVectorEnv
+from .run import Run
+
+__all__ = ["ArenaEnv", "ArenaVectorEnv", "Encoder", "Run", "TASKS", "ENV_IDS", "MAX_SEED", "fingerprint"]
+
+
+def _register():
+    from gymnasium.envs.registration import register, registry
+
+    for env_id, task in ENV_IDS.items():
+        if env_id not in registry:
+            kwargs = {} if task is None else {"task": task}
+            register(
+                id=env_id,
+                entry_point="sec_playground.envs:ArenaEnv",
+                vector_entry_point="sec_playground.envs:ArenaVectorEnv",
+                kwargs=kwargs,
+            )
+
+
+_register()
