@@ -12,6 +12,16 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
     h
 }
 
+/// A value as an error message shows it: cut after 40 characters, so that a pasted page of text
+/// (or a 10 MiB name in a file) does not fill the screen.
+pub fn shown(value: &str) -> String {
+    const MAX: usize = 40;
+    match value.char_indices().nth(MAX) {
+        Some((at, _)) => format!("{}… ({} characters)", &value[..at], value.chars().count()),
+        None => value.to_string(),
+    }
+}
+
 /// Reads a little-endian binary file front to back; running past its end is a "truncated"
 /// error naming `what` (the kind of file: "weights", "memory").
 pub(crate) struct ByteReader<'a> {

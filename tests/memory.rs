@@ -306,7 +306,7 @@ fn bad_parameters_name_themselves_and_their_range() {
     let e = |c: MemoryConfig| Memory::new(c).unwrap_err().to_string();
     assert_eq!(e(MemoryConfig { n: 0, ..cfg(1) }), "n: 0 is out of range 1..=1000");
     assert_eq!(e(MemoryConfig { m: 0, ..cfg(1) }), "m: 0 is out of range 1..=100000");
-    assert!(e(MemoryConfig { tau: 0.0, ..cfg(1) }).starts_with("tau: 0 is out of range (0, 100]"));
+    assert!(e(MemoryConfig { tau: 0.0, ..cfg(1) }).starts_with("tau: 0 is out of range [0.01, 100]"));
     assert!(e(MemoryConfig { alpha: f64::NAN, ..cfg(1) }).starts_with("alpha: NaN"));
     assert!(e(MemoryConfig { theta_prop: 1.5, ..cfg(1) }).starts_with("thetaProp: 1.5 is out of range [0, 1]"));
     assert!(Forgetting::parse("lru").unwrap_err().to_string().starts_with("forgetting:"));

@@ -110,3 +110,47 @@ fn random_values_and_several_arenas() {
     let g = a.goals[0].centre;
     assert!((0.0..=40.0).contains(&g.x) && (0.0..=40.0).contains(&g.z));
 }
+
+/// Issue 20's reproducers: a deeply nested file, an arena of 10,000 random walls, a huge name.
+#[test]
+fn hostile_files_are_refused_quickly_with_the_line_and_field() {
+    use sec_playground::arena::yaml::{MAX_DEPTH, MAX_OBJECTS};
+    for deep in [
+        format!("arenas:\n  0: !Arena\n    items:\n    {}x\n", "- ".repeat(20_000)),
+        format!("arenas: {}{}", "[".repeat(20_000), "]".repeat(20_000)),
+        format!("arenas: {}", "{a: ".repeat(5_000)),
+    ] {
+        let e = err(&deep);
+        assert_eq!(e.field, "yaml", "{e}");
+        // Our depth limit, or the scanner's own on flow collections.
+        let refused = e.message.contains(&format!("deeper than {MAX_DEPTH}")) || e.message.contains("recursion limit");
+        assert!(refused, "{e}");
+    }
+    let walls = format!(
+        "arenas:\n  0: !Arena\n    items:\n    - !Item\n      name: Wall\n      colors:\n{}",
+        "      - !RGB {r: 1, g: 2, b: 3}\n".repeat(10_000)
+    );
+    let t0 = std::time::Instant::now();
+    let e = err(&walls);
+    assert_eq!((e.line, e.field.as_str()), (Some(5), "arenas.0.items[0]"));
+    assert!(e.message.contains(&format!("more than {MAX_OBJECTS}")), "{e}");
+    assert!(t0.elapsed().as_secs_f64() < 5.0, "refused, not spawned: {:?}", t0.elapsed());
+    // At the bound, the arena loads and spawns.
+    let bounded = walls.replace(
+        &"      - !RGB {r: 1, g: 2, b: 3}\n".repeat(10_000),
+        &"      - !RGB {r: 1, g: 2, b: 3}\n".repeat(MAX_OBJECTS),
+    );
+    let t = load_task("bounded", &bounded).unwrap();
+    World::spawn(&t.layouts[0], &mut ChaCha8Rng::seed_from_u64(1));
+    let long = "W".repeat(1 << 20);
+    for src in [
+        format!("arenas:\n  0: !Arena\n    items:\n    - !Item\n      name: {long}\n"),
+        format!("arenas:\n  0: !Arena\n    {long}: 3\n"),
+        format!("arenas:\n  0: !Arena\n    t: {long}\n"),
+    ] {
+        let e = err(&src);
+        assert!(e.to_string().len() < 300, "a message of {} bytes", e.to_string().len());
+    }
+    let e = err("arenas:\n  0: !Arena\n    \"\": 3\n");
+    assert_eq!(e.field, "arenas.0.\"\"");
+}

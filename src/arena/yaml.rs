@@ -4,6 +4,7 @@
 
 use super::{AgentSpec, ConfigError, Layout, ObjectKind, ObjectSpec, Rgb, Task, ARENA_SIZE, AXES, MAX_T};
 use crate::error::FileError;
+use crate::util::shown;
 use yaml_rust2::parser::{Event, MarkedEventReceiver, Parser};
 use yaml_rust2::scanner::Marker;
 
@@ -70,11 +71,30 @@ impl MarkedEventReceiver for Builder {
     }
 }
 
+/// Nesting a file may have: Animal-AI's need 6 (arenas, an arena, items, an item, positions, a
+/// vector). The parser is driven event by event here, not by its recursive loader, and refused
+/// past this depth, so a deeply nested file cannot overflow the stack.
+pub const MAX_DEPTH: usize = 32;
+/// Objects an arena may hold (Animal-AI's tasks hold a few dozen); beyond it spawning, which
+/// tries every random object against every placed one, would take seconds per reset.
+pub const MAX_OBJECTS: usize = 200;
+
 fn parse(src: &str) -> Result<Node, ConfigError> {
     let mut b = Builder::default();
-    Parser::new_from_str(src)
-        .load(&mut b, false)
-        .map_err(|e| ConfigError::at(e.marker().line().max(1), "yaml", e.info().to_string()))?;
+    let mut parser = Parser::new_from_str(src);
+    loop {
+        let (ev, mark) =
+            parser.next_token().map_err(|e| ConfigError::at(e.marker().line().max(1), "yaml", e.info().to_string()))?;
+        // One document, as the loader's single-document mode reads.
+        if matches!(ev, Event::StreamEnd | Event::DocumentEnd) {
+            break;
+        }
+        b.on_event(ev, mark);
+        if b.stack.len() > MAX_DEPTH {
+            let message = format!("nested deeper than {MAX_DEPTH} levels (Animal-AI files need 6)");
+            return Err(ConfigError::at(mark.line().max(1), "yaml", message));
+        }
+    }
     if let Some(line) = b.alias {
         return Err(ConfigError::at(line, "yaml", "aliases are not supported"));
     }
@@ -125,9 +145,10 @@ fn map_get<'a>(node: &'a Node, field: &str, allowed: &[&str]) -> Result<Vec<(Str
     for (k, v) in pairs {
         let key = scalar(k, field)?;
         if !allowed.contains(&key.as_str()) {
+            let named = if key.is_empty() { "\"\"".to_string() } else { shown(&key) };
             return Err(ConfigError::at(
                 k.line(),
-                join(field, &key),
+                join(field, &named),
                 format!("unknown field; expected one of {}", allowed.join(", ")),
             ));
         }
@@ -167,7 +188,7 @@ fn number(node: &Node, field: &str) -> Result<f32, ConfigError> {
     let s = scalar(node, field)?;
     match s.trim().parse::<f32>() {
         Ok(v) if v.is_finite() => Ok(v),
-        _ => Err(ConfigError::at(node.line(), field, format!("'{s}' is not a number"))),
+        _ => Err(ConfigError::at(node.line(), field, format!("'{}' is not a number", shown(&s)))),
     }
 }
 
@@ -206,7 +227,16 @@ fn layout(name: &str, node: &Node, field: &str) -> Result<Layout, ConfigError> {
                 for (i, item) in seq(v, &f)?.iter().enumerate() {
                     let ifield = format!("{f}[{i}]");
                     match parse_item(item, &ifield)? {
-                        Item::Objects(objs) => out.objects.extend(objs),
+                        Item::Objects(objs) => {
+                            out.objects.extend(objs);
+                            if out.objects.len() > MAX_OBJECTS {
+                                let message = format!(
+                                    "the arena holds {} objects with this item, more than {MAX_OBJECTS}",
+                                    out.objects.len()
+                                );
+                                return Err(ConfigError::at(item.line(), ifield, message));
+                            }
+                        }
                         Item::Agent(a) => {
                             if agent_seen {
                                 return Err(ConfigError::at(item.line(), ifield, "a second Agent item"));
@@ -310,7 +340,7 @@ fn parse_item(node: &Node, field: &str) -> Result<Item, ConfigError> {
         return Err(ConfigError::at(
             name_node.line(),
             join(field, "name"),
-            format!("unknown item '{name}'; supported: {}", known.join(", ")),
+            format!("unknown item '{}'; supported: {}", shown(&name), known.join(", ")),
         ));
     };
     let (lo, hi) = kind.size_range();

@@ -22,6 +22,9 @@ pub enum DType {
     F16 = 2,
 }
 
+/// The largest magnitude a weight may have (trained ones stay below 10).
+pub const MAX_WEIGHT: f32 = 1e4;
+
 /// One named tensor (row-major, shape as stored).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Tensor {
@@ -98,9 +101,7 @@ impl Weights {
         };
         let task = r.string()?;
         let embedding_scale = f32::from_le_bytes(r.take(4)?.try_into().unwrap());
-        if !(embedding_scale.is_finite() && embedding_scale > 0.0) {
-            return Err(err(format!("embedding scale {embedding_scale} must be a positive number")));
-        }
+        crate::encoder::perception::check_scale(embedding_scale).map_err(|e| FileError::value("weights", e))?;
         let n = r.u32()? as usize;
         let mut heads = Vec::new();
         for _ in 0..n.min(1024) {
@@ -112,12 +113,21 @@ impl Weights {
         let width = if dtype == DType::F32 { 4 } else { 2 };
         let mut tensors = Vec::new();
         for (name, shape) in heads {
-            let count: usize = shape.iter().product();
+            let count =
+                shape.iter().try_fold(1usize, |a, &d| a.checked_mul(d)).ok_or_else(|| err("tensor size overflows"))?;
             let raw = r.take(count.checked_mul(width).ok_or_else(|| err("tensor size overflows"))?)?;
-            let data = match dtype {
+            let data: Vec<f32> = match dtype {
                 DType::F32 => raw.chunks_exact(4).map(|c| f32::from_le_bytes(c.try_into().unwrap())).collect(),
                 DType::F16 => raw.chunks_exact(2).map(|c| half::f16::from_le_bytes([c[0], c[1]]).to_f32()).collect(),
             };
+            // Weights bound every activation: one infinite bias makes every embedding infinite.
+            if let Some(v) = data.iter().find(|v: &&f32| !v.is_finite() || v.abs() > MAX_WEIGHT) {
+                return Err(FileError::field(
+                    "weights",
+                    crate::util::shown(&name),
+                    format!("holds {v}, outside the finite range +-{MAX_WEIGHT}"),
+                ));
+            }
             tensors.push(Tensor { name, shape, data });
         }
         if r.at != body.len() {

@@ -19,7 +19,10 @@ pub fn fill_ltm(run: &mut Run, rows: usize) {
     let mut env = run.env.clone();
     let (mut image, mut scratch) = (vec![0.0; IMAGE], Scratch::default());
     let mut action = Action::NOOP;
-    while agent.memory.len() < rows.min(agent.memory.config().m) {
+    // Counted in stores, not in rows: with forgetting on, a full LTM stays one row short.
+    let target = rows.min(agent.memory.config().m);
+    let mut stores = 0;
+    while stores < target && agent.memory.len() < target {
         if env.is_over() {
             env.reset(None);
         }
@@ -31,6 +34,7 @@ pub fn fill_ltm(run: &mut Run, rows: usize) {
         agent.memory.push(crate::memory::Couplet { embedding: e, action: action.index() as u8 });
         if rng.gen_bool(0.2) {
             agent.memory.store(rng.gen_range(0.5..3.0), &mut rng);
+            stores += 1;
         }
     }
 }

@@ -12,6 +12,7 @@ use crate::encoder::PerceptionKind;
 use crate::memory::{
     Forgetting, ValueFn, ALPHA_RANGE, BETA_RANGE, M_RANGE, N_RANGE, TAU_RANGE, THETA_ABS_RANGE, THETA_PROP_RANGE,
 };
+use crate::util::shown;
 use std::collections::BTreeMap;
 
 /// Flat settings, key to value, as the URL hash holds them.
@@ -170,7 +171,7 @@ fn table() -> Vec<Setting> {
             set: |c, _, v| c.agent.memory.beta = v,
         },
         Setting {
-            param: number("tau", "τ", "Distance discount exp(-d/τ): lower favours couplets near the goal.", TAU_RANGE, true, 0.01),
+            param: number("tau", "τ", "Distance discount exp(-d/τ): lower favours couplets near the goal.", TAU_RANGE, false, 0.01),
             get: |c, _| c.agent.memory.tau.to_string(),
             set: |c, _, v| c.agent.memory.tau = v,
         },
@@ -237,16 +238,6 @@ fn range_error(key: &str, value: &str, kind: &Kind) -> ConfigError {
         Kind::Switch => "0 or 1".into(),
     };
     ConfigError::new(shown(key), format!("'{}' is out of range {range}", shown(value)))
-}
-
-/// A value as an error message shows it: cut after 40 characters, so that a pasted page of text
-/// does not fill the screen.
-fn shown(value: &str) -> String {
-    const MAX: usize = 40;
-    match value.char_indices().nth(MAX) {
-        Some((at, _)) => format!("{}… ({} characters)", &value[..at], value.chars().count()),
-        None => value.to_string(),
-    }
 }
 
 /// The setting's value parsed and range-checked, as a number (choices: their index; `auto`:

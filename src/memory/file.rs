@@ -140,8 +140,9 @@ impl Memory {
         let mut seqs = Vec::with_capacity(rows);
         for _ in 0..rows {
             let reward = r.f64()?;
-            if !(reward.is_finite() && reward > 0.0) {
-                return Err(err(format!("a sequence's reward {reward} is not a positive number")));
+            if !(reward.is_finite() && reward > 0.0 && reward <= super::MAX_REWARD) {
+                let max = super::MAX_REWARD;
+                return Err(err(format!("a sequence's reward {reward} is out of range (0, {max}]")));
             }
             seqs.push((reward, (0..n).map(|_| couplet(&mut r)).collect::<Result<Vec<_>, _>>()?));
         }

@@ -158,8 +158,15 @@ pub const THETA_ABS_RANGE: (f64, f64) = (0.0, 2.0);
 pub const THETA_PROP_RANGE: (f64, f64) = (0.0, 1.0);
 pub const ALPHA_RANGE: (f64, f64) = (0.0, 1.0);
 pub const BETA_RANGE: (f64, f64) = (0.0, 1.0);
-/// Open below: tau = 0 would divide by zero.
-pub const TAU_RANGE: (f64, f64) = (0.0, 100.0);
+/// From 0.01: below it exp(-d / tau) underflows to 0 for distant couplets and every value with
+/// it, which made p 0 / 0 (the retrieval also refuses a zero total, see `retrieve`).
+pub const TAU_RANGE: (f64, f64) = (0.01, 100.0);
+/// The most couplets the LTM may hold, n x m: 80 MB of embeddings (the paper's largest is
+/// 50 x 1000). The LTM grows as sequences arrive; nothing of this is reserved up front.
+pub const MAX_COUPLETS: usize = 1_000_000;
+/// The largest reward a sequence may carry (a memory file's; the tasks pay a few units), so that
+/// PRIOR forgetting's sums of rewards stay finite.
+pub const MAX_REWARD: f64 = 1e6;
 
 fn check_f(name: &str, v: f64, lo: f64, hi: f64, lo_open: bool) -> Result<(), ConfigError> {
     let ok = v.is_finite() && v <= hi && if lo_open { v > lo } else { v >= lo };
@@ -184,7 +191,11 @@ impl MemoryConfig {
         check_f("thetaProp", self.theta_prop, THETA_PROP_RANGE.0, THETA_PROP_RANGE.1, false)?;
         check_f("alpha", self.alpha, ALPHA_RANGE.0, ALPHA_RANGE.1, false)?;
         check_f("beta", self.beta, BETA_RANGE.0, BETA_RANGE.1, false)?;
-        check_f("tau", self.tau, TAU_RANGE.0, TAU_RANGE.1, true)?;
+        check_f("tau", self.tau, TAU_RANGE.0, TAU_RANGE.1, false)?;
+        if self.n * self.m > MAX_COUPLETS {
+            let message = format!("n x m = {} x {} is over {MAX_COUPLETS} couplets", self.n, self.m);
+            return Err(ConfigError::new("m", message));
+        }
         Ok(())
     }
 }
@@ -254,20 +265,22 @@ pub struct Memory {
 impl Memory {
     pub fn new(cfg: MemoryConfig) -> Result<Self, ConfigError> {
         cfg.validate()?;
-        let (n, m) = (cfg.n, cfg.m);
+        let n = cfg.n;
+        // The LTM's buffers grow as sequences arrive (a store may allocate; a decision only
+        // when the LTM has grown since the last).
         Ok(Memory {
             stm: vec![Couplet::ZERO; n],
             stm_head: 0,
-            ltm: Vec::with_capacity(m * n * EMBEDDING),
-            actions: Vec::with_capacity(m * n),
-            rewards: Vec::with_capacity(m),
-            t: Vec::with_capacity(m * n),
-            sel: Vec::with_capacity(m * n),
-            sel_prev: Vec::with_capacity(m * n),
-            g: Vec::with_capacity(m * n),
+            ltm: Vec::new(),
+            actions: Vec::new(),
+            rewards: Vec::new(),
+            t: Vec::new(),
+            sel: Vec::new(),
+            sel_prev: Vec::new(),
+            g: Vec::new(),
             forgot: false,
-            sim: Vec::with_capacity(m * n),
-            selected: Vec::with_capacity(m * n),
+            sim: Vec::new(),
+            selected: Vec::new(),
             q: [0.0; ACTIONS],
             p: [0.0; ACTIONS],
             entropy: 0.0,
@@ -440,6 +453,11 @@ impl Memory {
         }
         // numpy's sums of 9 (pairwise); a p of 0 adds nothing (the authors' nan_to_num term is -0).
         let total = pairwise9(&self.q);
+        // Values that all underflowed (or a sum that overflowed) give no distribution: no
+        // contextual action rather than a p of NaN.
+        if !(total.is_finite() && total > 0.0) {
+            return None;
+        }
         let mut terms = [0.0; ACTIONS];
         for ((p, &q), t) in self.p.iter_mut().zip(&self.q).zip(&mut terms) {
             *p = q / total;
@@ -530,19 +548,6 @@ impl Memory {
             self.remove(0);
             self.forgot = true;
         }
-        // Room for the new capacity now, so that decisions still allocate nothing.
-        let (n, free) = (cfg.n, cfg.m.saturating_sub(self.len()));
-        self.ltm.reserve(free * n * EMBEDDING);
-        self.actions.reserve(free * n);
-        self.rewards.reserve(free);
-        for v in [&mut self.t, &mut self.g] {
-            v.reserve(free * n);
-        }
-        for v in [&mut self.sel, &mut self.sel_prev] {
-            v.reserve(free * n);
-        }
-        self.sim.reserve(free * n);
-        self.selected.reserve(free * n);
         self.cfg = cfg;
         Ok(())
     }

@@ -128,16 +128,21 @@ fn real_graph(path: &str) -> Result<(), String> {
     let mut input = std::io::BufReader::new(std::fs::File::open(path).map_err(|e| e.to_string())?);
     let header = Header::read(&mut input).map_err(|e| e.to_string())?;
     let mut g = sec_dqn::checkpoint::graph(&header.config, &mut input)?;
+    // Checkpoints fall on propagation episodes, so the graph is already propagated: the run's
+    // own propagation took `last_sweeps` sweeps (saved with the graph); time one sweep now.
+    let run_sweeps = g.last_sweeps;
     let t0 = Instant::now();
     g.propagate(header.config.erlam.propagate_every);
+    let sweep = t0.elapsed().as_secs_f64() / g.last_sweeps as f64;
     println!(
-        "ERLAM graph of {} ({} episodes, seed {}): {} nodes; a propagation {:.2} s ({} sweeps)",
+        "ERLAM graph of {} ({} episodes, seed {}): {} nodes; the run's last propagation took {} sweeps; a sweep {:.1} ms, so about {:.2} s",
         header.config.task,
         header.episodes,
         header.seed,
         g.len(),
-        t0.elapsed().as_secs_f64(),
-        g.last_sweeps
+        run_sweeps,
+        sweep * 1e3,
+        sweep * run_sweeps as f64
     );
     Ok(())
 }
