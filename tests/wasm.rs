@@ -5,7 +5,13 @@
 use sec_playground::arena::trace::scripted_run;
 use sec_playground::arena::TASK_NAMES;
 use sec_playground::web::ArenaEnv;
+use wasm_bindgen::JsValue;
 use wasm_bindgen_test::*;
+
+/// An argument as JS passes it.
+fn v(x: impl Into<JsValue>) -> JsValue {
+    x.into()
+}
 
 const GOLDEN: &str = include_str!("golden/trace.txt");
 
@@ -46,18 +52,19 @@ fn message(e: wasm_bindgen::JsError) -> String {
 #[wasm_bindgen_test]
 fn the_js_api_validates_its_inputs() {
     models();
-    assert!(message(ArenaEnv::new("nope", 1.0, None).err().unwrap()).contains("task"));
-    assert!(message(ArenaEnv::new("detour", -1.0, None).err().unwrap()).starts_with("seed:"));
-    assert!(message(ArenaEnv::new("detour", 0.5, None).err().unwrap()).starts_with("seed:"));
-    assert!(message(ArenaEnv::new("detour", 1.0, Some(1e9)).err().unwrap()).starts_with("t:"));
-    let mut env = ArenaEnv::new("detour", 1.0, Some(50.0)).unwrap();
-    let e = message(env.step(9).err().unwrap());
+    assert!(message(ArenaEnv::new(v("nope"), v(1.0), None).err().unwrap()).contains("task"));
+    assert!(message(ArenaEnv::new(v("detour"), v(-1.0), None).err().unwrap()).starts_with("seed:"));
+    assert!(message(ArenaEnv::new(v("detour"), v(0.5), None).err().unwrap()).starts_with("seed:"));
+    assert!(message(ArenaEnv::new(v("detour"), v(1.0), Some(v(1e9))).err().unwrap()).starts_with("t:"));
+    let mut env = ArenaEnv::new(v("detour"), v(1.0), Some(v(50.0))).unwrap();
+    let e = message(env.step(v(9)).err().unwrap());
     assert!(e.contains("action") && e.contains("0..=8"), "{e}");
-    assert!(message(env.top_down(5).err().unwrap()).contains("32..=2048"));
+    assert!(message(env.top_down(v(5)).err().unwrap()).contains("32..=2048"));
     // A refused call changed nothing: the run goes on.
-    assert!(env.step(3).is_ok());
+    assert!(env.step(v(3)).is_ok());
     assert_eq!(env.observation().len(), 84 * 84 * 4);
-    let e = ArenaEnv::from_yaml("x", "arenas:\n  0:\n    items:\n    - name: Ramp\n", 1.0, None).err().unwrap();
+    let e =
+        ArenaEnv::from_yaml(v("x"), v("arenas:\n  0:\n    items:\n    - name: Ramp\n"), v(1.0), None).err().unwrap();
     assert!(message(e).contains("line 4"));
 }
 
@@ -84,9 +91,9 @@ fn wasm_gives_the_native_golden_embedding() {
 fn the_encoder_api_embeds_and_reconstructs_an_observation() {
     models();
     use sec_playground::web::Encoder;
-    assert!(message(Encoder::new("maze").err().unwrap()).contains("task"));
-    let mut enc = Encoder::new("detour").unwrap();
-    let mut env = ArenaEnv::new("detour", 1.0, None).unwrap();
+    assert!(message(Encoder::new(v("maze")).err().unwrap()).contains("task"));
+    let mut enc = Encoder::new(v("detour")).unwrap();
+    let mut env = ArenaEnv::new(v("detour"), v(1.0), None).unwrap();
     let obs = env.observation();
     let e = enc.encode(&obs).unwrap();
     assert_eq!(e.len(), 20);
@@ -133,7 +140,7 @@ fn a_run_through_the_js_api_gives_the_native_golden_episode_log() {
     // (`golden_run`), the default perception.
     let golden: Vec<EpisodeMetrics> =
         include_str!("golden/run-untrained.txt").lines().take(20).map(|l| serde_json::from_str(l).unwrap()).collect();
-    let mut run = SecRun::new(js(r#"{"task": "object-permanence"}"#), 2.0).unwrap();
+    let mut run = SecRun::new(js(r#"{"task": "object-permanence"}"#), v(2.0)).unwrap();
     let mut got = Vec::new();
     // Step by decisions, by episodes and in batches: all the same run.
     while got.len() < 4 {
@@ -146,7 +153,7 @@ fn a_run_through_the_js_api_gives_the_native_golden_episode_log() {
         got.push(metrics(run.step_episode().unwrap()));
     }
     while got.len() < 20 {
-        let batch: Vec<EpisodeMetrics> = serde_wasm_bindgen::from_value(run.run_decisions(37).unwrap()).unwrap();
+        let batch: Vec<EpisodeMetrics> = serde_wasm_bindgen::from_value(run.run_decisions(v(37)).unwrap()).unwrap();
         got.extend(batch);
     }
     // Exact f64 comparison: bit for bit with the native run.
@@ -169,35 +176,35 @@ fn the_run_api_refuses_bad_configurations_by_name_and_keeps_running() {
         (r#"[1, 2]"#, "config"),
     ];
     for (cfg, name) in bad {
-        let e = message(SecRun::new(js(cfg), 1.0).err().unwrap_or_else(|| panic!("{cfg} was accepted")));
+        let e = message(SecRun::new(js(cfg), v(1.0)).err().unwrap_or_else(|| panic!("{cfg} was accepted")));
         assert!(e.starts_with(name), "{cfg}: {e}");
     }
-    assert!(message(SecRun::new(js("{}"), f64::NAN).err().unwrap()).starts_with("seed:"));
-    let e = message(SecRun::new(js(r#"{"agent": {"memory": {"beta": 1.5}}}"#), 1.0).err().unwrap());
+    assert!(message(SecRun::new(js("{}"), v(f64::NAN)).err().unwrap()).starts_with("seed:"));
+    let e = message(SecRun::new(js(r#"{"agent": {"memory": {"beta": 1.5}}}"#), v(1.0)).err().unwrap());
     assert!(e.contains("[0, 1]"), "the range is named: {e}");
 
-    let mut run = SecRun::new(js(r#"{"task": "object-permanence", "t": 300}"#), 3.0).unwrap();
-    run.run_decisions(100).unwrap();
+    let mut run = SecRun::new(js(r#"{"task": "object-permanence", "t": 300}"#), v(3.0)).unwrap();
+    run.run_decisions(v(100)).unwrap();
     let before: serde_json::Value = serde_wasm_bindgen::from_value(run.config().unwrap()).unwrap();
     for (cfg, name) in bad {
         let e = message(run.configure(js(cfg)).err().unwrap_or_else(|| panic!("{cfg} was accepted")));
         assert!(e.starts_with(name), "{cfg}: {e}");
     }
-    assert!(message(run.run_decisions(0).err().unwrap()).starts_with("decisions:"));
-    assert!(message(run.memory_map("q").err().unwrap()).starts_with("which:"));
-    assert!(message(run.top_down(8).err().unwrap()).starts_with("size:"));
+    assert!(message(run.run_decisions(v(0)).err().unwrap()).starts_with("decisions:"));
+    assert!(message(run.memory_map(v("q")).err().unwrap()).starts_with("which:"));
+    assert!(message(run.top_down(v(8)).err().unwrap()).starts_with("size:"));
     let after: serde_json::Value = serde_wasm_bindgen::from_value(run.config().unwrap()).unwrap();
     assert_eq!(before, after, "a refused configuration changed nothing");
     let view: serde_json::Value = serde_wasm_bindgen::from_value(run.view().unwrap()).unwrap();
     assert!(view["step"].as_u64().unwrap() > 0, "the run kept its state: {view}");
-    run.run_decisions(10).unwrap();
+    run.run_decisions(v(10)).unwrap();
 }
 
 #[wasm_bindgen_test]
 fn live_changes_and_restarts_through_the_js_api() {
     models();
     use sec_playground::web::SecRun;
-    let mut run = SecRun::new(js(r#"{"task": "object-permanence"}"#), 2.0).unwrap();
+    let mut run = SecRun::new(js(r#"{"task": "object-permanence"}"#), v(2.0)).unwrap();
     for _ in 0..8 {
         run.step_episode().unwrap();
     }
@@ -215,10 +222,10 @@ fn live_changes_and_restarts_through_the_js_api() {
     // The views: the camera, the reconstruction, the top-down map, the LTM heat map.
     assert_eq!(run.observation().length(), 84 * 84 * 4);
     assert_eq!(run.reconstruction().length(), 84 * 84 * 4);
-    assert_eq!(run.top_down(64).unwrap().length(), 64 * 64 * 4);
+    assert_eq!(run.top_down(v(64)).unwrap().length(), 64 * 64 * 4);
     run.step_decision().unwrap();
     let rows = ltm(&mut run);
-    assert_eq!(run.memory_map("t").unwrap().length() as u64, rows * run.stm_length() as u64);
+    assert_eq!(run.memory_map(v("t")).unwrap().length() as u64, rows * run.stm_length() as u64);
     let restart = r#"{"task": "detour", "agent": {"memory": {"n": 20}}}"#;
     assert_eq!(run.configure(js(restart)).unwrap(), "restart");
     assert_eq!((ltm(&mut run), run.stm_length(), run.seed()), (0, 20, 2.0), "a new run with the same seed");
@@ -228,55 +235,115 @@ fn live_changes_and_restarts_through_the_js_api() {
 fn models_are_registered_and_checked() {
     use sec_playground::web::{has_model, register_model};
     models();
-    assert!(has_model("detour"));
+    assert!(has_model(v("detour")).unwrap());
     let mut bad = include_bytes!("../assets/encoders/detour.secae").to_vec();
     bad[1000] ^= 1;
     let e = message(register_model(&bad).err().unwrap());
     assert!(e.starts_with("weights:") && e.contains("checksum"), "{e}");
     let e = message(register_model(b"SECMEMRY not weights").err().unwrap());
     assert!(e.starts_with("weights:") && e.contains("magic"), "{e}");
-    assert!(has_model("detour"), "a refused file leaves the registered model");
+    assert!(has_model(v("detour")).unwrap(), "a refused file leaves the registered model");
 }
 
 #[wasm_bindgen_test]
 fn memory_files_and_driving_through_the_js_api() {
     use sec_playground::web::SecRun;
     models();
-    let mut a = SecRun::new(js(r#"{"task": "object-permanence"}"#), 2.0).unwrap();
+    let mut a = SecRun::new(js(r#"{"task": "object-permanence"}"#), v(2.0)).unwrap();
     while metrics(a.step_episode().unwrap()).ltm < 2 {}
     let file = a.save_memory().unwrap();
     // The untrained encoder is the seed's: another seed's run refuses the file, a run of the same
     // seed (or, with the trained perception, of any seed) takes it.
-    let mut other = SecRun::new(js(r#"{"task": "object-permanence"}"#), 8.0).unwrap();
+    let mut other = SecRun::new(js(r#"{"task": "object-permanence"}"#), v(8.0)).unwrap();
     let e = message(other.load_memory(&file).err().unwrap());
     assert!(e.starts_with("memory:") && e.contains("another encoder"), "{e}");
     let trained = r#"{"task": "object-permanence", "perception": "trained"}"#;
-    let mut t = SecRun::new(js(trained), 2.0).unwrap();
+    let mut t = SecRun::new(js(trained), v(2.0)).unwrap();
     while metrics(t.step_episode().unwrap()).ltm < 1 {}
-    SecRun::new(js(trained), 9.0).unwrap().load_memory(&t.save_memory().unwrap()).unwrap();
-    let mut b = SecRun::new(js(r#"{"task": "object-permanence"}"#), 2.0).unwrap();
+    SecRun::new(js(trained), v(9.0)).unwrap().load_memory(&t.save_memory().unwrap()).unwrap();
+    let mut b = SecRun::new(js(r#"{"task": "object-permanence"}"#), v(2.0)).unwrap();
     assert_eq!(b.load_memory(&file).unwrap(), metrics_ltm(&mut a));
     assert_eq!(b.save_memory().unwrap(), file);
     // Corrupt and foreign files: refused, the run unchanged and still running.
     let mut corrupt = file.clone();
     corrupt[file.len() - 30] ^= 4;
     assert!(message(b.load_memory(&corrupt).err().unwrap()).contains("checksum"));
-    let mut c = SecRun::new(js(r#"{"task": "detour"}"#), 1.0).unwrap();
+    let mut c = SecRun::new(js(r#"{"task": "detour"}"#), v(1.0)).unwrap();
     let e = message(c.load_memory(&file).err().unwrap());
     assert!(e.starts_with("memory:") && e.contains("object-permanence"), "{e}");
     assert_eq!(b.save_memory().unwrap(), file);
     b.step_episode().unwrap();
     // A person drives: actions are checked; the episode is marked.
-    assert!(message(b.set_driver(Some(9.0), true).err().unwrap()).contains("0..=8"));
-    assert!(message(b.set_driver(Some(1.5), true).err().unwrap()).contains("action"));
-    b.set_driver(Some(3.0), false).unwrap();
+    assert!(message(b.set_driver(v(9.0), true).err().unwrap()).contains("0..=8"));
+    assert!(message(b.set_driver(v(1.5), true).err().unwrap()).contains("action"));
+    b.set_driver(v(3.0), false).unwrap();
     let m = metrics(b.step_episode().unwrap());
     assert!(m.human);
-    b.set_driver(None, false).unwrap();
+    b.set_driver(JsValue::NULL, false).unwrap();
     assert!(!metrics(b.step_episode().unwrap()).human);
 }
 
 fn metrics_ltm(run: &mut sec_playground::web::SecRun) -> u32 {
     let v: serde_json::Value = serde_wasm_bindgen::from_value(run.view().unwrap()).unwrap();
     v["ltm"].as_u64().unwrap() as u32
+}
+
+/// Issue 20's JS reproducers: values of the wrong type, NaN, wrap-around and a throwing config
+/// are refused by name, and the run or env is as it was.
+#[wasm_bindgen_test]
+fn bad_js_arguments_are_refused_by_name_and_leave_the_state_as_it_was() {
+    use sec_playground::web::{Encoder, SecRun};
+    models();
+    let refused = |e: Result<(), wasm_bindgen::JsError>, name: &str| {
+        let m = message(e.err().unwrap_or_else(|| panic!("{name}: accepted")));
+        assert!(m.starts_with(&format!("{name}:")), "{m}");
+        assert!(m.len() < 500, "a message of {} bytes", m.len());
+    };
+    // Numbers where strings are expected, strings, null and booleans where numbers are.
+    refused(ArenaEnv::new(v(5), v(1), None).map(drop), "task");
+    refused(ArenaEnv::from_yaml(v("a"), v(5), v(1), None).map(drop), "source");
+    refused(Encoder::new(v(5)).map(drop), "task");
+    for seed in [JsValue::NULL, v(true), v("5"), js_sys::Array::new().into(), v(f64::NAN), v(f64::INFINITY), v(-1)] {
+        refused(ArenaEnv::new(v("detour"), seed, None).map(drop), "seed");
+    }
+    let mut env = ArenaEnv::new(v("detour"), v(1), Some(v(50))).unwrap();
+    let before = env.observation();
+    refused(env.step(v(2f64.powi(32) + 3.0)).map(drop), "action");
+    refused(env.step(v("3")).map(drop), "action");
+    refused(env.step_held(v(3), v(-1)).map(drop), "k");
+    refused(env.step_held(v(3), v("5")).map(drop), "k");
+    refused(env.top_down(v(f64::NAN)).map(drop), "size");
+    assert_eq!(env.observation(), before, "refused steps move nothing");
+    let mut run = SecRun::new(js(r#"{"task": "object-permanence"}"#), v(2)).unwrap();
+    refused(run.memory_map(v(5)).map(drop), "which");
+    refused(run.run_decisions(v(2f64.powi(32) + 1.0)).map(drop), "decisions");
+    refused(run.run_decisions(v(-5)).map(drop), "decisions");
+    // NaN in a config is refused, not turned into null (a default: the gate off).
+    let nan = js_sys::eval("({agent: {gate: NaN}})").unwrap();
+    let m = message(SecRun::new(nan, v(1)).err().unwrap());
+    assert!(m.starts_with("agent.gate:") && m.contains("NaN"), "{m}");
+    // A config whose getter throws is an error; the run is not left borrowed.
+    let throwing = js_sys::eval("({get agent() { throw new Error('boom') }})").unwrap();
+    let m = message(run.configure(throwing).err().unwrap());
+    assert!(m.starts_with("config:") && m.contains("boom"), "{m}");
+    run.run_decisions(v(10)).unwrap();
+    assert_eq!(
+        run.configure(js(r#"{"task": "object-permanence", "agent": {"memory": {"alpha": 0.02}}}"#)).unwrap(),
+        "live"
+    );
+}
+
+/// After a refused deep-YAML file (which overflowed the wasm stack and trapped every later
+/// call), a new env and a new run still work.
+#[wasm_bindgen_test]
+fn a_deeply_nested_yaml_file_is_refused_and_the_module_keeps_working() {
+    use sec_playground::web::SecRun;
+    models();
+    let deep = format!("arenas:\n  0: !Arena\n    items:\n    {}x\n", "- ".repeat(3_600));
+    let m = message(ArenaEnv::from_yaml(v("deep"), v(deep), v(1), None).err().unwrap());
+    assert!(m.contains("yaml") && m.contains("deeper than"), "{m}");
+    let mut env = ArenaEnv::new(v("detour"), v(1), None).unwrap();
+    env.step(v(3)).unwrap();
+    let mut run = SecRun::new(js(r#"{"task": "object-permanence"}"#), v(2)).unwrap();
+    run.run_decisions(v(5)).unwrap();
 }

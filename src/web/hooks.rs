@@ -11,7 +11,7 @@ use wasm_bindgen::prelude::*;
 /// The scripted determinism run (see `arena::trace`), for cross-target checks.
 #[wasm_bindgen(js_name = scriptedRun)]
 pub fn scripted_run(task: &str, seed: f64, steps: u32) -> Result<String, JsError> {
-    trace::scripted_run(task, seed_from_js(seed)?, steps).map_err(js_err)
+    trace::scripted_run(task, seed_from_js(&JsValue::from_f64(seed))?, steps).map_err(js_err)
 }
 
 /// Benchmark helper: `n` physics-only env steps of the shared script (see `bench/wasm-bench.mjs`).

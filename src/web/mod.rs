@@ -8,30 +8,33 @@ use crate::seed::MAX_SEED;
 use serde::Serialize;
 use wasm_bindgen::prelude::*;
 
+mod args;
 #[cfg(feature = "test-hooks")]
 mod hooks;
 mod run;
 pub use run::{apply_settings, has_model, parameters, parse_settings, preset_settings, register_model, SecRun};
 
-/// Any of the crate's errors as a JS `Error` with the same message.
+/// Error messages are cut to this many characters (a value in a message is already cut to 40).
+const MAX_MESSAGE: usize = 400;
+
+/// Any of the crate's errors as a JS `Error` with the same message, cut to `MAX_MESSAGE`.
 fn js_err(e: impl std::fmt::Display) -> JsError {
-    JsError::new(&e.to_string())
-}
-
-fn seed_from_js(seed: f64) -> Result<u64, JsError> {
-    if seed.is_finite() && seed.fract() == 0.0 && (0.0..=MAX_SEED as f64).contains(&seed) {
-        Ok(seed as u64)
-    } else {
-        Err(JsError::new(&format!("seed: {seed} is out of range 0..={MAX_SEED} (whole numbers)")))
+    let message = e.to_string();
+    match message.char_indices().nth(MAX_MESSAGE) {
+        Some((at, _)) => JsError::new(&format!("{}…", &message[..at])),
+        None => JsError::new(&message),
     }
 }
 
-fn t_from_js(t: Option<f64>) -> Result<Option<u32>, JsError> {
-    match t {
-        None => Ok(None),
-        Some(v) if v.is_finite() && v.fract() == 0.0 && (0.0..=MAX_T as f64).contains(&v) => Ok(Some(v as u32)),
-        Some(v) => Err(JsError::new(&format!("t: {v} is out of range 0..={MAX_T} (whole numbers)"))),
-    }
+fn seed_from_js(seed: &JsValue) -> Result<u64, JsError> {
+    args::whole(seed, "seed", 0, MAX_SEED)
+}
+
+fn t_from_js(t: Option<JsValue>) -> Result<Option<u32>, JsError> {
+    Ok(match t {
+        Some(t) => args::optional_whole(&t, "t", 0, MAX_T as u64)?.map(|t| t as u32),
+        None => None,
+    })
 }
 
 #[derive(Serialize)]
@@ -70,19 +73,29 @@ pub struct ArenaEnv {
 impl ArenaEnv {
     /// A built-in task (see `taskNames()`), a seed, and an optional episode limit `t`.
     #[wasm_bindgen(constructor)]
-    pub fn new(task: &str, seed: f64, t: Option<f64>) -> Result<ArenaEnv, JsError> {
-        let task = Task::preset(task).map_err(js_err)?;
-        Self::build(task, seed, t)
+    pub fn new(
+        #[wasm_bindgen(unchecked_param_type = "string")] task: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "number")] seed: JsValue,
+        #[wasm_bindgen(unchecked_optional_param_type = "number")] t: Option<JsValue>,
+    ) -> Result<ArenaEnv, JsError> {
+        let task = Task::preset(&args::string(&task, "task")?).map_err(js_err)?;
+        Self::build(task, &seed, t)
     }
 
     /// An environment from the text of an Animal-AI YAML arena file.
     #[wasm_bindgen(js_name = fromYaml)]
-    pub fn from_yaml(name: &str, source: &str, seed: f64, t: Option<f64>) -> Result<ArenaEnv, JsError> {
-        let task = yaml::load_task(name, source).map_err(js_err)?;
-        Self::build(task, seed, t)
+    pub fn from_yaml(
+        #[wasm_bindgen(unchecked_param_type = "string")] name: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "string")] source: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "number")] seed: JsValue,
+        #[wasm_bindgen(unchecked_optional_param_type = "number")] t: Option<JsValue>,
+    ) -> Result<ArenaEnv, JsError> {
+        let (name, source) = (args::string(&name, "name")?, args::string(&source, "source")?);
+        let task = yaml::load_task(&name, &source).map_err(js_err)?;
+        Self::build(task, &seed, t)
     }
 
-    fn build(task: Task, seed: f64, t: Option<f64>) -> Result<ArenaEnv, JsError> {
+    fn build(task: Task, seed: &JsValue, t: Option<JsValue>) -> Result<ArenaEnv, JsError> {
         let seed = seed_from_js(seed)?;
         let config = EnvConfig { task, t: t_from_js(t)? };
         let env = Env::new(config, seed).map_err(js_err)?;
@@ -91,22 +104,33 @@ impl ArenaEnv {
     }
 
     /// Starts the next episode, or restarts the run when a seed is given.
-    pub fn reset(&mut self, seed: Option<f64>) -> Result<(), JsError> {
-        let seed = seed.map(seed_from_js).transpose()?;
+    pub fn reset(
+        &mut self,
+        #[wasm_bindgen(unchecked_optional_param_type = "number")] seed: Option<JsValue>,
+    ) -> Result<(), JsError> {
+        let seed = seed.and_then(|s| args::optional_whole(&s, "seed", 0, MAX_SEED).transpose()).transpose()?;
         self.env.reset(seed);
         self.trail.restart(self.env.world().agent.pos);
         Ok(())
     }
 
     /// One env step with action `3*a0 + a1`; returns `{reward, terminated, truncated, goodGoal, envSteps}`.
-    pub fn step(&mut self, action: u32) -> Result<JsValue, JsError> {
-        self.step_held(action, 1)
+    pub fn step(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "number")] action: JsValue,
+    ) -> Result<JsValue, JsError> {
+        self.step_held(action, JsValue::from_f64(1.0))
     }
 
     /// Holds the action for `k` env steps (1..=1000) without rendering in between.
     #[wasm_bindgen(js_name = stepHeld)]
-    pub fn step_held(&mut self, action: u32, k: u32) -> Result<JsValue, JsError> {
-        let a = Action::new(action).map_err(js_err)?;
+    pub fn step_held(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "number")] action: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "number")] k: JsValue,
+    ) -> Result<JsValue, JsError> {
+        let a = Action::new(args::whole(&action, "action", 0, 8)? as u32).map_err(js_err)?;
+        let k = args::whole(&k, "k", 1, 1000)? as u32;
         let o = self.env.advance(a, k).map_err(js_err)?;
         self.trail.push(self.env.world().agent.pos);
         let out = StepJs {
@@ -126,7 +150,11 @@ impl ArenaEnv {
 
     /// The top-down view, `size` x `size` RGBA bytes (size 32..=2048).
     #[wasm_bindgen(js_name = topDown)]
-    pub fn top_down(&mut self, size: u32) -> Result<Vec<u8>, JsError> {
+    pub fn top_down(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "number")] size: JsValue,
+    ) -> Result<Vec<u8>, JsError> {
+        let size = args::whole(&size, "size", *Trail::SIZES.start() as u64, *Trail::SIZES.end() as u64)? as u32;
         Ok(self.trail.render(self.env.world(), size).map_err(js_err)?.to_vec())
     }
 
@@ -161,8 +189,8 @@ pub fn task_names() -> Vec<String> {
 
 /// A task's one-paragraph description.
 #[wasm_bindgen(js_name = taskDescription)]
-pub fn task_description(task: &str) -> Result<String, JsError> {
-    Ok(Task::preset(task).map_err(js_err)?.description)
+pub fn task_description(#[wasm_bindgen(unchecked_param_type = "string")] task: JsValue) -> Result<String, JsError> {
+    Ok(Task::preset(&args::string(&task, "task")?).map_err(js_err)?.description)
 }
 
 /// Camera image side in pixels (84).
@@ -186,8 +214,8 @@ pub struct Encoder {
 impl Encoder {
     /// The model of a built-in task (see `taskNames()`).
     #[wasm_bindgen(constructor)]
-    pub fn new(task: &str) -> Result<Encoder, JsError> {
-        let ae = bundled::autoencoder(task).map_err(js_err)?;
+    pub fn new(#[wasm_bindgen(unchecked_param_type = "string")] task: JsValue) -> Result<Encoder, JsError> {
+        let ae = bundled::autoencoder(&args::string(&task, "task")?).map_err(js_err)?;
         Ok(Encoder { ae, scratch: Scratch::default(), frame: Frame::new(), img: vec![0.0; IMAGE], rec: Vec::new() })
     }
 

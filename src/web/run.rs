@@ -4,7 +4,7 @@
 //! worker does when it posts them). Every error names the parameter and its range, and a refused
 //! value leaves the run as it was.
 
-use super::{js_err, seed_from_js};
+use super::{args, js_err, seed_from_js};
 use crate::encoder::{reconstruction_to_rgba, Scratch, EMBEDDING, IMAGE};
 use crate::experiment::settings::{self, Settings};
 use crate::experiment::{Driver, EpisodeMetrics, Run, RunConfig};
@@ -178,17 +178,18 @@ fn config_from_js(config: JsValue) -> Result<RunConfig, JsError> {
     if config.is_undefined() || config.is_null() {
         return Ok(RunConfig::default());
     }
-    // Through a JSON value: serde-wasm-bindgen reads only the fields a struct names, so a
-    // misspelt key would pass silently; serde_json's value sees every key.
-    let value: serde_json::Value =
-        serde_wasm_bindgen::from_value(config).map_err(|e| JsError::new(&format!("config: {e}")))?;
+    // Through JSON text (`args::json`: read in full, NaN refused) and a JSON value:
+    // serde-wasm-bindgen reads only the fields a struct names, so a misspelt key would pass
+    // silently; serde_json's value sees every key.
+    let text = args::json(&config, "config")?;
+    let value: serde_json::Value = serde_json::from_str(&text).map_err(|e| js_err(format!("config: {e}")))?;
     if !value.is_object() {
-        return Err(JsError::new(&format!("config: {value} is not an object (a RunConfig)")));
+        return Err(js_err(format!("config: {} is not an object (a RunConfig)", crate::util::shown(&text))));
     }
     let cfg: RunConfig = serde_path_to_error::deserialize(value).map_err(|e| {
         let path = e.path().to_string();
         let what = if path == "." { "config".to_string() } else { path };
-        JsError::new(&format!("{what}: {}", e.inner()))
+        js_err(format!("{what}: {}", e.inner()))
     })?;
     cfg.validate().map_err(js_err)?;
     Ok(cfg)
@@ -200,10 +201,10 @@ impl SecRun {
     #[wasm_bindgen(constructor)]
     pub fn new(
         #[wasm_bindgen(unchecked_param_type = "RunConfig")] config: JsValue,
-        seed: f64,
+        #[wasm_bindgen(unchecked_param_type = "number")] seed: JsValue,
     ) -> Result<SecRun, JsError> {
         let cfg = config_from_js(config)?;
-        let seed = seed_from_js(seed)?;
+        let seed = seed_from_js(&seed)?;
         Self::build(cfg, seed)
     }
 
@@ -266,8 +267,13 @@ impl SecRun {
     }
 
     /// Restarts the run from scratch, with `seed` or the run's own.
-    pub fn reset(&mut self, seed: Option<f64>) -> Result<(), JsError> {
-        let seed = seed.map(seed_from_js).transpose()?.unwrap_or(self.seed);
+    pub fn reset(
+        &mut self,
+        #[wasm_bindgen(unchecked_optional_param_type = "number")] seed: Option<JsValue>,
+    ) -> Result<(), JsError> {
+        let seed =
+            seed.and_then(|s| args::optional_whole(&s, "seed", 0, crate::seed::MAX_SEED).transpose()).transpose()?;
+        let seed = seed.unwrap_or(self.seed);
         *self = Self::build(self.run.config().clone(), seed)?;
         Ok(())
     }
@@ -275,10 +281,11 @@ impl SecRun {
     /// Runs `decisions` decisions (1..=100000); returns the episodes they finished
     /// (`EpisodeMetrics[]`).
     #[wasm_bindgen(js_name = runDecisions, unchecked_return_type = "EpisodeMetrics[]")]
-    pub fn run_decisions(&mut self, decisions: u32) -> Result<JsValue, JsError> {
-        if !(1..=MAX_BATCH).contains(&decisions) {
-            return Err(JsError::new(&format!("decisions: {decisions} is out of range 1..={MAX_BATCH}")));
-        }
+    pub fn run_decisions(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "number")] decisions: JsValue,
+    ) -> Result<JsValue, JsError> {
+        let decisions = args::whole(&decisions, "decisions", 1, MAX_BATCH as u64)? as u32;
         let mut done = Vec::new();
         let mut left = decisions;
         while left > 0 {
@@ -415,7 +422,11 @@ impl SecRun {
 
     /// The top-down view with the agent's trail, `size` x `size` RGBA (size 32..=2048; a view).
     #[wasm_bindgen(js_name = topDown)]
-    pub fn top_down(&mut self, size: u32) -> Result<js_sys::Uint8Array, JsError> {
+    pub fn top_down(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "number")] size: JsValue,
+    ) -> Result<js_sys::Uint8Array, JsError> {
+        let size = args::whole(&size, "size", *Trail::SIZES.start() as u64, *Trail::SIZES.end() as u64)? as u32;
         let rgba = self.trail.render(self.run.env().world(), size).map_err(js_err)?;
         // SAFETY: as `observation`.
         Ok(unsafe { js_sys::Uint8Array::view(rgba) })
@@ -424,7 +435,12 @@ impl SecRun {
     /// The LTM as a heat map, sequences x STM positions, row-major: `which` "g" (the last
     /// decision's biased similarity G) or "t" (the bias T). Empty for a run without SEC.
     #[wasm_bindgen(js_name = memoryMap)]
-    pub fn memory_map(&mut self, which: &str) -> Result<js_sys::Float32Array, JsError> {
+    pub fn memory_map(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "string")] which: JsValue,
+    ) -> Result<js_sys::Float32Array, JsError> {
+        let which = args::string(&which, "which")?;
+        let which = which.as_str();
         self.heat.clear();
         if let Some(a) = self.run.agent() {
             let m = &a.memory;
@@ -459,16 +475,13 @@ impl SecRun {
     /// decisions go into the agent's memory with the person's actions, so a rewarded episode is
     /// stored in the LTM like any other; without it the agent learns nothing from them.
     #[wasm_bindgen(js_name = setDriver)]
-    pub fn set_driver(&mut self, action: Option<f64>, record: bool) -> Result<(), JsError> {
-        let driver = match action {
-            None => None,
-            Some(a) if a.is_finite() && a.fract() == 0.0 && (0.0..ACTIONS as f64).contains(&a) => {
-                Some(Driver { action: a as u8, record })
-            }
-            Some(a) => {
-                return Err(JsError::new(&format!("action: {a} is out of range 0..={} (whole numbers)", ACTIONS - 1)))
-            }
-        };
+    pub fn set_driver(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "number | null")] action: JsValue,
+        record: bool,
+    ) -> Result<(), JsError> {
+        let action = args::optional_whole(&action, "action", 0, ACTIONS as u64 - 1)?;
+        let driver = action.map(|a| Driver { action: a as u8, record });
         self.run.set_driver(driver).map_err(js_err)
     }
 
@@ -495,8 +508,9 @@ impl SecRun {
 
 /// Settings from JS: an object whose values are strings, numbers or booleans.
 fn settings_from_js(value: JsValue, what: &str) -> Result<Settings, JsError> {
+    let text = args::json(&value, what)?;
     let map: BTreeMap<String, serde_json::Value> =
-        serde_wasm_bindgen::from_value(value).map_err(|e| JsError::new(&format!("{what}: {e}")))?;
+        serde_json::from_str(&text).map_err(|e| js_err(format!("{what}: {e}")))?;
     map.into_iter()
         .map(|(k, v)| {
             let s = match v {
@@ -564,12 +578,13 @@ pub fn register_model(bytes: &[u8]) -> Result<String, JsError> {
 
 /// Whether the model of `task` is registered.
 #[wasm_bindgen(js_name = hasModel)]
-pub fn has_model(task: &str) -> bool {
-    crate::encoder::bundled::has(task)
+pub fn has_model(#[wasm_bindgen(unchecked_param_type = "string")] task: JsValue) -> Result<bool, JsError> {
+    Ok(crate::encoder::bundled::has(&args::string(&task, "task")?))
 }
 
 /// The settings a preset ("code" or "paper") sets.
 #[wasm_bindgen(js_name = presetSettings, unchecked_return_type = "Record<string, string>")]
-pub fn preset_settings(name: &str) -> Result<JsValue, JsError> {
-    Ok(settings::preset(name).map_err(js_err)?.serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
+pub fn preset_settings(#[wasm_bindgen(unchecked_param_type = "string")] name: JsValue) -> Result<JsValue, JsError> {
+    let name = args::string(&name, "name")?;
+    Ok(settings::preset(&name).map_err(js_err)?.serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
 }
