@@ -271,7 +271,8 @@ pub fn apply(cfg: &mut RunConfig, seed: &mut u64, key: &str, value: &str) -> Res
     let all = table();
     let s = all.iter().find(|s| s.param.key == key).ok_or_else(|| {
         let keys: Vec<&str> = all.iter().map(|s| s.param.key).collect();
-        ConfigError::new(shown(key), format!("is not a setting (settings: {})", keys.join(", ")))
+        let name = if key.is_empty() { "\"\"".to_string() } else { shown(key) };
+        ConfigError::new(name, format!("is not a setting (settings: {})", keys.join(", ")))
     })?;
     let v = parse(&s.param, value)?;
     (s.set)(cfg, seed, v);

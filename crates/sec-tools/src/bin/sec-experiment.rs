@@ -87,7 +87,13 @@ fn number<T: std::str::FromStr + PartialOrd + std::fmt::Display>(
 
 fn read_config(path: &str) -> Result<RunConfig, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("--config {path}: {e}"))?;
-    let cfg: RunConfig = serde_json::from_str(&text).map_err(|e| format!("--config {path}: {e}"))?;
+    // The field is named as well as the line and column (`agent.memory.tau: invalid type ...`).
+    let cfg: RunConfig =
+        serde_path_to_error::deserialize(&mut serde_json::Deserializer::from_str(&text)).map_err(|e| {
+            let field = e.path().to_string();
+            let field = if field == "." { "config".to_string() } else { field };
+            format!("--config {path}: {field}: {}", e.inner())
+        })?;
     // Building a run validates every parameter, naming it.
     Run::with_agents(cfg.clone(), 0, Some(sec_dqn::factory)).map_err(|e| format!("--config {path}: {e}"))?;
     Ok(cfg)
