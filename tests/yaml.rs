@@ -154,3 +154,17 @@ fn hostile_files_are_refused_quickly_with_the_line_and_field() {
     let e = err("arenas:\n  0: !Arena\n    \"\": 3\n");
     assert_eq!(e.field, "arenas.0.\"\"");
 }
+
+/// An arena that leaves a random agent no free spot is refused when the env is built (it used to
+/// put the agent inside the wall).
+#[test]
+fn an_arena_without_room_for_the_agent_is_refused() {
+    use sec_playground::arena::{Env, EnvConfig};
+    let full = "arenas:\n  0: !Arena\n    items:\n    - !Item\n      name: Wall\n      positions: [!Vector3 {x: 20, y: 0, z: 20}]\n      sizes: [!Vector3 {x: 40, y: 5, z: 40}]\n      rotations: [0]\n";
+    let task = load_task("full", full).unwrap();
+    let e = Env::new(EnvConfig::new(task), 1).unwrap_err();
+    assert_eq!(e.field, "agent", "{e}");
+    assert!(e.message.contains("no free spot"), "{e}");
+    let half = full.replace("z: 40}", "z: 20}").replace("z: 20}]\n      sizes", "z: 30}]\n      sizes");
+    assert!(Env::new(EnvConfig::new(load_task("half", &half).unwrap()), 1).is_ok());
+}

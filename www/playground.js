@@ -441,8 +441,9 @@ Playground.prototype.handlers = {
   error(msg) {
     this.showError(msg.message);
     this.fatal ||= msg.fatal;
-    // A refused value: show the settings still in force.
+    // A refused value: show the settings still in force, in the controls and the address bar.
     if (this.settings && this.controls) this.controls.set(this.settings);
+    if (this.settings) this.writeHash();
   },
 };
 

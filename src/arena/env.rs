@@ -116,6 +116,11 @@ impl Env {
     /// Builds the environment and resets it with `seed`.
     pub fn new(config: EnvConfig, seed: u64) -> Result<Env, ConfigError> {
         config.validate()?;
+        if let Some(l) = config.task.layouts.iter().find(|l| !World::agent_has_room(l)) {
+            let message =
+                format!("layout '{}' leaves the agent no free spot (1000 draws)", crate::util::shown(&l.name));
+            return Err(ConfigError::new("agent", message));
+        }
         let rng = crate::seed::rng(seed, Stream::Env);
         let world = World::spawn(&config.task.layouts[0], &mut rng.clone());
         let mut env = Env {

@@ -221,7 +221,7 @@ impl World {
             None => rng.gen_range(0.0f32..360.0),
         });
         if !fixed_agent {
-            w.agent.pos = w.random_agent_spot(&layout.agent, rng);
+            w.agent.pos = w.random_agent_spot(&layout.agent, rng).0;
         }
         w
     }
@@ -319,7 +319,9 @@ impl World {
         true
     }
 
-    fn random_agent_spot(&self, spec: &AgentSpec, rng: &mut ChaCha8Rng) -> Vec2 {
+    /// A free spot for the agent, drawn up to 1000 times; the last drawn spot and `false` if none
+    /// was free (the env refuses such a layout at construction, see `agent_has_room`).
+    fn random_agent_spot(&self, spec: &AgentSpec, rng: &mut ChaCha8Rng) -> (Vec2, bool) {
         let lo = AGENT_RADIUS;
         let hi = ARENA_SIZE - AGENT_RADIUS;
         let mut p = Vec2::splat(ARENA_SIZE / 2.0);
@@ -335,10 +337,23 @@ impl World {
                 })
                 || self.zones.iter().any(|z| z.foot.contains(p, AGENT_RADIUS));
             if !blocked {
-                break;
+                return (p, true);
             }
         }
-        p
+        (p, false)
+    }
+
+    /// Whether a layout whose agent is placed at random finds it a free spot: spawned with four
+    /// fixed draws, each must. (A fixed agent is where the file puts it.)
+    pub fn agent_has_room(layout: &Layout) -> bool {
+        if matches!(layout.agent.position, [Some(_), Some(_)]) {
+            return true;
+        }
+        (0..4u64).all(|k| {
+            let mut rng = crate::seed::rng(k, crate::seed::Stream::Env);
+            let w = World::spawn(layout, &mut rng);
+            w.random_agent_spot(&layout.agent, &mut rng).1
+        })
     }
 }
 

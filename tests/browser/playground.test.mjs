@@ -101,11 +101,22 @@ test('a bad value in the hash shows an error and keeps the default', async () =>
   const page = await open('#alpha=5&m=250&tau=abc');
   const error = await page.textContent('#error');
   assert.match(error, /alpha: '5' is out of range \[0, 1\]/);
-  assert.match(error, /tau: 'abc' is out of range \(0, 100\]/);
+  assert.match(error, /tau: 'abc' is out of range \[0\.01, 100\]/);
   const s = await page.evaluate(() => window.secPlayground.settings);
   assert.deepEqual([s.alpha, s.tau, s.m], ['0.01', '0.9', '250'], 'bad keys keep their defaults, good ones apply');
   assert.equal((await hashOf(page)).alpha, '0.01', 'the hash shows what runs');
   assert.equal(await page.inputValue('#p-alpha'), '0.01');
+  await page.close();
+});
+
+test('a live hash edit to a bad value is refused and the address bar shows what runs', async () => {
+  const page = await open('#alpha=0.02');
+  await page.waitForFunction(() => window.secPlayground.settings?.alpha === '0.02');
+  await page.evaluate(() => { location.hash = '#alpha=7'; });
+  await page.waitForFunction(() => !document.getElementById('error').hidden);
+  assert.match(await page.textContent('#error'), /alpha: '7' is out of range \[0, 1\]/);
+  await page.waitForFunction(() => new URLSearchParams(location.hash.slice(1)).get('alpha') === '0.02');
+  assert.equal(await page.evaluate(() => window.secPlayground.settings.alpha), '0.02');
   await page.close();
 });
 
