@@ -2,7 +2,7 @@
 //! on, the process's resident memory sampled every 50,000, to show that a long run in the page
 //! (which runs the same core) holds its memory flat.
 //!
-//!   cargo run --release -p sec-tools --bin soak [-- DECISIONS [FORGETTING]]
+//! `cargo run --release -p sec-tools --bin soak -- DECISIONS FORGETTING` (defaults 1000000, fifo)
 
 use sec_playground::experiment::{Run, RunConfig};
 use sec_playground::memory::Forgetting;
