@@ -13,7 +13,8 @@ OUT="${OUT:-results/experiments}"
 SCALE="${SCALE:-1}"
 JOBS="${JOBS:-$(nproc)}"
 cargo build --release -p sec-tools --bin sec-experiment
-bin=./target/release/sec-experiment
+# BIN: a copy of the binary, so that rebuilding while the grid runs changes nothing under it.
+bin="${BIN:-./target/release/sec-experiment}"
 run() { # EXPERIMENT SEEDS EPISODES [--only ...]
     local exp=$1 seeds=$(( $2 * SCALE )) episodes=$(( $3 * SCALE ))
     shift 3
@@ -22,8 +23,9 @@ run() { # EXPERIMENT SEEDS EPISODES [--only ...]
 run exp1 20 2000 --only double-t-maze/SEC,double-t-maze/NSEC
 run exp1 5 2000 --only double-t-maze/MFEC-ae,double-t-maze/MFEC-rp,double-t-maze/reactive
 run heading 5 2000
-run exp2 10 2000
+# The deep baselines before exp2: their runs take hours and continue from their checkpoints.
 run exp1 3 1000 --only double-t-maze/DQN,double-t-maze/ERLAM
+run exp2 10 2000
 others=""
 for task in detour cylinder object-permanence; do
     for model in SEC NSEC MFEC-ae; do others="$others,$task/$model"; done
