@@ -7,11 +7,10 @@
 use crate::graph::Graph;
 use crate::net::NatureCnn;
 use crate::replay::Replay;
-use crate::{optimiser_config, Dqn, Memory};
+use crate::{optimiser_config, Dqn, Memory, Progress};
 use burn::module::Module;
 use burn::store::ModuleRecord;
 use burn::tensor::Bytes;
-use sec_playground::agent::Reactive;
 use sec_playground::encoder::{EMBEDDING, IMAGE};
 use sec_playground::experiment::RunConfig;
 use sec_playground::memory::ACTIONS;
@@ -24,12 +23,9 @@ struct Saved<M> {
     online: ByteBuf,
     target: ByteBuf,
     optimiser: ByteBuf,
-    reactive: Reactive,
-    epsilon: f64,
-    decisions: u64,
-    action: u8,
-    pending: f64,
-    entropy: f64,
+    /// Flattened: the checkpoints of the runs in progress keep these fields at the top level.
+    #[serde(flatten)]
+    progress: Progress,
     memory: M,
 }
 
@@ -74,12 +70,7 @@ pub(crate) fn save(dqn: &Dqn, out: &mut dyn Write) -> Result<(), String> {
         online: network_bytes(dqn.network())?,
         target: network_bytes(&dqn.target)?,
         optimiser: ByteBuf::from(optimiser.to_vec()),
-        reactive: dqn.reactive.clone(),
-        epsilon: dqn.epsilon,
-        decisions: dqn.decisions,
-        action: dqn.action,
-        pending: dqn.pending,
-        entropy: dqn.entropy,
+        progress: dqn.progress.clone(),
         memory,
     };
     let mut out = BufWriter::new(out);
@@ -91,7 +82,7 @@ pub(crate) fn save(dqn: &Dqn, out: &mut dyn Write) -> Result<(), String> {
 /// to be dropped.
 pub(crate) fn load(dqn: &mut Dqn, input: &mut dyn Read) -> Result<(), String> {
     let saved: Saved<MemoryIn> = ciborium::from_reader(BufReader::new(input)).map_err(|e| e.to_string())?;
-    let Saved { online, target, optimiser, reactive, epsilon, decisions, action, pending, entropy, memory } = saved;
+    let Saved { online, target, optimiser, progress, memory } = saved;
     match (memory, &mut dqn.memory) {
         (MemoryIn::Replay(r), Memory::Replay(replay)) => {
             r.check(dqn.cfg.replay_size, IMAGE)?;
@@ -109,6 +100,7 @@ pub(crate) fn load(dqn: &mut Dqn, input: &mut dyn Read) -> Result<(), String> {
         _ => return Err("the checkpoint is of the other agent (dqn or erlam)".into()),
     }
     let (low, high) = (dqn.cfg.epsilon_end.min(dqn.cfg.epsilon_start), dqn.cfg.epsilon_end.max(dqn.cfg.epsilon_start));
+    let Progress { epsilon, action, pending, entropy, .. } = progress;
     if !(low..=high).contains(&epsilon) {
         return Err(format!("epsilon: {epsilon} is out of range {low}..={high}"));
     }
@@ -121,12 +113,7 @@ pub(crate) fn load(dqn: &mut Dqn, input: &mut dyn Read) -> Result<(), String> {
         .init()
         .from_bytes(Bytes::from_bytes_vec(optimiser.into_vec()))
         .map_err(|e| format!("optimiser: {e}"))?;
-    dqn.reactive = reactive;
-    dqn.epsilon = epsilon;
-    dqn.decisions = decisions;
-    dqn.action = action;
-    dqn.pending = pending;
-    dqn.entropy = entropy;
+    dqn.progress = progress;
     Ok(())
 }
 

@@ -100,6 +100,13 @@ pub struct Dqn {
     target: NatureCnn,
     optim: Rms,
     memory: Memory,
+    progress: Progress,
+}
+
+/// Where the agent stands between two steps besides what it learned: the exploration walk, the
+/// schedule's counters and the bookkeeping of the next transition (a checkpoint holds it whole).
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+struct Progress {
     reactive: Reactive,
     epsilon: f64,
     decisions: u64,
@@ -120,12 +127,14 @@ impl Dqn {
         let optim = optimiser_config().init();
         Ok(Dqn {
             memory: Memory::Replay(Replay::new(cfg.replay_size)),
-            reactive: Reactive::new(rng),
-            epsilon: cfg.epsilon_start,
-            decisions: 0,
-            action: 0,
-            pending: 0.0,
-            entropy: 0.0,
+            progress: Progress {
+                reactive: Reactive::new(rng),
+                epsilon: cfg.epsilon_start,
+                decisions: 0,
+                action: 0,
+                pending: 0.0,
+                entropy: 0.0,
+            },
             cfg,
             device,
             net: Some(net),
@@ -171,11 +180,11 @@ impl Dqn {
     }
 
     pub fn epsilon(&self) -> f64 {
-        self.epsilon
+        self.progress.epsilon
     }
 
     pub fn decisions(&self) -> u64 {
-        self.decisions
+        self.progress.decisions
     }
 
     /// DQN's replay buffer, if this is DQN.
@@ -297,17 +306,17 @@ impl Controller for Dqn {
     }
 
     fn on_step(&mut self, step: &Step, frame: Option<&[f32]>, rng: &mut ChaCha8Rng) -> bool {
-        self.pending += step.reward;
+        self.progress.pending += step.reward;
         let Some(frame) = frame else { return false };
         let reward = if self.cfg.sum_rewards {
-            self.pending
+            self.progress.pending
         } else if step.reward > 0.0 {
             step.episode_reward
         } else {
             step.reward
         };
         let bytes = to_bytes(frame);
-        let action = self.action;
+        let action = self.progress.action;
         let stored = match &mut self.memory {
             Memory::Replay(r) if !r.started() => {
                 r.start(bytes);
@@ -339,12 +348,12 @@ impl Controller for Dqn {
                 stored
             }
         };
-        self.pending = 0.0;
-        if stored && step.decides && self.decisions > 0 {
-            if self.decisions % self.cfg.train_every == 0 && self.stored() >= self.cfg.batch_size {
+        self.progress.pending = 0.0;
+        if stored && step.decides && self.progress.decisions > 0 {
+            if self.progress.decisions % self.cfg.train_every == 0 && self.stored() >= self.cfg.batch_size {
                 self.train_step(rng);
             }
-            if self.decisions % self.cfg.target_sync == 0 {
+            if self.progress.decisions % self.cfg.target_sync == 0 {
                 self.sync_target();
             }
         }
@@ -352,18 +361,18 @@ impl Controller for Dqn {
     }
 
     fn decide(&mut self, obs: &Observation, _: &mut dyn FnMut() -> f32, rng: &mut ChaCha8Rng) -> Decision {
-        self.decisions += 1;
-        let explore = rng.gen::<f64>() < self.epsilon || self.decisions < self.cfg.random_decisions;
+        self.progress.decisions += 1;
+        let explore = rng.gen::<f64>() < self.progress.epsilon || self.progress.decisions < self.cfg.random_decisions;
         let (action, layer) = if explore {
-            (self.reactive.step(rng), Layer::Reactive)
+            (self.progress.reactive.step(rng), Layer::Reactive)
         } else {
             let q = self.q(obs.image);
-            self.entropy = softmax_entropy_bits(&q);
+            self.progress.entropy = softmax_entropy_bits(&q);
             let best = (0..ACTIONS).fold(0, |b, a| if q[a] > q[b] { a } else { b });
             (best as u8, Layer::Contextual)
         };
-        self.epsilon = self.cfg.next_epsilon(self.epsilon);
-        self.action = action;
+        self.progress.epsilon = self.cfg.next_epsilon(self.progress.epsilon);
+        self.progress.action = action;
         Decision { action, layer, selected: !explore }
     }
 
@@ -377,7 +386,7 @@ impl Controller for Dqn {
     }
 
     fn entropy(&self) -> f64 {
-        self.entropy
+        self.progress.entropy
     }
 
     fn memory_use(&self) -> MemoryUse {
