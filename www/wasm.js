@@ -4,6 +4,8 @@
 // for comparing speed). `?wasm=hooks` loads the test flavour (scripts/build-hooks.sh), the SIMD
 // build with the test hooks; the published page has no such folder.
 
+import { TASKS } from './tasks.js';
+
 /** A function returning a v128 (i8x16.splat, i8x16.popcnt): valid only where SIMD is. */
 const SIMD_PROBE = new Uint8Array([0, 97, 115, 109, 1, 0, 0, 0, 1, 5, 1, 96, 0, 1, 123, 3, 2, 1, 0, 10, 10, 1, 8, 0,
   65, 0, 253, 15, 253, 98, 11]);
@@ -25,9 +27,10 @@ export default glue.default;
 export const { SecRun, parameters, parseSettings, applySettings, presetSettings, panicForTest, registerModel, hasModel,
   taskNames, ArenaEnv, taskDescription, frameSize } = glue;
 
-/** Starts downloading `task`'s model now (before the wasm is ready); `ensureModel` uses it. */
+/** Starts downloading `task`'s model now (before the wasm is ready); `ensureModel` uses it. An
+ * unknown task fetches nothing: the run refuses it by name. */
 export function prefetchModel(task) {
-  if (!/^[a-z-]+$/.test(task ?? '') || fetched.has(task)) return;
+  if (!TASKS.includes(task) || fetched.has(task)) return;
   fetched.set(task, fetch(new URL(`../assets/encoders/${task}.secae`, import.meta.url)).then((r) => {
     if (!r.ok) throw new Error(`weights: the model of '${task}' could not be loaded (HTTP ${r.status})`);
     return r.arrayBuffer();

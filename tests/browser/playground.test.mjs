@@ -120,6 +120,19 @@ test('a live hash edit to a bad value is refused and the address bar shows what 
   await page.close();
 });
 
+test('an unknown task in the hash is refused by name and fetches no model', async () => {
+  const page = await browser.newPage({ viewport: { width: 1300, height: 1000 } });
+  const asked = [];
+  page.context().on('request', (r) => asked.push(r.url()));
+  await page.goto(`${base}#task=nope`);
+  await page.waitForFunction(() => window.secPlayground?.settings && window.secPlayground.view);
+  assert.match(await page.textContent('#error'), /task: 'nope'/);
+  assert.equal(await page.evaluate(() => window.secPlayground.settings.task), 'double-t-maze');
+  assert.ok(asked.some((u) => u.includes('double-t-maze.secae')), 'the default task\'s model is fetched');
+  assert.ok(!asked.some((u) => u.includes('nope.secae')), asked.filter((u) => u.includes('nope')).join('\n'));
+  await page.close();
+});
+
 test('a bad control value is refused by name and the run goes on', async () => {
   const page = await open();
   await page.fill('#p-beta', '7');

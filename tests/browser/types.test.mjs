@@ -52,3 +52,8 @@ test('the published build has no test or benchmark hooks', () => {
   assert.ok(!dts.includes('benchFillMemory'));
   assert.equal(wasm.SecRun.prototype.benchFillMemory, undefined);
 });
+
+test("the page's list of tasks (www/tasks.js, used before the wasm loads) is the wasm's", async () => {
+  const { TASKS } = await import(`${root}www/tasks.js`);
+  assert.deepEqual(TASKS, wasm.taskNames());
+});
