@@ -243,6 +243,13 @@ fn models_are_registered_and_checked() {
     let e = message(register_model(b"SECMEMRY not weights").err().unwrap());
     assert!(e.starts_with("weights:") && e.contains("magic"), "{e}");
     assert!(has_model(v("detour")).unwrap(), "a refused file leaves the registered model");
+    // A sound file of non-finite weights (issue 20: an infinite bias made every embedding
+    // infinite) is refused by its tensor's name, and the registered model stays.
+    let mut w = sec_playground::encoder::bundled::autoencoder("detour").unwrap().to_weights();
+    w.tensors[1].data[0] = f32::INFINITY;
+    let e = message(register_model(&w.to_bytes(sec_playground::encoder::DType::F32)).err().unwrap());
+    assert!(e.starts_with(&format!("{}:", w.tensors[1].name)) && e.contains("inf"), "{e}");
+    assert!(has_model(v("detour")).unwrap());
 }
 
 #[wasm_bindgen_test]
