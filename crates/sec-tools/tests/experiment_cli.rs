@@ -107,6 +107,12 @@ fn bad_input_is_refused_by_name() {
     std::fs::write(&cfg, r#"{"agent":{"memory":{"tau":-1}}}"#).unwrap();
     let e = err(&["run", "--config", cfg.to_str().unwrap(), "--name", "a/b", "--out", dir.to_str().unwrap()]);
     assert!(e.contains("tau"), "{e}");
+    // A type error names the field as well as the line and column.
+    std::fs::write(&cfg, r#"{"agent":{"memory":{"tau":"x"}}}"#).unwrap();
+    let e = err(&["run", "--config", cfg.to_str().unwrap(), "--name", "a/b", "--out", dir.to_str().unwrap()]);
+    assert!(e.contains("agent.memory.tau: invalid type") && e.contains("line 1"), "{e}");
+    let e = err(&["run", "smoke", "--checkpoint-every", "-1"]);
+    assert!(e.contains("--checkpoint-every"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
