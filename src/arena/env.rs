@@ -116,10 +116,9 @@ impl Env {
     /// Builds the environment and resets it with `seed`.
     pub fn new(config: EnvConfig, seed: u64) -> Result<Env, ConfigError> {
         config.validate()?;
-        if let Some(l) = config.task.layouts.iter().find(|l| !World::agent_has_room(l)) {
-            let message =
-                format!("layout '{}' leaves the agent no free spot (1000 draws)", crate::util::shown(&l.name));
-            return Err(ConfigError::new("agent", message));
+        for l in &config.task.layouts {
+            World::check_room(l)
+                .map_err(|m| ConfigError::new("layout", format!("'{}': {m}", crate::util::shown(&l.name))))?;
         }
         let rng = crate::seed::rng(seed, Stream::Env);
         let world = World::spawn(&config.task.layouts[0], &mut rng.clone());

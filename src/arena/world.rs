@@ -193,6 +193,13 @@ impl World {
     /// footprint overlaps something already spawned is left out (Animal-AI's `IsSpotFree`), and a
     /// random agent spawns last on a free spot.
     pub fn spawn(layout: &Layout, rng: &mut ChaCha8Rng) -> World {
+        Self::spawn_counting(layout, rng).0
+    }
+
+    /// `spawn`, and the indices (in `layout.objects`) of the objects it could not place: a fixed
+    /// one whose spot is taken, or a random one with no free spot in its tries. Animal-AI leaves
+    /// those out, and so does a reset; the env refuses a layout that does so at construction.
+    fn spawn_counting(layout: &Layout, rng: &mut ChaCha8Rng) -> (World, Vec<usize>) {
         let mut w = World {
             walls: Vec::new(),
             tunnels: Vec::new(),
@@ -208,12 +215,18 @@ impl World {
             agent_disc = Some(pos);
             w.agent.pos = pos;
         }
-        for spec in &layout.objects {
+        let mut unplaced = Vec::new();
+        for (k, spec) in layout.objects.iter().enumerate() {
+            let mut placed = false;
             for _ in 0..SPAWN_TRIES {
                 let random = spec.position.iter().any(Option::is_none) || spec.rotation.is_none();
-                if w.try_place(spec, agent_disc, rng) || !random {
+                placed = w.try_place(spec, agent_disc, rng);
+                if placed || !random {
                     break;
                 }
+            }
+            if !placed {
+                unplaced.push(k);
             }
         }
         w.agent.heading = wrap_degrees(match layout.agent.rotation {
@@ -223,7 +236,7 @@ impl World {
         if !fixed_agent {
             w.agent.pos = w.random_agent_spot(&layout.agent, rng).0;
         }
-        w
+        (w, unplaced)
     }
 
     /// Places one object if its spot is free; returns whether it was placed.
@@ -343,17 +356,22 @@ impl World {
         (p, false)
     }
 
-    /// Whether a layout whose agent is placed at random finds it a free spot: spawned with four
-    /// fixed draws, each must. (A fixed agent is where the file puts it.)
-    pub fn agent_has_room(layout: &Layout) -> bool {
-        if matches!(layout.agent.position, [Some(_), Some(_)]) {
-            return true;
-        }
-        (0..4u64).all(|k| {
+    /// Why `layout` cannot be spawned as written, if it cannot: an object left out (its index in
+    /// `layout.objects` and kind), or a randomly placed agent with no free spot. Checked with four
+    /// fixed draws, so a layout that fits is never refused for its randomness alone.
+    pub fn check_room(layout: &Layout) -> Result<(), String> {
+        for k in 0..4u64 {
             let mut rng = crate::seed::rng(k, crate::seed::Stream::Env);
-            let w = World::spawn(layout, &mut rng);
-            w.random_agent_spot(&layout.agent, &mut rng).1
-        })
+            let (w, unplaced) = World::spawn_counting(layout, &mut rng);
+            if let Some(&i) = unplaced.first() {
+                let kind = layout.objects[i].kind.name();
+                return Err(format!("object {i} (a {kind}) finds no free spot ({SPAWN_TRIES} tries when random)"));
+            }
+            if !matches!(layout.agent.position, [Some(_), Some(_)]) && !w.random_agent_spot(&layout.agent, &mut rng).1 {
+                return Err(format!("the agent finds no free spot ({} draws)", 10 * SPAWN_TRIES));
+            }
+        }
+        Ok(())
     }
 }
 
