@@ -58,6 +58,52 @@ impl<'a> ByteReader<'a> {
     }
 }
 
+impl ByteReader<'_> {
+    /// A u64 count, refused past `max`.
+    pub fn count(&mut self, max: usize, field: &str) -> Result<usize, FileError> {
+        let n = self.u64()?;
+        if n > max as u64 {
+            return Err(FileError::field(self.what, field.to_string(), format!("{n} entries, more than {max}")));
+        }
+        Ok(n as usize)
+    }
+    /// A u64 count (at most `max`) and that many f32s, as `put_f32s` writes them.
+    pub fn f32s(&mut self, max: usize, field: &str) -> Result<Vec<f32>, FileError> {
+        let n = self.count(max, field)?;
+        (0..n).map(|_| self.f32()).collect()
+    }
+    pub fn f64s(&mut self, max: usize, field: &str) -> Result<Vec<f64>, FileError> {
+        let n = self.count(max, field)?;
+        (0..n).map(|_| self.f64()).collect()
+    }
+    pub fn bytes(&mut self, max: usize, field: &str) -> Result<Vec<u8>, FileError> {
+        let n = self.count(max, field)?;
+        Ok(self.take(n)?.to_vec())
+    }
+    pub fn bool(&mut self) -> Result<bool, FileError> {
+        match self.take(1)?[0] {
+            0 => Ok(false),
+            1 => Ok(true),
+            b => Err(FileError::new(self.what, format!("{b} is not a boolean"))),
+        }
+    }
+}
+
+pub(crate) fn put_f32s(b: &mut Vec<u8>, v: &[f32]) {
+    b.extend_from_slice(&(v.len() as u64).to_le_bytes());
+    v.iter().for_each(|x| b.extend_from_slice(&x.to_le_bytes()));
+}
+
+pub(crate) fn put_f64s(b: &mut Vec<u8>, v: &[f64]) {
+    b.extend_from_slice(&(v.len() as u64).to_le_bytes());
+    v.iter().for_each(|x| b.extend_from_slice(&x.to_le_bytes()));
+}
+
+pub(crate) fn put_bytes(b: &mut Vec<u8>, v: &[u8]) {
+    b.extend_from_slice(&(v.len() as u64).to_le_bytes());
+    b.extend_from_slice(v);
+}
+
 /// Writes `s` as `ByteReader::string` reads it.
 pub(crate) fn put_str(b: &mut Vec<u8>, s: &str) {
     b.extend_from_slice(&(s.len() as u16).to_le_bytes());

@@ -253,6 +253,52 @@ impl Controller for Agent {
         MemoryUse { used: self.memory.len(), capacity: self.memory.config().m }
     }
 
+    fn checkpoints(&self) -> bool {
+        true
+    }
+
+    /// The walk, the couplet waiting for the STM, and the whole memory (`Memory::put_state`).
+    fn save_state(&self, out: &mut dyn std::io::Write) -> Result<(), String> {
+        let mut b = Vec::new();
+        for w in self.reactive.words() {
+            b.extend_from_slice(&w.to_le_bytes());
+        }
+        for v in self.previous.embedding {
+            b.extend_from_slice(&v.to_le_bytes());
+        }
+        b.push(self.previous.action);
+        b.push(self.previous_pushed as u8);
+        self.memory.put_state(&mut b);
+        out.write_all(&b).map_err(|e| e.to_string())
+    }
+
+    fn load_state(&mut self, input: &mut dyn std::io::Read) -> Result<(), String> {
+        let mut bytes = Vec::new();
+        input.read_to_end(&mut bytes).map_err(|e| e.to_string())?;
+        let mut r = crate::util::ByteReader { b: &bytes, at: 0, what: "checkpoint" };
+        let mut read = || -> Result<(), crate::error::FileError> {
+            let words = [r.u32()?, r.u32()?, r.u32()?, r.u32()?];
+            let mut embedding = [0.0f32; crate::encoder::EMBEDDING];
+            for v in &mut embedding {
+                *v = r.f32()?;
+            }
+            let action = r.take(1)?[0];
+            let pushed = r.bool()?;
+            if action as usize >= crate::memory::ACTIONS {
+                return Err(crate::error::FileError::field("checkpoint", "previous", "not an action"));
+            }
+            self.memory.take_state(&mut r)?;
+            self.reactive = Reactive::from_words(words);
+            (self.previous, self.previous_pushed) = (Couplet { embedding, action }, pushed);
+            Ok(())
+        };
+        read().map_err(|e| e.to_string())?;
+        if r.at != bytes.len() {
+            return Err(format!("{} bytes after the agent's state", bytes.len() - r.at));
+        }
+        Ok(())
+    }
+
     fn sec(&self) -> Option<&Agent> {
         Some(self)
     }

@@ -31,6 +31,15 @@ impl Reactive {
         Reactive { c: 0, straight, turns, dir: 0 }
     }
 
+    /// The walk's state as four words (a run checkpoint's), and back.
+    pub(crate) fn words(&self) -> [u32; 4] {
+        [self.c, self.straight, self.turns, self.dir]
+    }
+
+    pub(crate) fn from_words([c, straight, turns, dir]: [u32; 4]) -> Self {
+        Reactive { c, straight, turns, dir }
+    }
+
     /// The next action. After the first cycle each one is `straight + 1` forward steps then
     /// `turns` turns, with lengths from 1..=20 and a direction drawn anew.
     pub fn step(&mut self, rng: &mut ChaCha8Rng) -> u8 {

@@ -46,6 +46,34 @@ impl ReconstructionGate {
         ReconstructionGate { mse: Self::INITIAL, steps: 0, pending: false, image: vec![0.0; IMAGE], embedding: None }
     }
 
+    /// The gate's state for a run checkpoint: the last MSE, the step count and a pending
+    /// measurement's frame and embedding.
+    pub(crate) fn put_state(&self, b: &mut Vec<u8>) {
+        b.extend_from_slice(&self.mse.to_le_bytes());
+        b.extend_from_slice(&self.steps.to_le_bytes());
+        b.push(self.pending as u8);
+        crate::util::put_f32s(b, &self.image);
+        b.push(self.embedding.is_some() as u8);
+        for v in self.embedding.unwrap_or([0.0; EMBEDDING]) {
+            b.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+
+    pub(crate) fn take_state(&mut self, r: &mut crate::util::ByteReader) -> Result<(), crate::error::FileError> {
+        let (mse, steps, pending) = (r.f32()?, r.u64()?, r.bool()?);
+        let image = r.f32s(IMAGE, "gate.image")?;
+        if image.len() != IMAGE {
+            return Err(crate::error::FileError::field("checkpoint", "gate.image", "is not a frame"));
+        }
+        let known = r.bool()?;
+        let mut e = [0.0f32; EMBEDDING];
+        for v in &mut e {
+            *v = r.f32()?;
+        }
+        *self = ReconstructionGate { mse, steps, pending, image, embedding: known.then_some(e) };
+        Ok(())
+    }
+
     /// Called once per env step with the current image; measures on every 16th call.
     pub fn watch(&mut self, image: &[f32]) {
         self.steps += 1;

@@ -5,15 +5,20 @@
 //! its saved position, and the controller restores its own state (`Controller::save_state`).
 //! Resumed, the run gives the same episodes as one never interrupted.
 //!
-//! Layout: `SECCKPT1`, a little-endian u32 length, that many bytes of a JSON header (seed,
-//! configuration, episodes played, the agent stream's word position), then the controller's state
-//! to the end.
+//! Layout: `SECCKPT2`, a little-endian u32 length, that many bytes of a JSON header (seed,
+//! configuration, episodes played, the agent stream's word position), a u64 length and that many
+//! bytes of the reconstruction gate's state, then the controller's state to the end. Version 1
+//! (`SECCKPT1`, the first DQN runs') had no gate section and still loads.
 
 use super::{AgentFactory, Run, RunConfig};
 use crate::error::{Error, FileError};
 use std::io::{Read, Write};
 
-const MAGIC: &[u8; 8] = b"SECCKPT1";
+const MAGIC: &[u8; 8] = b"SECCKPT2";
+/// The first version: no gate section (only agents without the gate wrote it).
+const MAGIC_V1: &[u8; 8] = b"SECCKPT1";
+/// A gate section longer than this is not one (a frame of floats and a few numbers).
+const MAX_GATE: u64 = 1 << 20;
 /// A header longer than this is not one (configurations are a few KiB).
 const MAX_HEADER: u32 = 1 << 20;
 /// Episodes a checkpoint may claim: each costs a reset on resume.
@@ -29,14 +34,18 @@ pub struct Header {
     pub episodes: u64,
     /// `ChaCha8Rng::get_word_pos` of the agent stream, as a decimal string (a u128).
     agent_stream: String,
+    /// The reconstruction gate's state (`None` in a version-1 checkpoint).
+    #[serde(skip)]
+    gate: Option<Vec<u8>>,
 }
 
 impl Header {
-    /// Reads a checkpoint's header, leaving `input` at the controller's state.
+    /// Reads a checkpoint's header (and the gate's section), leaving `input` at the controller's
+    /// state.
     pub fn read(input: &mut dyn Read) -> Result<Header, Error> {
         let mut magic = [0u8; 8];
         input.read_exact(&mut magic).map_err(io)?;
-        if &magic != MAGIC {
+        if &magic != MAGIC && &magic != MAGIC_V1 {
             return Err(FileError::new("checkpoint", "not a run checkpoint (or of another version)").into());
         }
         let mut len = [0u8; 4];
@@ -47,8 +56,19 @@ impl Header {
         }
         let mut json = vec![0u8; len as usize];
         input.read_exact(&mut json).map_err(io)?;
-        let header: Header =
+        let mut header: Header =
             serde_json::from_slice(&json).map_err(|e| FileError::field("checkpoint", "header", e.to_string()))?;
+        if &magic == MAGIC {
+            let mut len = [0u8; 8];
+            input.read_exact(&mut len).map_err(io)?;
+            let len = u64::from_le_bytes(len);
+            if len > MAX_GATE {
+                return Err(FileError::field("checkpoint", "gate", format!("{len} bytes is over {MAX_GATE}")).into());
+            }
+            let mut gate = vec![0u8; len as usize];
+            input.read_exact(&mut gate).map_err(io)?;
+            header.gate = Some(gate);
+        }
         if header.episodes > MAX_EPISODES {
             let message = format!("{} is out of range 0..={MAX_EPISODES}", header.episodes);
             return Err(FileError::field("checkpoint", "episodes", message).into());
@@ -62,10 +82,10 @@ fn io(e: std::io::Error) -> Error {
 }
 
 impl Run {
-    /// Whether `save_checkpoint` can write this run (its agent checkpoints, and nothing that a
-    /// checkpoint leaves out is in use: a person driving, the reconstruction gate).
+    /// Whether `save_checkpoint` can write this run (its agent checkpoints, and no person is
+    /// driving, which a checkpoint leaves out).
     pub fn can_checkpoint(&self) -> bool {
-        self.controller.checkpoints() && !self.controller.uses_gate() && self.driver.is_none()
+        self.controller.checkpoints() && self.driver.is_none()
     }
 
     /// Writes the run as it stands between two episodes (refused in the middle of one).
@@ -81,11 +101,16 @@ impl Run {
             config: self.cfg.clone(),
             episodes: self.env.episode(),
             agent_stream: self.rng.get_word_pos().to_string(),
+            gate: None,
         };
         let json = serde_json::to_vec(&header).expect("headers serialise");
+        let mut gate = Vec::new();
+        self.gate.put_state(&mut gate);
         out.write_all(MAGIC).map_err(io)?;
         out.write_all(&(json.len() as u32).to_le_bytes()).map_err(io)?;
         out.write_all(&json).map_err(io)?;
+        out.write_all(&(gate.len() as u64).to_le_bytes()).map_err(io)?;
+        out.write_all(&gate).map_err(io)?;
         self.controller.save_state(out).map_err(|e| FileError::field("checkpoint", "agent", e))?;
         Ok(())
     }
@@ -113,6 +138,17 @@ impl Run {
             run.env.reset(None);
         }
         run.rng.set_word_pos(stream);
+        match &header.gate {
+            Some(bytes) => {
+                let mut r = crate::util::ByteReader { b: bytes, at: 0, what: "checkpoint" };
+                run.gate.take_state(&mut r)?;
+            }
+            // A version-1 checkpoint: written only by agents without the gate.
+            None if run.controller.uses_gate() => {
+                return Err(FileError::field("checkpoint", "gate", "missing (a version-1 checkpoint)").into());
+            }
+            None => {}
+        }
         run.controller.load_state(input).map_err(|e| FileError::field("checkpoint", "agent", e))?;
         Ok(run)
     }
@@ -171,8 +207,29 @@ mod tests {
         assert_eq!(field(Run::resume(reactive(), 7, None, &mut bad.as_slice())), "checkpoint");
         run.tick();
         assert!(run.save_checkpoint(&mut Vec::new()).is_err(), "mid-episode");
-        let sec = Run::new(RunConfig::default(), 7).unwrap();
-        assert!(!sec.can_checkpoint());
-        assert_eq!(sec.save_checkpoint(&mut Vec::new()).unwrap_err().field(), "kind");
+        let mfec = Run::new(RunConfig { kind: AgentKind::Mfec, ..reactive() }, 7).unwrap();
+        assert!(!mfec.can_checkpoint());
+        assert_eq!(mfec.save_checkpoint(&mut Vec::new()).unwrap_err().field(), "kind");
+    }
+
+    #[test]
+    fn a_resumed_sec_run_plays_the_episodes_of_an_uninterrupted_one() {
+        // The golden run's task and seed, where the LTM fills and the contextual layer acts from
+        // episode 16; FIFO forgetting with a small m so that the LTM forgets before the cut.
+        let mut cfg = RunConfig { task: "object-permanence".into(), ..RunConfig::default() };
+        cfg.agent.memory.m = 8;
+        cfg.agent.memory.forgetting = crate::memory::Forgetting::Fifo;
+        let full = |run: &mut Run, n: usize| (0..n).map(|_| run.episode().to_json()).collect::<Vec<_>>();
+        let mut whole = Run::new(cfg.clone(), 2).unwrap();
+        let expected = full(&mut whole, 24);
+        let mut first = Run::new(cfg.clone(), 2).unwrap();
+        let mut got = full(&mut first, 18);
+        assert!(first.agent().unwrap().memory.len() >= 5, "the contextual layer acts before the cut");
+        let mut bytes = Vec::new();
+        first.save_checkpoint(&mut bytes).unwrap();
+        drop(first);
+        let mut resumed = Run::resume(cfg, 2, None, &mut bytes.as_slice()).unwrap();
+        got.extend(full(&mut resumed, 6));
+        assert_eq!(got, expected);
     }
 }

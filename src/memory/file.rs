@@ -13,11 +13,11 @@
 //!
 //! T and the selection masks are not kept: they restart at 1 and empty, as after an episode.
 
-use super::{Couplet, Memory};
+use super::{Couplet, Memory, Selected};
 use crate::encoder::EMBEDDING;
 use crate::error::FileError;
 use crate::memory::ACTIONS;
-use crate::util::{fnv1a, put_str, ByteReader};
+use crate::util::{fnv1a, put_bytes, put_f32s, put_f64s, put_str, ByteReader};
 
 pub const MAGIC: [u8; 8] = *b"SECMEMRY";
 pub const VERSION: u32 = 1;
@@ -172,5 +172,92 @@ impl Memory {
         self.g.clear();
         self.selected.clear();
         Ok(rows)
+    }
+}
+
+/// The whole memory for a run checkpoint (`experiment::checkpoint`): besides what a memory file
+/// holds, T, the selection masks, the last retrieval (its G, similarities and selection) and the
+/// values and entropy the next decision may reuse (D14), so a resumed run continues exactly.
+/// The settings are the run's own and not written.
+impl Memory {
+    pub(crate) fn put_state(&self, b: &mut Vec<u8>) {
+        b.extend_from_slice(&(self.stm_head as u64).to_le_bytes());
+        for c in &self.stm {
+            put_couplet(b, c);
+        }
+        put_f32s(b, &self.ltm);
+        put_bytes(b, &self.actions);
+        put_f64s(b, &self.rewards);
+        put_f64s(b, &self.t);
+        put_bytes(b, &self.sel.iter().map(|&x| x as u8).collect::<Vec<_>>());
+        put_bytes(b, &self.sel_prev.iter().map(|&x| x as u8).collect::<Vec<_>>());
+        put_f64s(b, &self.g);
+        b.push(self.forgot as u8);
+        put_f32s(b, &self.sim);
+        b.extend_from_slice(&(self.selected.len() as u64).to_le_bytes());
+        for s in &self.selected {
+            b.extend_from_slice(&s.row.to_le_bytes());
+            b.extend_from_slice(&s.col.to_le_bytes());
+            for v in [s.g, s.t, s.rr, s.d, s.value] {
+                b.extend_from_slice(&v.to_le_bytes());
+            }
+            b.push(s.action);
+        }
+        for v in self.q.iter().chain(&self.p).chain([&self.entropy]) {
+            b.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+
+    /// Reads what `put_state` wrote onto a memory of the same settings; refused (and the memory
+    /// to be dropped) unless its sizes fit them.
+    pub(crate) fn take_state(&mut self, r: &mut ByteReader) -> Result<(), FileError> {
+        let (n, m) = (self.cfg.n, self.cfg.m);
+        let cells = n * m;
+        let bad = |what: &str| FileError::field("checkpoint", what.to_string(), "does not fit the memory's n and m");
+        let head = r.u64()? as usize;
+        if head >= n {
+            return Err(bad("stmHead"));
+        }
+        let stm = (0..n).map(|_| couplet(r)).collect::<Result<Vec<_>, _>>()?;
+        let ltm = r.f32s(cells * EMBEDDING, "ltm")?;
+        let rows = ltm.len() / (n * EMBEDDING);
+        let actions = r.bytes(cells, "actions")?;
+        let rewards = r.f64s(m, "rewards")?;
+        let t = r.f64s(cells, "t")?;
+        let flags = |v: Vec<u8>| v.into_iter().map(|x| x != 0).collect::<Vec<bool>>();
+        let sel = flags(r.bytes(cells, "sel")?);
+        let sel_prev = flags(r.bytes(cells, "selPrev")?);
+        let g = r.f64s(cells, "g")?;
+        let forgot = r.bool()?;
+        let sim = r.f32s(cells, "sim")?;
+        let count = r.count(cells, "selected")?;
+        let mut selected = Vec::with_capacity(count);
+        for _ in 0..count {
+            let (row, col) = (r.u32()?, r.u32()?);
+            let [g, t, rr, d, value] = [r.f64()?, r.f64()?, r.f64()?, r.f64()?, r.f64()?];
+            let action = r.take(1)?[0];
+            if row as usize >= rows || col as usize >= n || action as usize >= ACTIONS {
+                return Err(bad("selected"));
+            }
+            selected.push(Selected { row, col, g, t, rr, d, action, value });
+        }
+        let mut q = [0.0; ACTIONS];
+        let mut p = [0.0; ACTIONS];
+        for v in q.iter_mut().chain(p.iter_mut()) {
+            *v = r.f64()?;
+        }
+        let entropy = r.f64()?;
+        let sound = ltm.len() == rows * n * EMBEDDING
+            && actions.len() == rows * n
+            && rewards.len() == rows
+            && [t.len(), sel.len(), sel_prev.len()].iter().all(|&l| l == rows * n)
+            && actions.iter().all(|&a| (a as usize) < ACTIONS);
+        if !sound {
+            return Err(bad("ltm"));
+        }
+        (self.stm, self.stm_head, self.ltm, self.actions, self.rewards) = (stm, head, ltm, actions, rewards);
+        (self.t, self.sel, self.sel_prev, self.g, self.forgot, self.sim) = (t, sel, sel_prev, g, forgot, sim);
+        (self.selected, self.q, self.p, self.entropy) = (selected, q, p, entropy);
+        Ok(())
     }
 }

@@ -4,8 +4,8 @@
 //! every report regenerated from them).
 //!
 //! Resumable: a finished run is a complete `.jsonl.gz` file and is skipped; an unfinished one is
-//! a `.part` file, continued from its `.ckpt` checkpoint where its agent writes them (DQN and
-//! ERLAM, whose runs take hours), and started again otherwise (runs are deterministic, so either
+//! a `.part` file, continued from its `.ckpt` checkpoint where its agent writes them (SEC, NSEC,
+//! DQN and ERLAM), and started again otherwise (MFEC, the reactive walk) (runs are deterministic, so either
 //! way nothing differs but the time spent).
 //! `--shard i/N` takes every N-th job, so shards on several machines write disjoint files into
 //! copies of the same tree, which merge by copying.
@@ -242,7 +242,7 @@ fn run_job(job: &Job, out: &Path, episodes: usize, every: usize, bar: &ProgressB
 
 /// Runs the unfinished `jobs` on `threads` threads with a progress bar on standard error (a line
 /// per finished run when it is not a terminal), each checkpointing every `every` episodes (0:
-/// never; only agents that can, DQN and ERLAM). Returns (runs made, runs already there).
+/// never; only agents that can: SEC, DQN and ERLAM). Returns (runs made, runs already there).
 pub fn run_all(
     jobs: &[Job],
     out: &Path,

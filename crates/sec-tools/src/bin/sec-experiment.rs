@@ -14,8 +14,8 @@
 //!   sec-experiment record --config FILE.json --seed S --episodes N --events OUT.jsonl
 //!   sec-experiment trace --config FILE.json --seed S --events IN.jsonl [--trace OUT.jsonl]
 //!
-//! Runs go to `OUT/EXPERIMENT/<group>/<model>/seed-S.jsonl.gz`, one JSON line per episode; a DQN
-//! or ERLAM run in progress keeps a checkpoint `seed-S.jsonl.ckpt` beside its log and resumes from it.
+//! Runs go to `OUT/EXPERIMENT/<group>/<model>/seed-S.jsonl.gz`, one JSON line per episode; a SEC,
+//! DQN or ERLAM run in progress keeps a checkpoint `seed-S.jsonl.ckpt` beside its log and resumes from it.
 
 use sec_playground::experiment::presets::{self, Condition, EXPERIMENTS};
 use sec_playground::experiment::trace::trace;
@@ -39,7 +39,7 @@ const USAGE: &str = "usage:
   sec-experiment record --config FILE.json --seed S --episodes N --events OUT.jsonl
   sec-experiment trace --config FILE.json --seed S --events IN.jsonl [--trace OUT.jsonl]
 defaults: --seeds 1..20, --episodes 5000, --jobs all cores, --shard 1/1, --out results/experiments,
-  --checkpoint-every 50 (episodes; 0: never; DQN and ERLAM runs, which resume from it mid-run)";
+  --checkpoint-every 50 (episodes; 0: never; SEC, DQN and ERLAM runs resume from it mid-run)";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
