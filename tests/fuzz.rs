@@ -1,7 +1,8 @@
 //! The fuzz suite: mutations of every format the crate parses (Animal-AI YAML arenas, memory
 //! files, weights files, RunConfig JSON, the URL hash's settings), each of which must be accepted
 //! or refused with an error, never a panic or a hang, and a refused memory file must leave the
-//! memory as it was. Mutations: byte flips, inserted bytes or format tokens, deletions and
+//! memory as it was; a run checkpoint too (a SEC run with sequences in its LTM), whose resumed
+//! run must play an episode. Mutations: byte flips, inserted bytes or format tokens, deletions and
 //! duplicated spans; for the binary files half the cases get their checksum recomputed, so the
 //! parser behind the checksum is reached. Then the regression corpus (`tests/corpus/`, issue 20's
 //! reproducers), all refused.
@@ -269,4 +270,33 @@ fn the_regression_corpus_is_refused_cleanly() {
         seen += 1;
     }
     assert!(seen >= 6, "the corpus holds {seen} files");
+}
+
+/// A SEC run's checkpoint with a few sequences in its LTM, and the run's configuration.
+fn sec_checkpoint() -> (Vec<u8>, RunConfig) {
+    let cfg = RunConfig { task: "object-permanence".into(), t: Some(100), ..RunConfig::default() };
+    let mut run = sec_playground::experiment::Run::new(cfg.clone(), 3).unwrap();
+    sec_playground::experiment::fixtures::fill_ltm(&mut run, 6);
+    run.episode();
+    let mut bytes = Vec::new();
+    run.save_checkpoint(&mut bytes).unwrap();
+    (bytes, cfg)
+}
+
+thread_local! {
+    static CHECKPOINT: (Vec<u8>, RunConfig) = sec_checkpoint();
+}
+
+proptest! {
+    // Each case builds a run (its encoders), so fewer of them.
+    #![proptest_config(Config { cases: cases().cases / 8, ..cases() })]
+
+    #[test]
+    fn run_checkpoints(edits in edits()) {
+        let (file, cfg) = CHECKPOINT.with(|c| c.clone());
+        let bytes = mutate(&file, &edits);
+        if let Ok(mut run) = sec_playground::experiment::Run::resume(cfg, 3, None, &mut bytes.as_slice()) {
+            run.episode();
+        }
+    }
 }
