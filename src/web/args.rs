@@ -47,6 +47,12 @@ pub fn optional_whole(v: &JsValue, name: &str, lo: u64, hi: u64) -> Result<Optio
     whole(v, name, lo, hi).map(Some)
 }
 
+/// An optional argument (`Option<JsValue>`: left out, `undefined` or `null` is `None`) read as
+/// `whole`.
+pub fn optional(v: Option<JsValue>, name: &str, lo: u64, hi: u64) -> Result<Option<u64>, JsError> {
+    v.map_or(Ok(None), |v| optional_whole(&v, name, lo, hi))
+}
+
 /// A JS value as JSON text, read in full before anything of the run is touched: `JSON.stringify`
 /// catches a getter that throws (or calls back into the run), which would otherwise unwind
 /// through the wasm and leave the run borrowed for good; NaN and Infinity, which JSON would turn

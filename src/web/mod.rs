@@ -31,10 +31,7 @@ fn seed_from_js(seed: &JsValue) -> Result<u64, JsError> {
 }
 
 fn t_from_js(t: Option<JsValue>) -> Result<Option<u32>, JsError> {
-    Ok(match t {
-        Some(t) => args::optional_whole(&t, "t", 0, MAX_T as u64)?.map(|t| t as u32),
-        None => None,
-    })
+    Ok(args::optional(t, "t", 0, MAX_T as u64)?.map(|t| t as u32))
 }
 
 #[derive(Serialize)]
@@ -108,7 +105,7 @@ impl ArenaEnv {
         &mut self,
         #[wasm_bindgen(unchecked_optional_param_type = "number")] seed: Option<JsValue>,
     ) -> Result<(), JsError> {
-        let seed = seed.and_then(|s| args::optional_whole(&s, "seed", 0, MAX_SEED).transpose()).transpose()?;
+        let seed = args::optional(seed, "seed", 0, MAX_SEED)?;
         self.env.reset(seed);
         self.trail.restart(self.env.world().agent.pos);
         Ok(())

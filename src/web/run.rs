@@ -271,8 +271,7 @@ impl SecRun {
         &mut self,
         #[wasm_bindgen(unchecked_optional_param_type = "number")] seed: Option<JsValue>,
     ) -> Result<(), JsError> {
-        let seed =
-            seed.and_then(|s| args::optional_whole(&s, "seed", 0, crate::seed::MAX_SEED).transpose()).transpose()?;
+        let seed = args::optional(seed, "seed", 0, crate::seed::MAX_SEED)?;
         let seed = seed.unwrap_or(self.seed);
         *self = Self::build(self.run.config().clone(), seed)?;
         Ok(())
