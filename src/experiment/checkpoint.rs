@@ -39,6 +39,19 @@ pub struct Header {
     gate: Option<Vec<u8>>,
 }
 
+/// A little-endian length of `width` bytes (4 or 8), at most `max`, and that many bytes.
+fn block(input: &mut dyn Read, width: usize, max: u64, field: &str) -> Result<Vec<u8>, Error> {
+    let mut len = [0u8; 8];
+    input.read_exact(&mut len[..width]).map_err(io)?;
+    let len = u64::from_le_bytes(len);
+    if len > max {
+        return Err(FileError::field("checkpoint", field.to_string(), format!("{len} bytes is over {max}")).into());
+    }
+    let mut bytes = vec![0u8; len as usize];
+    input.read_exact(&mut bytes).map_err(io)?;
+    Ok(bytes)
+}
+
 impl Header {
     /// Reads a checkpoint's header (and the gate's section), leaving `input` at the controller's
     /// state.
@@ -48,26 +61,11 @@ impl Header {
         if &magic != MAGIC && &magic != MAGIC_V1 {
             return Err(FileError::new("checkpoint", "not a run checkpoint (or of another version)").into());
         }
-        let mut len = [0u8; 4];
-        input.read_exact(&mut len).map_err(io)?;
-        let len = u32::from_le_bytes(len);
-        if len > MAX_HEADER {
-            return Err(FileError::field("checkpoint", "header", format!("{len} bytes is over {MAX_HEADER}")).into());
-        }
-        let mut json = vec![0u8; len as usize];
-        input.read_exact(&mut json).map_err(io)?;
+        let json = block(input, 4, MAX_HEADER as u64, "header")?;
         let mut header: Header =
             serde_json::from_slice(&json).map_err(|e| FileError::field("checkpoint", "header", e.to_string()))?;
         if &magic == MAGIC {
-            let mut len = [0u8; 8];
-            input.read_exact(&mut len).map_err(io)?;
-            let len = u64::from_le_bytes(len);
-            if len > MAX_GATE {
-                return Err(FileError::field("checkpoint", "gate", format!("{len} bytes is over {MAX_GATE}")).into());
-            }
-            let mut gate = vec![0u8; len as usize];
-            input.read_exact(&mut gate).map_err(io)?;
-            header.gate = Some(gate);
+            header.gate = Some(block(input, 8, MAX_GATE, "gate")?);
         }
         if header.episodes > MAX_EPISODES {
             let message = format!("{} is out of range 0..={MAX_EPISODES}", header.episodes);
