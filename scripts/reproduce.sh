@@ -25,6 +25,8 @@ run exp1 5 2000 --only double-t-maze/MFEC-ae,double-t-maze/MFEC-rp,double-t-maze
 run heading 5 2000
 # The deep baselines before exp2: their runs take hours and continue from their checkpoints.
 run exp1 3 1000 --only double-t-maze/DQN,double-t-maze/ERLAM
+# ERLAM merging on the raw bottleneck (no D17 scale): one seed, a sensitivity row.
+run exp1 1 1000 --only double-t-maze/ERLAM-raw
 run exp2 10 2000
 others=""
 for task in detour cylinder object-permanence; do

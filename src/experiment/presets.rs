@@ -82,8 +82,15 @@ pub fn experiment(name: &str) -> Result<Vec<Condition>, ConfigError> {
                 // Natively only (crates/sec-dqn, through sec-experiment).
                 let dqn = RunConfig { kind: AgentKind::Dqn, ..sec(task) };
                 out.push(condition(format!("{task}/DQN"), dqn, Some(paper[4])));
-                let mut erlam = RunConfig { kind: AgentKind::Erlam, ..sec(task) };
+                // The authors' ERLAM embeds with the trained model (agent_erlam.py loads it), at
+                // its calibrated scale like every trained embedding here (D17).
+                let mut erlam = RunConfig { kind: AgentKind::Erlam, perception: PerceptionKind::Trained, ..sec(task) };
                 erlam.erlam.nodes = erlam_nodes(task);
+                if task == "double-t-maze" {
+                    // What D17's scale does to ERLAM: its 0.02 on the raw bottleneck.
+                    let raw = RunConfig { raw_embeddings: true, ..erlam.clone() };
+                    out.push(condition(format!("{task}/ERLAM-raw"), raw, None));
+                }
                 out.push(condition(format!("{task}/ERLAM"), erlam, Some(paper[5])));
             }
         }

@@ -39,7 +39,7 @@ use sec_playground::agent::dqn::ErlamConfig;
 use sec_playground::agent::mfec::softmax_entropy_bits;
 use sec_playground::agent::{Decision, Layer, Reactive};
 use sec_playground::arena::ConfigError;
-use sec_playground::encoder::{bundled, Autoencoder, Scratch, EMBEDDING};
+use sec_playground::encoder::{Perception, Scratch, EMBEDDING};
 use sec_playground::experiment::{AgentKind, RunConfig};
 use sec_playground::memory::ACTIONS;
 use sec_playground::seed::{self, Stream};
@@ -53,7 +53,9 @@ pub fn device() -> Device {
 pub fn factory(cfg: &RunConfig, seed: u64, rng: &mut ChaCha8Rng) -> Option<Result<Box<dyn Controller>, ConfigError>> {
     let made = match cfg.kind {
         AgentKind::Dqn => Dqn::new(cfg.dqn.clone(), seed, rng),
-        AgentKind::Erlam => Dqn::erlam(cfg.dqn.clone(), cfg.erlam.clone(), &cfg.task, seed, rng),
+        AgentKind::Erlam => Perception::new(cfg.perception, &cfg.task, cfg.scale_override(), seed)
+            .map_err(|e| ConfigError::new("perception", e.to_string()))
+            .and_then(|p| Dqn::erlam(cfg.dqn.clone(), cfg.erlam.clone(), p, seed, rng)),
         _ => return None,
     };
     Some(made.map(|d| Box::new(d) as Box<dyn Controller>))
@@ -65,12 +67,13 @@ enum Memory {
     Graph(Box<Associative>),
 }
 
-/// ERLAM's side: the graph, the trained autoencoder that embeds its states (the raw bottleneck,
-/// as the authors' `dense_1`), and the state the next transition starts from.
+/// ERLAM's side: the graph, the perception that embeds its states (the run's, built from the same
+/// configuration and seed: the authors' ERLAM embeds with the trained model's `dense_1`, so
+/// exp1 sets `perception: trained`), and the state the next transition starts from.
 struct Associative {
     graph: Graph,
     lambda: f64,
-    encoder: Autoencoder,
+    perception: Perception,
     scratch: Scratch,
     state: Option<(Vec<u8>, [f32; EMBEDDING])>,
     episodes: u64,
@@ -143,23 +146,21 @@ impl Dqn {
         })
     }
 
-    /// ERLAM: this DQN with the associative graph over `task`'s trained autoencoder.
+    /// ERLAM: this DQN with the associative graph over the embeddings of `perception`.
     pub fn erlam(
         cfg: DqnConfig,
         graph: ErlamConfig,
-        task: &str,
+        perception: Perception,
         seed: u64,
         rng: &mut ChaCha8Rng,
     ) -> Result<Self, ConfigError> {
         graph.validate()?;
-        let mut encoder = bundled::autoencoder(task).map_err(|e| ConfigError::new("erlam", e.to_string()))?;
-        encoder.embedding_scale = 1.0;
         let mut dqn = Dqn::new(cfg, seed, rng)?;
         let gamma = dqn.cfg.gamma;
         dqn.memory = Memory::Graph(Box::new(Associative {
             lambda: graph.lambda,
             graph: Graph::new(graph, gamma),
-            encoder,
+            perception,
             scratch: Scratch::default(),
             state: None,
             episodes: 0,
@@ -328,7 +329,7 @@ impl Controller for Dqn {
             }
             Memory::Graph(a) => {
                 let mut e = [0.0; EMBEDDING];
-                a.encoder.encode(frame, &mut a.scratch, &mut e);
+                a.perception.embed(frame, &mut a.scratch, &mut e);
                 let stored = match a.state.take() {
                     Some((state, embedding)) => {
                         let next_state = bytes.clone();

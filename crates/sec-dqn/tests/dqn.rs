@@ -225,6 +225,34 @@ fn erlam_runs_episodes_through_the_core_run_loop() {
     assert_eq!(e.field, "erlam.nodes");
 }
 
+#[test]
+fn erlam_embeds_with_the_runs_perception_at_its_scale() {
+    use sec_playground::agent::controller::EpisodeEnd;
+    use sec_playground::encoder::{Perception, PerceptionKind};
+    // The graph's node for one frame, with the trained model at its calibrated scale (exp1's
+    // ERLAM, D17) and raw (`rawEmbeddings`, ERLAM-raw): the same bottleneck times the scale.
+    let node = |scale: Option<f32>| {
+        let p = Perception::new(PerceptionKind::Trained, "double-t-maze", scale, 1).unwrap();
+        let mut dqn = Dqn::erlam(DqnConfig::default(), ErlamConfig::default(), p, 1, &mut rng()).unwrap();
+        let frame: Vec<f32> = (0..84 * 84 * 3).map(|i| (i % 251) as f32 / 251.0).collect();
+        let step =
+            Step { reward: 0.0, episode_reward: 0.0, good_goal: false, goal_event: false, decides: true, done: false };
+        dqn.on_step(&step, Some(&frame), &mut rng());
+        dqn.on_step(&Step { done: true, ..step }, Some(&frame), &mut rng());
+        dqn.on_episode_end(&EpisodeEnd { goal: false, driven: false });
+        let g = dqn.graph().unwrap();
+        g.node(g.ids()[0]).unwrap().embedding
+    };
+    let calibrated = Perception::new(PerceptionKind::Trained, "double-t-maze", None, 1).unwrap();
+    let scale = calibrated.embedder().embedding_scale;
+    assert!((scale - 0.214).abs() < 0.01, "the T-maze model's calibrated scale: {scale}");
+    let (scaled, raw) = (node(None), node(Some(1.0)));
+    assert!(raw.iter().any(|&x| x > 0.0));
+    for (s, r) in scaled.iter().zip(raw) {
+        assert!((s - r * scale).abs() <= 1e-5 * r.abs().max(1.0), "{scaled:?} vs {raw:?}");
+    }
+}
+
 /// Plays `before` episodes, checkpoints, drops the run, resumes it and plays `after` more: the
 /// log equals the one of a run never interrupted.
 fn resumed_equals_uninterrupted(cfg: RunConfig, seed: u64, before: usize, after: usize) -> Vec<u8> {

@@ -127,6 +127,9 @@ fn runs_of_parts_of_an_experiment_add_up_in_its_report() {
     let (ok, md, err) = cli(&["report", "smoke", "--out", out]);
     assert!(ok, "{err}");
     assert!(md.contains("| SEC | 1 |") && md.contains("| NSEC | 1 |") && !md.contains("| reactive |"), "{md}");
+    // An item is a whole name or a group: `object-permanence/SE` names nothing.
+    let (ok, _, err) = cli(&["run", "smoke", "--only", "object-permanence/SE", "--out", out]);
+    assert!(!ok && err.contains("matches no condition"), "{err}");
     let (ok, _, err) = cli(&["run", "smoke", "--only", "cylinder/", "--out", out]);
     assert!(!ok && err.contains("--only: 'cylinder/' matches no condition of smoke"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);

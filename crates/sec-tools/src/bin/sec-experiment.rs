@@ -29,7 +29,7 @@ use std::process::ExitCode;
 
 const USAGE: &str = "usage:
   sec-experiment run EXPERIMENT [--seeds N|A..B|A,B,C] [--episodes N] [--jobs N] [--shard i/N] [--out DIR]
-                     [--only PREFIX,PREFIX] [--checkpoint-every N]
+                     [--only GROUP/MODEL,GROUP/,...] [--checkpoint-every N]
   sec-experiment run --config FILE.json --name GROUP/MODEL [the same options]
   sec-experiment report EXPERIMENT [--out DIR]
   sec-experiment orderings [--out DIR] [--trained DIR] [--to DIR] [--quote PAGE.md]
@@ -186,10 +186,12 @@ fn run(args: &[String]) -> Result<(), String> {
         _ => return Err(format!("run takes one EXPERIMENT or --config\n{USAGE}")),
     };
     let conditions = match o.get("only") {
-        // Keep the conditions whose names start with one of the comma-separated prefixes.
+        // Keep the conditions named by one of the comma-separated items: a whole name
+        // (`double-t-maze/ERLAM`, not `double-t-maze/ERLAM-raw` too) or a group ending in `/`.
         Some(only) => {
+            let named = |name: &str, item: &str| name == item || (item.ends_with('/') && name.starts_with(item));
             let keep: Vec<Condition> =
-                conditions.into_iter().filter(|c| only.split(',').any(|p| c.name.starts_with(p.trim()))).collect();
+                conditions.into_iter().filter(|c| only.split(',').any(|p| named(&c.name, p.trim()))).collect();
             if keep.is_empty() {
                 return Err(format!(
                     "--only: '{only}' matches no condition of {experiment} (see `sec-experiment list`)"
