@@ -17,7 +17,7 @@ use sec_playground::experiment::presets::Condition;
 use sec_playground::experiment::{Run, RunConfig};
 use sec_playground::seed::MAX_SEED;
 use std::fs;
-use std::io::{BufReader, BufWriter, Read, Write};
+use std::io::{BufReader, BufWriter, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
@@ -161,25 +161,33 @@ pub fn checkpoint_path(out: &Path, condition: &str, seed: u64) -> PathBuf {
     run_path(out, condition, seed).with_extension("ckpt")
 }
 
-/// The run to continue and the log lines it has played: from the checkpoint an interrupted run
-/// left, with the first lines of its `.part` file (those the checkpoint had played; any written
-/// after it are played again), or a fresh run.
-fn start(job: &Job, part: &Path, ckpt: &Path) -> Result<(Run, Vec<String>), String> {
+/// The run to continue, the episodes it has played and the length in bytes of their lines at
+/// the head of its `.part` file: from the checkpoint an interrupted run left (any lines written
+/// after it are played again), or a fresh run (0, 0).
+fn start(job: &Job, part: &Path, ckpt: &Path) -> Result<(Run, usize, u64), String> {
     if let (Ok(file), Ok(text)) = (fs::File::open(ckpt), fs::read_to_string(part)) {
         match Run::resume(job.config.clone(), job.seed, Some(sec_dqn::factory), &mut BufReader::new(file)) {
             Ok(run) => {
                 let played = run.env().episode() as usize;
-                let lines: Vec<String> = text.lines().take(played).map(str::to_string).collect();
-                if lines.len() == played {
-                    return Ok((run, lines));
+                let kept: usize =
+                    text.split_inclusive('\n').take(played).filter(|l| l.ends_with('\n')).map(str::len).sum();
+                let lines = text[..kept].lines().count();
+                if lines == played {
+                    eprintln!("{}: resumed after episode {played}", ckpt.display());
+                    return Ok((run, played, kept as u64));
                 }
+                eprintln!(
+                    "{}: not resumed (its log {} holds {lines} of the checkpoint's {played} episodes); the run starts again",
+                    ckpt.display(),
+                    part.display(),
+                );
             }
             Err(e) => eprintln!("{}: not resumed ({e}); the run starts again", ckpt.display()),
         }
     }
     let run = Run::with_agents(job.config.clone(), job.seed, Some(sec_dqn::factory))
         .map_err(|e| format!("{}: {e}", job.condition))?;
-    Ok((run, Vec::new()))
+    Ok((run, 0, 0))
 }
 
 /// Writes the run's checkpoint in place of the last (through a temporary file, so an
@@ -194,29 +202,31 @@ fn save_checkpoint(run: &Run, ckpt: &Path) -> Result<(), String> {
 }
 
 /// Plays one job's episodes into `<file>.part`, up to `stop` of them (`episodes` but in tests),
-/// with a checkpoint every `every` episodes (0: none) when the agent can write one.
+/// with a checkpoint every `every` episodes (0: none) when the agent can write one. A resumed
+/// run's file is cut after the lines its checkpoint continues and appended to, never rewritten,
+/// so a second interruption, however early, still finds them.
 fn play(job: &Job, out: &Path, episodes: usize, every: usize, stop: usize, bar: &ProgressBar) -> Result<(), String> {
     let path = run_path(out, &job.condition, job.seed);
     let (part, ckpt) = (path.with_extension("part"), checkpoint_path(out, &job.condition, job.seed));
-    let (mut run, played) = start(job, &part, &ckpt)?;
-    let file = fs::File::create(&part).map_err(|e| format!("{}: {e}", part.display()))?;
+    let (mut run, played, kept) = start(job, &part, &ckpt)?;
+    let err = |e: std::io::Error| format!("{}: {e}", part.display());
+    let file = fs::OpenOptions::new().write(true).create(true).truncate(false).open(&part).map_err(err)?;
+    file.set_len(kept).map_err(err)?;
     let mut w = BufWriter::new(file);
-    for line in &played {
-        writeln!(w, "{line}").map_err(|e| format!("{}: {e}", part.display()))?;
-    }
-    bar.inc(played.len() as u64);
-    for i in played.len()..stop.min(episodes) {
+    w.seek(SeekFrom::End(0)).map_err(err)?;
+    bar.inc(played as u64);
+    for i in played..stop.min(episodes) {
         let m = run.episode();
-        writeln!(w, "{}", m.to_json()).map_err(|e| format!("{}: {e}", part.display()))?;
+        writeln!(w, "{}", m.to_json()).map_err(err)?;
         bar.inc(1);
         let n = i + 1;
         if every > 0 && n % every == 0 && n < episodes && run.can_checkpoint() {
             // The log first: a checkpoint never runs ahead of the lines it continues.
-            w.flush().map_err(|e| format!("{}: {e}", part.display()))?;
+            w.flush().map_err(err)?;
             save_checkpoint(&run, &ckpt)?;
         }
     }
-    w.flush().map_err(|e| format!("{}: {e}", part.display()))
+    w.flush().map_err(err)
 }
 
 /// Plays one job's `episodes` (resuming an interrupted run from its checkpoint), then gzips the
@@ -326,8 +336,17 @@ mod tests {
         assert!(ckpt.exists(), "a checkpoint was left");
         let part = run_path(&cut, "c/dqn", 2).with_extension("part");
         assert_eq!(fs::read_to_string(&part).unwrap().lines().count(), 5);
+        // Resumed, the run leaves the lines its checkpoint continues as they are (it neither
+        // plays nor rewrites them): a marked first line survives, where a silent restart
+        // would write it again.
+        let text = fs::read_to_string(&part).unwrap();
+        let (first, rest) = text.split_once('\n').unwrap();
+        let marked = first.replacen("{", "{\"mark\":1,", 1);
+        fs::write(&part, format!("{marked}\n{rest}")).unwrap();
         run_job(&job, &cut, 6, 2, &bar).unwrap();
-        assert_eq!(read_run_text(&run_path(&cut, "c/dqn", 2)).unwrap(), expected);
+        let log = read_run_text(&run_path(&cut, "c/dqn", 2)).unwrap();
+        assert_eq!(log.lines().next().unwrap(), marked, "resumed, not restarted");
+        assert_eq!(log.replacen("\"mark\":1,", "", 1), expected);
         assert!(!ckpt.exists() && !part.exists(), "a finished run leaves only its log");
 
         // A corrupt checkpoint is not used: the run starts again, to the same log.
