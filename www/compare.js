@@ -18,6 +18,9 @@ function referenceIndex() {
   return index;
 }
 
+/** A reference run's size, as the notes say it. */
+const size = (r) => `${r.seeds.length} seed${r.seeds.length === 1 ? '' : 's'} × ${r.episodes} episodes`;
+
 /** Episodes every seed of a configuration has finished. */
 const finished = (arm) => (arm.runs.size ? Math.min(...[...arm.runs.values()].map((r) => r.length)) : 0);
 
@@ -29,6 +32,8 @@ export class Compare {
     this.onError = onError;
     this.wasm = wasm;
     this.arms = [];
+    /** Agents the page cannot run (DQN, ERLAM: native, burn), shown by their reference runs. */
+    this.natives = [];
     this.running = false;
     this.visible = true;
     this.title = '';
@@ -57,6 +62,11 @@ export class Compare {
     this.title = p.title;
     this.$('compare-caption').textContent = p.caption;
     for (const arm of p.arms) this.add(arm.label, { ...p.base, ...arm.settings }, arm.reference);
+    this.natives = (p.natives ?? []).map((n, i) => ({
+      label: n.label, referenceName: n.reference, reference: null,
+      colour: ARM_COLOURS[(this.arms.length + i) % ARM_COLOURS.length],
+    }));
+    this.list();
     this.loadReferences();
     this.start();
   }
@@ -67,11 +77,12 @@ export class Compare {
    */
   async loadReferences() {
     const arms = this.arms.filter((a) => a.referenceName);
+    const natives = this.natives;
     const note = this.$('compare-reference');
-    note.textContent = arms.length ? 'Loading the reference runs…' : '';
+    note.textContent = arms.length || natives.length ? 'Loading the reference runs…' : '';
     // The index lists the runs there are, so a missing one is not a failed request.
     const listed = await referenceIndex();
-    await Promise.all(arms.map(async (a) => {
+    await Promise.all([...arms, ...natives].map(async (a) => {
       const [experiment, condition] = a.referenceName.split(':');
       if (!listed.has(a.referenceName)) return;
       try {
@@ -81,15 +92,24 @@ export class Compare {
         a.reference = null;
       }
     }));
-    if (this.arms.length && arms.every((a) => this.arms.includes(a))) {
+    // Unless another preset replaced these arms meanwhile.
+    if (this.arms.length && arms.every((a) => this.arms.includes(a)) && natives === this.natives) {
       const have = arms.filter((a) => a.reference);
       const missing = arms.filter((a) => !a.reference).map((a) => a.label);
-      const sizes = [...new Set(have.map((a) => `${a.reference.seeds.length} seeds × ${a.reference.episodes} episodes`))];
+      const sizes = [...new Set(have.map((a) => size(a.reference)))];
+      const nativesIn = natives.filter((a) => a.reference);
+      const nativesOut = natives.filter((a) => !a.reference).map((a) => a.label);
       note.textContent = (have.length
         ? `Faint bands and dashed lines: the native reference runs at the same settings (${sizes.join(', ')}; `
           + 'mean of 20 episodes ± one standard error across seeds; REPRODUCTION.md). The live runs draw over them.'
         : 'No reference runs at these settings yet.')
-        + (have.length && missing.length ? ` Not run yet: ${missing.join(', ')}.` : '');
+        + (have.length && missing.length ? ` Not run yet: ${missing.join(', ')}.` : '')
+        + (nativesIn.length
+          ? ` ${nativesIn.map((a) => `${a.label} (${size(a.reference)})`).join(', ')}: reference runs only, as `
+            + 'these agents train with burn and run natively, not in the page.'
+          : '')
+        + (nativesOut.length ? ` ${nativesOut.join(', ')}: reference runs still to come.` : '');
+      this.list();
       this.chart.touch();
     }
   }
@@ -183,6 +203,7 @@ export class Compare {
   clear() {
     this.stop();
     this.arms = [];
+    this.natives = [];
     this.title = '';
     this.$('compare-caption').textContent = '';
     this.$('compare-reference').textContent = '';
@@ -199,7 +220,7 @@ export class Compare {
       label: a.label, colour: a.colour, runs: [...a.runs.values()].map((eps) => eps.map(f)),
     }));
     const metric = this.$('compare-metric').value in METRICS ? this.$('compare-metric').value : 'reward';
-    const references = this.arms.filter((a) => a.reference).map((a) => ({
+    const references = [...this.arms, ...this.natives].filter((a) => a.reference).map((a) => ({
       label: a.label, colour: a.colour, at: a.reference.at, episodes: a.reference.episodes,
       mean: a.reference.metrics[metric].mean, se: a.reference.metrics[metric].se,
     }));
@@ -248,6 +269,18 @@ export class Compare {
         li.append(rm);
       }
       return li;
+    }), ...this.natives.map((a) => {
+      const li = document.createElement('li');
+      const swatch = document.createElement('span');
+      swatch.className = 'swatch';
+      swatch.style.background = a.colour;
+      const name = document.createElement('strong');
+      name.textContent = a.label;
+      const info = document.createElement('span');
+      info.className = 'info';
+      info.textContent = a.reference ? `reference runs only (native): ${size(a.reference)}` : 'reference runs still to come';
+      li.append(swatch, name, info);
+      return li;
     }));
   }
 
@@ -265,6 +298,12 @@ export class Compare {
         return me.arms.map((a) => (a.reference
           ? { name: a.referenceName, seeds: a.reference.seeds.length, episodes: a.reference.episodes, settings: a.reference.settings }
           : null));
+      },
+      /** The agents shown by their reference runs alone: {label, name, seeds, episodes} (seeds null until loaded). */
+      get natives() {
+        return me.natives.map((a) => ({
+          label: a.label, name: a.referenceName, seeds: a.reference?.seeds.length ?? null, episodes: a.reference?.episodes ?? null,
+        }));
       },
       /** Each arm's settings as its runs use them (null until its worker has started). */
       get resolved() { return me.arms.map((a) => a.resolved ?? null); },
