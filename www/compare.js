@@ -21,6 +21,21 @@ function referenceIndex() {
 /** A reference run's size, as the notes say it. */
 const size = (r) => `${r.seeds.length} seed${r.seeds.length === 1 ? '' : 's'} × ${r.episodes} episodes`;
 
+/** A line of the list: the colour, the label and what it holds. */
+function item(a, text) {
+  const li = document.createElement('li');
+  const swatch = document.createElement('span');
+  swatch.className = 'swatch';
+  swatch.style.background = a.colour;
+  const name = document.createElement('strong');
+  name.textContent = a.label;
+  const info = document.createElement('span');
+  info.className = 'info';
+  info.textContent = text;
+  li.append(swatch, name, info);
+  return li;
+}
+
 /** Episodes every seed of a configuration has finished. */
 const finished = (arm) => (arm.runs.size ? Math.min(...[...arm.runs.values()].map((r) => r.length)) : 0);
 
@@ -240,21 +255,12 @@ export class Compare {
     }, 250);
   }
 
-  /** The configurations with their colour, settings and progress. */
+  /** The configurations with their colour, settings and progress, then the reference-only agents. */
   list() {
     const ol = this.$('compare-arms');
     ol.replaceChildren(...this.arms.map((a, i) => {
-      const li = document.createElement('li');
-      const swatch = document.createElement('span');
-      swatch.className = 'swatch';
-      swatch.style.background = a.colour;
-      const name = document.createElement('strong');
-      name.textContent = a.label;
       const done = finished(a);
-      const info = document.createElement('span');
-      info.className = 'info';
-      info.textContent = a.error ? a.error : a.runs.size ? `${done} episodes × ${a.runs.size} seeds` : 'not started';
-      li.append(swatch, name, info);
+      const li = item(a, a.error ? a.error : a.runs.size ? `${done} episodes × ${a.runs.size} seeds` : 'not started');
       if (!this.running) {
         const rm = document.createElement('button');
         rm.type = 'button';
@@ -269,19 +275,9 @@ export class Compare {
         li.append(rm);
       }
       return li;
-    }), ...this.natives.map((a) => {
-      const li = document.createElement('li');
-      const swatch = document.createElement('span');
-      swatch.className = 'swatch';
-      swatch.style.background = a.colour;
-      const name = document.createElement('strong');
-      name.textContent = a.label;
-      const info = document.createElement('span');
-      info.className = 'info';
-      info.textContent = a.reference ? `reference runs only (native): ${size(a.reference)}` : 'reference runs still to come';
-      li.append(swatch, name, info);
-      return li;
-    }));
+    }), ...this.natives.map((a) => item(a, a.reference
+      ? `reference runs only (native): ${size(a.reference)}`
+      : 'reference runs still to come')));
   }
 
   get state() {
