@@ -20,9 +20,10 @@ export const COMPARE_PRESETS = {
       + 'paper\'s got a third of SEC\'s (REPRODUCTION.md). Live, the first minutes cover the first few dozen '
       + 'episodes, where all three curves still lie together: SEC acts from memory only once 5 sequences are stored. '
       + 'DQN and ERLAM, the paper\'s deep baselines, train with burn and run only natively, so the chart has their '
-      + 'reference runs alone: the paper has DQN at about half SEC\'s reward, but our first DQN run (1 seed x 1000 '
-      + 'episodes) got 1.94 per episode against SEC\'s 1.54 over the same episodes, against the paper; one run is no '
-      + 'test, and its other seeds and ERLAM\'s runs are under way (the note below says which are in).',
+      + 'reference runs alone: the paper has DQN at about half SEC\'s reward, but our first two DQN runs (1000 '
+      + 'episodes each) got 1.94 and 1.24 per episode against SEC\'s 1.54 over the same episodes, not the paper\'s '
+      + 'ordering; DQN learns fast and unstably (the second run collapsed near its end). Its third run and ERLAM\'s '
+      + 'are under way (the note below says which are in).',
     arms: [
       { label: 'SEC', settings: { ...SEC }, reference: 'exp1:double-t-maze/SEC' },
       { label: 'NSEC', settings: { ...NSEC }, reference: 'exp1:double-t-maze/NSEC' },
