@@ -22,8 +22,9 @@ export const COMPARE_PRESETS = {
       + 'DQN and ERLAM, the paper\'s deep baselines, train with burn and run only natively, so the chart has their '
       + 'reference runs alone: the paper has DQN at about half SEC\'s reward, but our first two DQN runs (1000 '
       + 'episodes each) got 1.94 and 1.24 per episode against SEC\'s 1.54 over the same episodes, not the paper\'s '
-      + 'ordering; DQN learns fast and unstably (the second run collapsed near its end). Its third run and ERLAM\'s '
-      + 'are under way (the note below says which are in).',
+      + 'ordering; DQN learns fast and unstably (the second run collapsed near its end). ERLAM\'s first run stayed '
+      + 'at the reactive walk\'s level (0.11 per episode). The other runs of both are under way (the note below says '
+      + 'which are in).',
     arms: [
       { label: 'SEC', settings: { ...SEC }, reference: 'exp1:double-t-maze/SEC' },
       { label: 'NSEC', settings: { ...NSEC }, reference: 'exp1:double-t-maze/NSEC' },
