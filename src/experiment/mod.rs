@@ -138,18 +138,21 @@ pub enum AgentKind {
 }
 
 /// Builds the agents the core does not hold itself (DQN, trained with burn in `crates/sec-dqn`,
-/// which the wasm build leaves out): `None` for a kind it does not know either.
-pub type AgentFactory = fn(&RunConfig, u64, &mut ChaCha8Rng) -> Option<Result<Box<dyn Controller>, ConfigError>>;
+/// which the wasm build leaves out), given the run's perception (ERLAM embeds with it): `None`
+/// for a kind it does not know either.
+pub type AgentFactory =
+    fn(&RunConfig, &Perception, u64, &mut ChaCha8Rng) -> Option<Result<Box<dyn Controller>, ConfigError>>;
 
 /// The run's agent, drawing its initial state from the agent stream `rng`: the one place that
 /// knows every agent kind (those of `extra` aside).
 fn controller(
     cfg: &RunConfig,
+    perception: &Perception,
     seed: u64,
     rng: &mut ChaCha8Rng,
     extra: Option<AgentFactory>,
 ) -> Result<Box<dyn Controller>, ConfigError> {
-    if let Some(made) = extra.and_then(|f| f(cfg, seed, rng)) {
+    if let Some(made) = extra.and_then(|f| f(cfg, perception, seed, rng)) {
         return made;
     }
     Ok(match cfg.kind {
@@ -228,7 +231,7 @@ impl Run {
         let perception = Perception::new(cfg.perception, &cfg.task, cfg.scale_override(), seed)?;
         let env = Env::new(EnvConfig { task, t: cfg.t }, seed)?;
         let mut rng = seed::rng(seed, Stream::Agent);
-        let controller = controller(&cfg, seed, &mut rng, extra)?;
+        let controller = controller(&cfg, &perception, seed, &mut rng, extra)?;
         Ok(Run {
             cfg,
             seed,

@@ -50,12 +50,15 @@ pub fn device() -> Device {
 }
 
 /// Builds the agents of this crate for `Run::with_agents`.
-pub fn factory(cfg: &RunConfig, seed: u64, rng: &mut ChaCha8Rng) -> Option<Result<Box<dyn Controller>, ConfigError>> {
+pub fn factory(
+    cfg: &RunConfig,
+    perception: &Perception,
+    seed: u64,
+    rng: &mut ChaCha8Rng,
+) -> Option<Result<Box<dyn Controller>, ConfigError>> {
     let made = match cfg.kind {
         AgentKind::Dqn => Dqn::new(cfg.dqn.clone(), seed, rng),
-        AgentKind::Erlam => Perception::new(cfg.perception, &cfg.task, cfg.scale_override(), seed)
-            .map_err(|e| ConfigError::new("perception", e.to_string()))
-            .and_then(|p| Dqn::erlam(cfg.dqn.clone(), cfg.erlam.clone(), p, seed, rng)),
+        AgentKind::Erlam => Dqn::erlam(cfg.dqn.clone(), cfg.erlam.clone(), perception.clone(), seed, rng),
         _ => return None,
     };
     Some(made.map(|d| Box::new(d) as Box<dyn Controller>))
@@ -67,9 +70,9 @@ enum Memory {
     Graph(Box<Associative>),
 }
 
-/// ERLAM's side: the graph, the perception that embeds its states (the run's, built from the same
-/// configuration and seed: the authors' ERLAM embeds with the trained model's `dense_1`, so
-/// exp1 sets `perception: trained`), and the state the next transition starts from.
+/// ERLAM's side: the graph, the perception that embeds its states (a copy of the run's: the
+/// authors' ERLAM embeds with the trained model's `dense_1`, so exp1 sets `perception: trained`),
+/// and the state the next transition starts from.
 struct Associative {
     graph: Graph,
     lambda: f64,

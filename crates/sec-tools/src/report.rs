@@ -158,9 +158,10 @@ pub fn report(dir: &Path, description: &str) -> Result<String, String> {
     for group in &groups {
         let members: Vec<&ConditionRuns> = conds.iter().filter(|c| c.group() == group).collect();
         let reference = members[0];
-        // Over the comparisons made: a condition of one run (a sensitivity row, a baseline
-        // still running) has no test, so it widens no one's correction.
-        let tested = members[1..].iter().filter(|c| c.runs.len() >= 2 && reference.runs.len() >= 2).count();
+        // One run has no spread and no test, so a condition of one run (a sensitivity row, a
+        // baseline still running) widens no one's correction.
+        let tested_against_reference = |c: &ConditionRuns| c.runs.len() >= 2 && reference.runs.len() >= 2;
+        let tested = members[1..].iter().filter(|c| tested_against_reference(c)).count();
         let bonferroni = tested.max(1) as f64;
         writeln!(md, "## {group}\n").unwrap();
         writeln!(md, "| model | runs | total reward (95% CI) | per episode | paper: total (per episode) | last 10% per episode | final episode (sd) | entropy first 10% -> last 10% (fresh) | LTM at end | p vs {} |", reference.model()).unwrap();
@@ -185,7 +186,7 @@ pub fn report(dir: &Path, description: &str) -> Result<String, String> {
             // Runs of different lengths (DQN's 1000 episodes against SEC's 2000) are compared
             // over the episodes both have.
             let common = n.min(reference.runs[0].len());
-            let raw = if std::ptr::eq(*c, reference) || c.runs.len() < 2 || reference.runs.len() < 2 {
+            let raw = if std::ptr::eq(*c, reference) || !tested_against_reference(c) {
                 None
             } else {
                 Some(mann_whitney(&c.totals_over(common), &reference.totals_over(common)).1)

@@ -169,12 +169,13 @@ fn start(job: &Job, part: &Path, ckpt: &Path) -> Result<(Run, usize, u64), Strin
         match Run::resume(job.config.clone(), job.seed, Some(sec_dqn::factory), &mut BufReader::new(file)) {
             Ok(run) => {
                 let played = run.env().episode() as usize;
-                let kept: usize =
-                    text.split_inclusive('\n').take(played).filter(|l| l.ends_with('\n')).map(str::len).sum();
-                let lines = text[..kept].lines().count();
+                // Whole lines only: a last line cut by the interruption does not count.
+                let head: Vec<&str> =
+                    text.split_inclusive('\n').take(played).take_while(|l| l.ends_with('\n')).collect();
+                let lines = head.len();
                 if lines == played {
                     eprintln!("{}: resumed after episode {played}", ckpt.display());
-                    return Ok((run, played, kept as u64));
+                    return Ok((run, played, head.iter().map(|l| l.len() as u64).sum()));
                 }
                 eprintln!(
                     "{}: not resumed (its log {} holds {lines} of the checkpoint's {played} episodes); the run starts again",
