@@ -27,6 +27,8 @@ run heading 5 2000
 run exp1 3 1000 --only double-t-maze/DQN,double-t-maze/ERLAM
 # ERLAM merging on the raw bottleneck (no D17 scale): one seed, a sensitivity row.
 run exp1 1 1000 --only double-t-maze/ERLAM-raw
+# ERLAM whose propagation stops at terminal nodes: one seed, a test of why ERLAM fails here.
+run exp1 1 1000 --only double-t-maze/ERLAM-noPastTerminals
 run exp2 10 2000
 others=""
 for task in detour cylinder object-permanence; do

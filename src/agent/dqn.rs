@@ -117,6 +117,11 @@ pub struct ErlamConfig {
     pub merge_distance: f64,
     /// Propagation stops when a sweep changes the returns by at most this much in total.
     pub converge: f64,
+    /// Propagation sets a terminal node to r + gamma max Rt of its successors too, as the
+    /// authors' code does (on): a non-terminal view merged into a goal's node links it on, and
+    /// the cycles this makes lift values above any reward (REPRODUCTION.md). Off, a deviation: a
+    /// terminal node keeps the return it was stored with.
+    pub propagate_past_terminals: bool,
 }
 
 impl Default for ErlamConfig {
@@ -128,6 +133,7 @@ impl Default for ErlamConfig {
             propagate_every: 50,
             merge_distance: 0.02,
             converge: 1e-6,
+            propagate_past_terminals: true,
         }
     }
 }

@@ -90,6 +90,11 @@ pub fn experiment(name: &str) -> Result<Vec<Condition>, ConfigError> {
                     // What D17's scale does to ERLAM: its 0.02 on the raw bottleneck.
                     let raw = RunConfig { raw_embeddings: true, ..erlam.clone() };
                     out.push(condition(format!("{task}/ERLAM-raw"), raw, None));
+                    // Whether ERLAM fails here by the cycles through goals that its propagation
+                    // makes (results/PROTOCOL.md, the last addendum).
+                    let mut kept = erlam.clone();
+                    kept.erlam.propagate_past_terminals = false;
+                    out.push(condition(format!("{task}/ERLAM-noPastTerminals"), kept, None));
                 }
                 out.push(condition(format!("{task}/ERLAM"), erlam, Some(paper[5])));
             }

@@ -82,6 +82,32 @@ pub struct Graph {
     pub last_sweeps: usize,
 }
 
+/// What a graph's values rest on (`erlam-graph`): how many nodes the network's second target
+/// finds a successor for, where the rewards sit, and how far the rest are from them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Census {
+    pub nodes: usize,
+    /// Nodes whose own action has a link, so that `value` is not 0.
+    pub valued: usize,
+    /// Nodes stored with a positive reward, and how many of those are terminal yet have a
+    /// successor (a later, non-terminal state merged into them, so propagation carries on past
+    /// the goal: the authors' propagation does not look at `done`).
+    pub rewarded: usize,
+    pub rewarded_linked: usize,
+    pub max_reward: f64,
+    /// `value` of every node, ascending.
+    pub values: Vec<f64>,
+    /// Links to a rewarded node from each node that has a path to one, ascending.
+    pub hops: Vec<usize>,
+}
+
+impl Census {
+    /// The `p` quantile (0..=1, nearest rank below) of a sorted list.
+    pub fn quantile<T: Copy>(sorted: &[T], p: f64) -> Option<T> {
+        (!sorted.is_empty()).then(|| sorted[((sorted.len() - 1) as f64 * p) as usize])
+    }
+}
+
 fn sq_dist(a: &[f32; EMBEDDING], b: &[f32; EMBEDDING]) -> f32 {
     a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum()
 }
@@ -258,6 +284,9 @@ impl Graph {
             let mut change = 0.0f64;
             for id in &ids {
                 let node = &self.nodes[id];
+                if node.done && !self.cfg.propagate_past_terminals {
+                    continue;
+                }
                 let best = node
                     .next
                     .values()
@@ -276,6 +305,48 @@ impl Graph {
             if change <= self.cfg.converge || self.last_sweeps >= 100_000 {
                 break;
             }
+        }
+    }
+
+    pub fn census(&self) -> Census {
+        let mut predecessors: HashMap<u64, Vec<u64>> = HashMap::new();
+        for id in &self.order {
+            for next in self.nodes[id].next.values() {
+                predecessors.entry(*next).or_default().push(*id);
+            }
+        }
+        let rewarded: Vec<u64> = self.order.iter().copied().filter(|id| self.nodes[id].reward > 0.0).collect();
+        // Breadth first from the rewarded nodes, against the links.
+        let mut hops: HashMap<u64, usize> = rewarded.iter().map(|&id| (id, 0)).collect();
+        let mut queue: std::collections::VecDeque<u64> = rewarded.iter().copied().collect();
+        while let Some(id) = queue.pop_front() {
+            let d = hops[&id];
+            for p in predecessors.get(&id).into_iter().flatten() {
+                if !hops.contains_key(p) {
+                    hops.insert(*p, d + 1);
+                    queue.push_back(*p);
+                }
+            }
+        }
+        let mut values: Vec<f64> = self.order.iter().map(|&id| self.value(id)).collect();
+        values.sort_by(f64::total_cmp);
+        let mut hops: Vec<usize> = hops.into_values().collect();
+        hops.sort_unstable();
+        Census {
+            nodes: self.order.len(),
+            valued: self
+                .order
+                .iter()
+                .filter(|id| self.nodes[id].next.contains_key(&LinkKey::Action(self.nodes[id].action)))
+                .count(),
+            rewarded: rewarded.len(),
+            rewarded_linked: rewarded
+                .iter()
+                .filter(|id| self.nodes[id].done && !self.nodes[id].next.is_empty())
+                .count(),
+            max_reward: rewarded.iter().map(|id| self.nodes[id].reward as f64).fold(0.0, f64::max),
+            values,
+            hops,
         }
     }
 

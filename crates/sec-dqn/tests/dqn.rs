@@ -130,7 +130,7 @@ fn bad_dqn_parameters_are_refused_by_name() {
     assert!(e.contains("unknown field `lr`"), "{e}");
 }
 
-use sec_dqn::graph::{Graph, LinkKey, Pending};
+use sec_dqn::graph::{Census, Graph, LinkKey, Pending};
 use sec_playground::agent::dqn::ErlamConfig;
 
 fn pending(e: f32, action: u8, reward: f32) -> Pending {
@@ -313,4 +313,44 @@ fn an_erlam_run_resumed_from_a_checkpoint_plays_as_if_never_interrupted() {
         ..RunConfig::default()
     };
     resumed_equals_uninterrupted(cfg, 4, 3, 3);
+}
+
+#[test]
+fn the_census_finds_a_goal_merged_with_a_later_state_and_the_inflated_values_it_makes() {
+    let cfg = ErlamConfig { nodes: 100, ..ErlamConfig::default() };
+    let mut g = Graph::new(cfg, 0.5);
+    // Episode 1: A -> B -> G, G terminal and paying 1.
+    g.remember(pending(0.0, 1, 0.0));
+    g.remember(pending(1.0, 2, 0.0));
+    g.remember(Pending { done: true, ..pending(2.0, 3, 1.0) });
+    g.end_episode();
+    let c = g.census();
+    assert_eq!((c.nodes, c.valued, c.rewarded, c.rewarded_linked), (3, 2, 1, 0));
+    assert_eq!(c.values, [0.0, 0.5, 1.0], "G has no successor; B leads to G (1), A to B (0.5)");
+    assert_eq!(c.hops, [0, 1, 2]);
+    // Episode 2: a view next to G (merged into it) is followed by A: G, terminal, now links on.
+    g.remember(pending(2.001, 1, 0.0));
+    g.remember(pending(0.0, 1, 0.0));
+    g.end_episode();
+    g.propagate(50);
+    let c = g.census();
+    assert_eq!((c.nodes, c.rewarded_linked), (3, 1));
+    // G -> A -> B -> G: Rt(G) = 1 + 0.5 Rt(A), Rt(A) = 0.25 Rt(G): 1 / (1 - 0.125).
+    let goal = Census::quantile(&c.values, 1.0).unwrap();
+    assert!((goal - 1.0 / 0.875).abs() < 1e-5, "B's value is G's, {goal}");
+    assert!(goal > c.max_reward, "a cycle through the goal lifts values above any reward");
+    // The deviation: propagation leaves terminal nodes alone, so no value exceeds the reward.
+    let cfg = ErlamConfig { nodes: 100, propagate_past_terminals: false, ..ErlamConfig::default() };
+    let mut g = Graph::new(cfg, 0.5);
+    for (e, a, r, done) in [(0.0, 1, 0.0, false), (1.0, 2, 0.0, false), (2.0, 3, 1.0, true)] {
+        g.remember(Pending { done, ..pending(e, a, r) });
+    }
+    g.end_episode();
+    g.remember(pending(2.001, 1, 0.0));
+    g.remember(pending(0.0, 1, 0.0));
+    g.end_episode();
+    g.propagate(50);
+    let c = g.census();
+    assert_eq!(c.rewarded_linked, 1, "the goal's node is linked on all the same");
+    assert_eq!(c.values, [0.0, 0.5, 1.0], "but keeps its reward: B leads to 1, A to 0.5");
 }
