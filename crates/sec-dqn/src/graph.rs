@@ -19,7 +19,7 @@ use rand_chacha::ChaCha8Rng;
 use sec_playground::agent::dqn::ErlamConfig;
 use sec_playground::encoder::EMBEDDING;
 use sec_playground::memory::ACTIONS;
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 
 /// What a node's links are keyed by: the action that led to the next node, or (after an
 /// eviction re-keyed them, as the authors' code does) that node's id.
@@ -28,6 +28,10 @@ pub enum LinkKey {
     Action(u8),
     Node(u64),
 }
+
+/// A node's id, stamp, Rt (bits) and sorted links: what two graphs are compared by in tests.
+#[cfg(test)]
+type NodeLinks = (u64, u64, u64, Vec<(LinkKey, u64)>);
 
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Node {
@@ -75,6 +79,9 @@ pub struct Graph {
     /// Exact embeddings to their node (the authors' hash keys).
     #[serde(skip)]
     by_bits: HashMap<[u32; EMBEDDING], u64>,
+    /// Stamps (unique) to their node, so that the least recently improved node is the first.
+    #[serde(skip)]
+    by_stamp: BTreeMap<u64, u64>,
     next_id: u64,
     stamp: u64,
     episode: Vec<Pending>,
@@ -154,6 +161,9 @@ impl Graph {
             if self.by_bits.insert(node.embedding.map(f32::to_bits), *id).is_some() {
                 return Err(format!("graph: node {id} repeats another's embedding"));
             }
+            if node.stamp >= self.stamp || self.by_stamp.insert(node.stamp, *id).is_some() {
+                return Err(format!("graph: node {id}'s stamp {} is not its own", node.stamp));
+            }
         }
         Ok(self)
     }
@@ -217,6 +227,8 @@ impl Graph {
                     let node = self.nodes.get_mut(&id).expect("listed");
                     if rt > node.rt {
                         node.rt = rt;
+                        self.by_stamp.remove(&node.stamp);
+                        self.by_stamp.insert(stamp, id);
                         node.stamp = stamp;
                         self.stamp += 1;
                     }
@@ -246,6 +258,7 @@ impl Graph {
                             next,
                             stamp: self.stamp,
                         };
+                        self.by_stamp.insert(self.stamp, id);
                         self.stamp += 1;
                         self.by_bits.insert(node.embedding.map(f32::to_bits), id);
                         self.nodes.insert(id, node);
@@ -260,15 +273,55 @@ impl Graph {
         }
     }
 
+    /// The authors' eviction: the node with the oldest stamp goes, and every node's links are
+    /// re-keyed by the node they lead to, without the evicted one. A node whose links are already
+    /// so keyed and skip the evicted node would be rebuilt as it is, so only the others are.
     fn evict_lru(&mut self) {
-        let Some(&lru) = self.order.iter().min_by_key(|id| self.nodes[id].stamp) else { return };
+        #[cfg(test)]
+        let expected = self.clone().evicted_by_scan();
+        let Some((_, lru)) = self.by_stamp.pop_first() else { return };
         if let Some(node) = self.nodes.remove(&lru) {
             self.by_bits.remove(&node.embedding.map(f32::to_bits));
         }
         self.order.retain(|&id| id != lru);
         for node in self.nodes.values_mut() {
+            if node.next.iter().any(|(k, &n)| matches!(k, LinkKey::Action(_)) || n == lru) {
+                node.next = node.next.values().filter(|&&n| n != lru).map(|&n| (LinkKey::Node(n), n)).collect();
+            }
+        }
+        #[cfg(test)]
+        assert_eq!(self.links(), expected.links(), "the same eviction as a scan of every node");
+    }
+
+    /// The eviction as the authors' code does it, a scan for the oldest stamp and a rebuild of
+    /// every node's links: what `evict_lru` must equal.
+    #[cfg(test)]
+    fn evicted_by_scan(mut self) -> Graph {
+        let Some(&lru) = self.order.iter().min_by_key(|id| self.nodes[id].stamp) else { return self };
+        self.nodes.remove(&lru);
+        self.order.retain(|&id| id != lru);
+        for node in self.nodes.values_mut() {
             node.next = node.next.values().filter(|&&n| n != lru).map(|&n| (LinkKey::Node(n), n)).collect();
         }
+        self
+    }
+
+    /// Every node in order with its stamp, Rt and links (sorted), to compare two graphs.
+    #[cfg(test)]
+    fn links(&self) -> Vec<NodeLinks> {
+        let key = |k: &LinkKey| match *k {
+            LinkKey::Action(a) => (0, a as u64),
+            LinkKey::Node(n) => (1, n),
+        };
+        self.order
+            .iter()
+            .map(|id| {
+                let n = &self.nodes[id];
+                let mut next: Vec<(LinkKey, u64)> = n.next.iter().map(|(k, v)| (*k, *v)).collect();
+                next.sort_by_key(|(k, _)| key(k));
+                (*id, n.stamp, n.rt.to_bits(), next)
+            })
+            .collect()
     }
 
     /// Value propagation after episode number `episodes` (1-based), every `propagateEvery`.
@@ -359,5 +412,49 @@ impl Graph {
     pub fn value(&self, id: u64) -> f64 {
         let node = &self.nodes[&id];
         node.next.get(&LinkKey::Action(node.action)).and_then(|n| self.nodes.get(n)).map_or(0.0, |n| n.rt)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+
+    /// Episodes of states on a line, spaced so that some merge, some repeat and some are new,
+    /// into a small graph that evicts at nearly every new node: each eviction is checked against
+    /// the scan (`evict_lru`), and the graph must survive a checkpoint's round trip.
+    #[test]
+    fn eviction_by_stamp_index_equals_the_authors_scan() {
+        let cfg = ErlamConfig { nodes: 40, ..ErlamConfig::default() };
+        let mut g = Graph::new(cfg, 0.9);
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        for episode in 1..=120u64 {
+            let len = rng.gen_range(3..20);
+            for t in 0..len {
+                let mut embedding = [0.0f32; EMBEDDING];
+                embedding[0] = rng.gen_range(0..200u32) as f32 * 0.015;
+                embedding[1] = (episode % 3) as f32;
+                let done = t + 1 == len;
+                let reward = if done && rng.gen_bool(0.4) { 1.0 } else { -0.01 };
+                let p =
+                    Pending { embedding, state: vec![], next_state: vec![], action: rng.gen_range(0..9), reward, done };
+                g.remember(p);
+            }
+            g.end_episode();
+            g.propagate(episode);
+            assert!(g.len() < 40);
+        }
+        assert!(g.next_id as usize - g.len() > 300, "evicted {} times", g.next_id as usize - g.len());
+        let round_trip = |g: &Graph| {
+            let mut bytes = Vec::new();
+            ciborium::into_writer(g, &mut bytes).unwrap();
+            ciborium::from_reader::<Graph, _>(bytes.as_slice()).unwrap().restored(&Graph::new(g.cfg.clone(), 0.9), 0)
+        };
+        assert_eq!(round_trip(&g).unwrap().by_stamp, g.by_stamp, "the index is rebuilt from the stamps");
+        let mut shared = g.clone();
+        let stamp = shared.nodes[&shared.order[0]].stamp;
+        let second = shared.order[1];
+        shared.nodes.get_mut(&second).unwrap().stamp = stamp;
+        assert!(round_trip(&shared).unwrap_err().contains("stamp"), "two nodes with one stamp are refused");
     }
 }
