@@ -115,6 +115,12 @@ impl Census {
     }
 }
 
+/// A node's links as the authors' eviction leaves them: keyed by the node they lead to, without
+/// the evicted one.
+fn rekeyed(next: &HashMap<LinkKey, u64>, evicted: u64) -> HashMap<LinkKey, u64> {
+    next.values().filter(|&&n| n != evicted).map(|&n| (LinkKey::Node(n), n)).collect()
+}
+
 fn sq_dist(a: &[f32; EMBEDDING], b: &[f32; EMBEDDING]) -> f32 {
     a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum()
 }
@@ -286,7 +292,7 @@ impl Graph {
         self.order.retain(|&id| id != lru);
         for node in self.nodes.values_mut() {
             if node.next.iter().any(|(k, &n)| matches!(k, LinkKey::Action(_)) || n == lru) {
-                node.next = node.next.values().filter(|&&n| n != lru).map(|&n| (LinkKey::Node(n), n)).collect();
+                node.next = rekeyed(&node.next, lru);
             }
         }
         #[cfg(test)]
@@ -301,7 +307,7 @@ impl Graph {
         self.nodes.remove(&lru);
         self.order.retain(|&id| id != lru);
         for node in self.nodes.values_mut() {
-            node.next = node.next.values().filter(|&&n| n != lru).map(|&n| (LinkKey::Node(n), n)).collect();
+            node.next = rekeyed(&node.next, lru);
         }
         self
     }
