@@ -101,8 +101,9 @@ function trapped(e) {
 
 function setPlaying(p) {
   playing = p && !!run && !dead;
+  // What the run stopped at goes first: once the page reads "paused", its views are final.
+  if (!playing) postView(true);
   post({ type: 'state', playing });
-  if (!playing) postView(true); // what the run stopped at
   if (playing) {
     lastTick = performance.now();
     owed = 0;

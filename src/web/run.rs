@@ -46,7 +46,10 @@ export interface RunConfig {
     epsilonDecisions?: number; epsilonStart?: number; epsilonEnd?: number; trainEvery?: number; targetSync?: number;
     sumRewards?: boolean;
   };
-  erlam?: { lambda?: number; nodes?: number; forgetting?: boolean; propagateEvery?: number; mergeDistance?: number; converge?: number };
+  erlam?: {
+    lambda?: number; nodes?: number; forgetting?: boolean; propagateEvery?: number; mergeDistance?: number; converge?: number;
+    propagatePastTerminals?: boolean;
+  };
   /** Which encoder embeds the frames: untrained (the authors' code, the default) or trained. */
   perception?: "untrained" | "trained";
   /** Replaces the embedding scale, in (0, 1e6] (null: 1 untrained, the calibrated scale trained). */
