@@ -20,11 +20,11 @@ export const COMPARE_PRESETS = {
       + 'paper\'s got a third of SEC\'s (REPRODUCTION.md). Live, the first minutes cover the first few dozen '
       + 'episodes, where all three curves still lie together: SEC acts from memory only once 5 sequences are stored. '
       + 'DQN and ERLAM, the paper\'s deep baselines, train with burn and run only natively, so the chart has their '
-      + 'reference runs alone: the paper has DQN at about half SEC\'s reward, but our first two DQN runs (1000 '
-      + 'episodes each) got 1.94 and 1.24 per episode against SEC\'s 1.54 over the same episodes, not the paper\'s '
-      + 'ordering; DQN learns fast and unstably (the second run collapsed near its end). ERLAM\'s first run stayed '
-      + 'at the reactive walk\'s level (0.11 per episode). The other runs of both are under way (the note below says '
-      + 'which are in).',
+      + 'reference runs alone: the paper has DQN at about half SEC\'s reward, but our three DQN runs (1000 episodes '
+      + 'each) got 1.94, 1.24 and 0.47 per episode (1.22 on average, the paper\'s 1.24) against SEC\'s 1.54 over the '
+      + 'same episodes, not significantly below it; DQN learns fast and unstably (two of the three runs collapsed '
+      + 'after episode 500). ERLAM\'s two runs so far got 0.11 and 0.16 per episode, far below both; the second began '
+      + 'to learn only in its last 200 episodes (the note below says which runs are in).',
     arms: [
       { label: 'SEC', settings: { ...SEC }, reference: 'exp1:double-t-maze/SEC' },
       { label: 'NSEC', settings: { ...NSEC }, reference: 'exp1:double-t-maze/NSEC' },
