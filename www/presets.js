@@ -23,8 +23,9 @@ export const COMPARE_PRESETS = {
       + 'reference runs alone: the paper has DQN at about half SEC\'s reward, but our three DQN runs (1000 episodes '
       + 'each) got 1.94, 1.24 and 0.47 per episode (1.22 on average, the paper\'s 1.24) against SEC\'s 1.54 over the '
       + 'same episodes, not significantly below it; DQN learns fast and unstably (two of the three runs collapsed '
-      + 'after episode 500). ERLAM\'s two runs so far got 0.11 and 0.16 per episode, far below both; the second began '
-      + 'to learn only in its last 200 episodes (the note below says which runs are in).',
+      + 'after episode 500). ERLAM\'s three runs got 0.11, 0.16 and 0.15 per episode, far below both; two of them began '
+      + 'to learn only in their last 100-200 episodes, about when their graphs filled. With propagation stopped at '
+      + 'the goals (a one-seed test of why), ERLAM got 0.49 per episode and 0.91 over its last 200 (REPRODUCTION.md).',
     arms: [
       { label: 'SEC', settings: { ...SEC }, reference: 'exp1:double-t-maze/SEC' },
       { label: 'NSEC', settings: { ...NSEC }, reference: 'exp1:double-t-maze/NSEC' },
