@@ -102,6 +102,16 @@ pub fn finished_episodes(path: &Path) -> usize {
     read_run_text(path).map(|t| t.lines().count()).unwrap_or(0)
 }
 
+/// Writes `text` to `path` through a file of this process's own and a rename, so that the shards
+/// of one grid started together never read each other's half-written manifests.
+fn write_atomically(path: &Path, text: &str) -> Result<(), String> {
+    static WRITES: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let n = WRITES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let tmp = path.with_extension(format!("json.tmp-{}-{n}", std::process::id()));
+    fs::write(&tmp, text).map_err(|e| format!("{}: {e}", tmp.display()))?;
+    fs::rename(&tmp, path).map_err(|e| format!("{}: {e}", path.display()))
+}
+
 /// Writes the manifest and each condition's `config.json`, refusing to mix configurations: a
 /// directory that holds runs of another configuration under the same name is an error.
 pub fn prepare(out: &Path, manifest: &Manifest) -> Result<(), String> {
@@ -122,7 +132,7 @@ pub fn prepare(out: &Path, manifest: &Manifest) -> Result<(), String> {
                 ))
             }
             Ok(_) => {}
-            Err(_) => fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?,
+            Err(_) => write_atomically(&path, &text)?,
         }
     }
     // Runs of other conditions or seeds made earlier into the same directory stay listed.
@@ -143,7 +153,7 @@ pub fn prepare(out: &Path, manifest: &Manifest) -> Result<(), String> {
         merged = Manifest { conditions, seeds, episodes: old.episodes.max(manifest.episodes), ..merged };
     }
     let text = serde_json::to_string_pretty(&merged).expect("manifests serialise") + "\n";
-    fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))
+    write_atomically(&path, &text)
 }
 
 /// The jobs of `conditions` x `seeds`, seed by seed (every condition's seed 1, then seed 2, ...)
@@ -359,5 +369,30 @@ mod tests {
         for d in [whole, cut, bad] {
             fs::remove_dir_all(d).unwrap();
         }
+    }
+
+    /// Shards of one grid started at once write and read the same manifests: none may see
+    /// another's half-written file (which read as "another configuration" and stopped a shard).
+    #[test]
+    fn shards_started_together_all_prepare_their_directory() {
+        let out = dir("shards");
+        let conditions = (0..4)
+            .map(|i| ManifestCondition {
+                name: format!("g/c{i}"),
+                paper_total: None,
+                config: RunConfig { t: Some(100 + i), ..RunConfig::default() },
+            })
+            .collect();
+        let manifest = Manifest { experiment: "x".into(), episodes: 3, seeds: vec![1, 2], conditions };
+        let failures: Vec<String> = std::thread::scope(|s| {
+            let shards: Vec<_> = (0..4)
+                .map(|_| s.spawn(|| (0..100).filter_map(|_| prepare(&out, &manifest).err()).collect::<Vec<_>>()))
+                .collect();
+            shards.into_iter().flat_map(|h| h.join().unwrap()).collect()
+        });
+        assert_eq!(failures, Vec::<String>::new());
+        let names: Vec<_> = fs::read_dir(out.join("g/c0")).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert_eq!(names, ["config.json"], "no temporary file is left");
+        fs::remove_dir_all(out).unwrap();
     }
 }
