@@ -57,7 +57,7 @@ export const COMPARE_PRESETS = {
   exp3: {
     title: 'Experiment 3: the value function and its ablations',
     caption: 'The paper (figure 7): removing one term of the value (noGi, noRR, noDist) costs no significant reward. '
-      + 'The reference runs at the code preset (so far 6-7 of the protocol\'s 10 seeds x 2000 episodes per arm, the '
+      + 'The reference runs at the code preset (so far 6-8 of the protocol\'s 10 seeds x 2000 episodes per arm, the '
       + 'authors\' untrained encoder) agree: the seven variants got 1.44 to 1.75 per episode against the default\'s '
       + '1.55, none significantly different (REPRODUCTION.md). Live, they stay together: they differ only once '
       + 'the memory holds many sequences, hundreds of episodes in.',
