@@ -102,14 +102,29 @@ pub fn finished_episodes(path: &Path) -> usize {
     read_run_text(path).map(|t| t.lines().count()).unwrap_or(0)
 }
 
-/// Writes `text` to `path` through a file of this process's own and a rename, so that the shards
-/// of one grid started together never read each other's half-written manifests.
-fn write_atomically(path: &Path, text: &str) -> Result<(), String> {
+/// Writes `path` through a temporary file of this process's own beside it and a rename, so that a
+/// reader (a shard started at the same moment, a resumed run, a report) finds the old file or the
+/// new one whole, never part of one, whenever the writer is interrupted.
+fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> Result<(), String>) -> Result<(), String> {
     static WRITES: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
-    let n = WRITES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let tmp = path.with_extension(format!("json.tmp-{}-{n}", std::process::id()));
-    fs::write(&tmp, text).map_err(|e| format!("{}: {e}", tmp.display()))?;
+    let n = WRITES.fetch_add(1, Ordering::Relaxed);
+    let mut name = path.file_name().unwrap_or_default().to_os_string();
+    name.push(format!(".tmp-{}-{n}", std::process::id()));
+    let tmp = path.with_file_name(name);
+    let err = |e: std::io::Error| format!("{}: {e}", tmp.display());
+    let mut w = BufWriter::new(fs::File::create(&tmp).map_err(err)?);
+    let written = write(&mut w).and_then(|()| w.flush().map_err(err));
+    drop(w);
+    if let Err(e) = written {
+        let _ = fs::remove_file(&tmp);
+        return Err(e);
+    }
     fs::rename(&tmp, path).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// [`write_atomically`] of a text.
+fn write_text_atomically(path: &Path, text: &str) -> Result<(), String> {
+    write_atomically(path, |w| w.write_all(text.as_bytes()).map_err(|e| format!("{}: {e}", path.display())))
 }
 
 /// Writes the manifest and each condition's `config.json`, refusing to mix configurations: a
@@ -132,7 +147,7 @@ pub fn prepare(out: &Path, manifest: &Manifest) -> Result<(), String> {
                 ))
             }
             Ok(_) => {}
-            Err(_) => write_atomically(&path, &text)?,
+            Err(_) => write_text_atomically(&path, &text)?,
         }
     }
     // Runs of other conditions or seeds made earlier into the same directory stay listed.
@@ -153,7 +168,7 @@ pub fn prepare(out: &Path, manifest: &Manifest) -> Result<(), String> {
         merged = Manifest { conditions, seeds, episodes: old.episodes.max(manifest.episodes), ..merged };
     }
     let text = serde_json::to_string_pretty(&merged).expect("manifests serialise") + "\n";
-    write_atomically(&path, &text)
+    write_text_atomically(&path, &text)
 }
 
 /// The jobs of `conditions` x `seeds`, seed by seed (every condition's seed 1, then seed 2, ...)
@@ -201,15 +216,10 @@ fn start(job: &Job, part: &Path, ckpt: &Path) -> Result<(Run, usize, u64), Strin
     Ok((run, 0, 0))
 }
 
-/// Writes the run's checkpoint in place of the last (through a temporary file, so an
-/// interruption leaves the previous one whole).
+/// Writes the run's checkpoint in place of the last (an interruption leaves the previous one
+/// whole).
 fn save_checkpoint(run: &Run, ckpt: &Path) -> Result<(), String> {
-    let tmp = ckpt.with_extension("ckpt.tmp");
-    let mut w = BufWriter::new(fs::File::create(&tmp).map_err(|e| format!("{}: {e}", tmp.display()))?);
-    run.save_checkpoint(&mut w).map_err(|e| format!("{}: {e}", tmp.display()))?;
-    w.flush().map_err(|e| format!("{}: {e}", tmp.display()))?;
-    drop(w);
-    fs::rename(&tmp, ckpt).map_err(|e| format!("{}: {e}", ckpt.display()))
+    write_atomically(ckpt, |w| run.save_checkpoint(w).map_err(|e| format!("{}: {e}", ckpt.display())))
 }
 
 /// Plays one job's episodes into `<file>.part`, up to `stop` of them (`episodes` but in tests),
@@ -247,12 +257,10 @@ fn run_job(job: &Job, out: &Path, episodes: usize, every: usize, bar: &ProgressB
     let path = run_path(out, &job.condition, job.seed);
     let part = path.with_extension("part");
     let text = fs::read(&part).map_err(|e| format!("{}: {e}", part.display()))?;
-    let mut gz = GzEncoder::new(Vec::new(), flate2::Compression::best());
-    gz.write_all(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-    let tmp = path.with_extension("gz.tmp");
-    fs::write(&tmp, gz.finish().map_err(|e| format!("{}: {e}", path.display()))?)
-        .map_err(|e| format!("{}: {e}", tmp.display()))?;
-    fs::rename(&tmp, &path).map_err(|e| format!("{}: {e}", path.display()))?;
+    write_atomically(&path, |w| {
+        let mut gz = GzEncoder::new(w, flate2::Compression::best());
+        gz.write_all(&text).and_then(|()| gz.finish().map(drop)).map_err(|e| format!("{}: {e}", path.display()))
+    })?;
     fs::remove_file(&part).map_err(|e| format!("{}: {e}", part.display()))?;
     let ckpt = checkpoint_path(out, &job.condition, job.seed);
     match fs::remove_file(&ckpt) {
@@ -358,7 +366,8 @@ mod tests {
         let log = read_run_text(&run_path(&cut, "c/dqn", 2)).unwrap();
         assert_eq!(log.lines().next().unwrap(), marked, "resumed, not restarted");
         assert_eq!(log.replacen("\"mark\":1,", "", 1), expected);
-        assert!(!ckpt.exists() && !part.exists(), "a finished run leaves only its log");
+        let left: Vec<_> = fs::read_dir(cut.join("c/dqn")).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert_eq!(left, ["seed-2.jsonl.gz"], "a finished run leaves only its log");
 
         // A corrupt checkpoint is not used: the run starts again, to the same log.
         let bad = dir("bad");
