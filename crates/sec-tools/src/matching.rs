@@ -11,7 +11,7 @@
 
 use crate::orderings::arms;
 use crate::plot;
-use crate::stats::mean;
+use crate::stats::{mean, spearman};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use sec_playground::agent::Reactive;
@@ -224,7 +224,57 @@ pub fn report(dir: &Path, frames: usize, seeds: &[u64]) -> Result<String, String
         )?;
         md += "\n![SEC/NSEC against the matching breadth](plots/ratio-vs-breadth.svg)\n";
     }
+    if points.len() == m.len() && points.len() > 2 {
+        md += &prediction(&points);
+    }
     fs::write(dir.join("matching.md"), &md).map_err(|e| format!("{}: {e}", dir.display()))?;
     fs::write(dir.join("matching.csv"), csv).map_err(|e| format!("{}: {e}", dir.display()))?;
     Ok(md)
+}
+
+/// The verdict on the prediction results/PROTOCOL.md states before the `perception` runs: SEC/NSEC
+/// falls as the matching breadth falls, failing where the ratios' order differs from the
+/// breadths' and counted a failure where Spearman's correlation of the two is below 0.7.
+fn prediction(points: &[(String, f64, f64)]) -> String {
+    let (breadth, ratio): (Vec<f64>, Vec<f64>) = points.iter().map(|p| (p.1, p.2)).unzip();
+    let rho = spearman(&breadth, &ratio);
+    let mut by_breadth: Vec<&(String, f64, f64)> = points.iter().collect();
+    by_breadth.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let same_order = by_breadth.windows(2).all(|w| w[0].2 >= w[1].2);
+    let order: Vec<String> = by_breadth.iter().map(|p| format!("{} {:.2}", p.0, p.2)).collect();
+    let verdict = match (same_order, rho >= 0.7) {
+        (true, _) => "holds: the ratios fall in the order of the breadths",
+        (false, true) => "holds by the Spearman criterion only: the ratios' order differs from the breadths' in part",
+        (false, false) => "fails: Spearman's correlation is below 0.7",
+    };
+    format!(
+        "\n**The protocol's prediction** (SEC/NSEC falls as the matching breadth falls; fails below a Spearman \
+         correlation of 0.7): {verdict}. Spearman's rho of breadth and SEC/NSEC over the {} arms: {rho:.2}. SEC/NSEC \
+         from the broadest to the narrowest matching: {}.\n",
+        points.len(),
+        order.join(", ")
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn arms(ratios: &[f64]) -> Vec<(String, f64, f64)> {
+        let breadths = [475.0, 153.0, 96.0, 91.0, 77.0];
+        ratios.iter().zip(breadths).enumerate().map(|(i, (&r, b))| (format!("a{i}"), b, r)).collect()
+    }
+
+    #[test]
+    fn the_prediction_is_judged_by_order_then_by_spearman() {
+        assert!(prediction(&arms(&[2.0, 1.6, 1.3, 1.1, 1.1])).contains(": holds: the ratios fall"));
+        // One neighbouring pair swapped: rho 0.9.
+        let one_swap = prediction(&arms(&[2.0, 1.3, 1.6, 1.1, 1.0]));
+        assert!(
+            one_swap.contains("holds by the Spearman criterion only")
+                && one_swap.contains("rho of breadth and SEC/NSEC over the 5 arms: 0.90"),
+            "{one_swap}"
+        );
+        assert!(prediction(&arms(&[1.0, 1.6, 1.3, 1.1, 2.0])).contains("fails"));
+    }
 }

@@ -48,22 +48,10 @@ pub fn mann_whitney(a: &[f64], b: &[f64]) -> (f64, f64) {
     if n1 == 0 || n2 == 0 {
         return (f64::NAN, f64::NAN);
     }
-    // Midranks of the pooled sample.
-    let mut pooled: Vec<(f64, usize)> = a.iter().map(|&v| (v, 0)).chain(b.iter().map(|&v| (v, 1))).collect();
-    pooled.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let pooled: Vec<f64> = a.iter().chain(b).copied().collect();
+    let (ranks, ties) = midranks(&pooled);
+    let rank_a: f64 = ranks[..n1].iter().sum();
     let n = pooled.len();
-    let (mut rank_a, mut ties, mut i) = (0.0, 0.0, 0);
-    while i < n {
-        let mut j = i;
-        while j + 1 < n && pooled[j + 1].0 == pooled[i].0 {
-            j += 1;
-        }
-        let rank = (i + j) as f64 / 2.0 + 1.0;
-        let t = (j - i + 1) as f64;
-        ties += t * t * t - t;
-        rank_a += pooled[i..=j].iter().filter(|p| p.1 == 0).count() as f64 * rank;
-        i = j + 1;
-    }
     let u = rank_a - (n1 * (n1 + 1)) as f64 / 2.0;
     let p = if ties == 0.0 && n1 <= 30 && n2 <= 30 {
         exact_p(u as usize, n1, n2)
@@ -80,6 +68,42 @@ pub fn mann_whitney(a: &[f64], b: &[f64]) -> (f64, f64) {
         }
     };
     (u, p)
+}
+
+/// The rank of each value of `x` (1 for the smallest; tied values share their mean rank) and the
+/// ties' correction term, the sum over groups of t^3 - t.
+fn midranks(x: &[f64]) -> (Vec<f64>, f64) {
+    let mut order: Vec<usize> = (0..x.len()).collect();
+    order.sort_by(|&i, &j| x[i].total_cmp(&x[j]));
+    let (mut ranks, mut ties, mut i) = (vec![0.0; x.len()], 0.0, 0);
+    while i < order.len() {
+        let mut j = i;
+        while j + 1 < order.len() && x[order[j + 1]] == x[order[i]] {
+            j += 1;
+        }
+        let t = (j - i + 1) as f64;
+        ties += t * t * t - t;
+        for &k in &order[i..=j] {
+            ranks[k] = (i + j) as f64 / 2.0 + 1.0;
+        }
+        i = j + 1;
+    }
+    (ranks, ties)
+}
+
+/// Spearman's rank correlation of paired `x` and `y`: Pearson's correlation of their midranks
+/// (NaN with fewer than two pairs or a constant side).
+pub fn spearman(x: &[f64], y: &[f64]) -> f64 {
+    assert_eq!(x.len(), y.len(), "Spearman's correlation pairs its samples");
+    let (rx, ry) = (midranks(x).0, midranks(y).0);
+    let (mx, my) = (mean(&rx), mean(&ry));
+    let (mut sxy, mut sxx, mut syy) = (0.0, 0.0, 0.0);
+    for (a, b) in rx.iter().zip(&ry) {
+        sxy += (a - mx) * (b - my);
+        sxx += (a - mx) * (a - mx);
+        syy += (b - my) * (b - my);
+    }
+    sxy / (sxx * syy).sqrt()
 }
 
 /// Two-sided exact p-value of U = `u` for samples of `n1` and `n2` without ties.
@@ -139,6 +163,19 @@ mod tests {
         // With ties the normal approximation: identical samples give p = 1.
         let (u, p) = mann_whitney(&[1.0, 1.0, 2.0], &[1.0, 1.0, 2.0]);
         assert_eq!((u, p), (4.5, 1.0));
+    }
+
+    #[test]
+    fn spearman_matches_hand_computed_values() {
+        // Monotone but not linear: rank correlation 1; reversed: -1.
+        assert_eq!(spearman(&[1.0, 2.0, 3.0, 4.0], &[1.0, 10.0, 100.0, 1000.0]), 1.0);
+        assert_eq!(spearman(&[1.0, 2.0, 3.0, 4.0], &[4.0, 3.0, 2.0, 1.0]), -1.0);
+        // Ranks (1, 2, 3, 4, 5) and (2, 1, 4, 3, 5): 1 - 6 * 4 / (5 * 24) = 0.8.
+        assert!((spearman(&[1.0, 2.0, 3.0, 4.0, 5.0], &[20.0, 10.0, 40.0, 30.0, 50.0]) - 0.8).abs() < 1e-12);
+        // Ties share their mean rank: x ranks (1.5, 1.5, 3), y (1, 2, 3); r = 1.5 / sqrt(1.5 * 2).
+        let r = spearman(&[1.0, 1.0, 2.0], &[1.0, 2.0, 3.0]);
+        assert!((r - 0.75f64.sqrt()).abs() < 1e-12, "{r}");
+        assert!(spearman(&[1.0, 1.0], &[1.0, 2.0]).is_nan());
     }
 
     #[test]
