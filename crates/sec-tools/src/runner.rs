@@ -269,19 +269,96 @@ fn run_job(job: &Job, out: &Path, episodes: usize, every: usize, bar: &ProgressB
     }
 }
 
+/// Every finished run under `root` (experiment directories and their condition directories, as
+/// `run` writes them), by configuration: a run is a pure function of (configuration, seed), so a
+/// job whose configuration, seed and length equal a finished run's has its log already. Several
+/// experiments share conditions (exp1's double T-maze SEC is exp2's m = 500, exp3's default,
+/// exp4's no forgetting and the perception experiment's untrained x1).
+pub struct Finished {
+    dirs: Vec<(PathBuf, RunConfig)>,
+}
+
+impl Finished {
+    /// Reads every `config.json` under `root`; a file that does not parse is passed over.
+    pub fn scan(root: &Path) -> Finished {
+        fn walk(dir: &Path, depth: usize, dirs: &mut Vec<(PathBuf, RunConfig)>) {
+            if let Ok(text) = fs::read_to_string(dir.join("config.json")) {
+                if let Ok(config) = serde_json::from_str::<RunConfig>(&text) {
+                    dirs.push((dir.to_path_buf(), config));
+                }
+            }
+            let Ok(entries) = fs::read_dir(dir) else { return };
+            let mut subdirs: Vec<PathBuf> =
+                entries.filter_map(|e| e.ok()).map(|e| e.path()).filter(|p| p.is_dir()).collect();
+            subdirs.sort();
+            for d in subdirs.into_iter().filter(|_| depth > 0) {
+                walk(&d, depth - 1, dirs);
+            }
+        }
+        let mut dirs = Vec::new();
+        // root / experiment / group / model: three levels below the root.
+        walk(root, 3, &mut dirs);
+        Finished { dirs }
+    }
+
+    /// A finished log of `episodes` episodes of `job`'s configuration and seed outside `job`'s
+    /// own directory under `out`.
+    pub fn find(&self, job: &Job, out: &Path, episodes: usize) -> Option<PathBuf> {
+        let own = out.join(&job.condition);
+        self.dirs
+            .iter()
+            .filter(|(dir, config)| *config == job.config && !same_dir(dir, &own))
+            .map(|(dir, _)| dir.join(format!("seed-{}.jsonl.gz", job.seed)))
+            .find(|path| finished_episodes(path) == episodes)
+    }
+}
+
+fn same_dir(a: &Path, b: &Path) -> bool {
+    match (fs::canonicalize(a), fs::canonicalize(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    }
+}
+
+/// Copies the finished log `from` into `job`'s place under `out`.
+fn copy_run(from: &Path, job: &Job, out: &Path) -> Result<(), String> {
+    let bytes = fs::read(from).map_err(|e| format!("{}: {e}", from.display()))?;
+    let path = run_path(out, &job.condition, job.seed);
+    write_atomically(&path, |w| w.write_all(&bytes).map_err(|e| format!("{}: {e}", path.display())))
+}
+
 /// Runs the unfinished `jobs` on `threads` threads with a progress bar on standard error (a line
 /// per finished run when it is not a terminal), each checkpointing every `every` episodes (0:
-/// never; only agents that can: SEC, DQN and ERLAM). Returns (runs made, runs already there).
+/// never; only agents that can: SEC, DQN and ERLAM). A job that `reuse` holds a finished run of
+/// is copied from it instead of played. Returns (runs made, runs copied, runs already there).
 pub fn run_all(
     jobs: &[Job],
     out: &Path,
     episodes: usize,
     every: usize,
     threads: usize,
-) -> Result<(usize, usize), String> {
-    let todo: Vec<&Job> =
+    reuse: Option<&Finished>,
+) -> Result<(usize, usize, usize), String> {
+    let unfinished: Vec<&Job> =
         jobs.iter().filter(|j| finished_episodes(&run_path(out, &j.condition, j.seed)) < episodes).collect();
-    let skipped = jobs.len() - todo.len();
+    let skipped = jobs.len() - unfinished.len();
+    let mut todo = Vec::new();
+    let mut copied = 0;
+    for job in unfinished {
+        match reuse.and_then(|r| r.find(job, out, episodes)) {
+            Some(from) => {
+                copy_run(&from, job, out)?;
+                eprintln!(
+                    "{} seed {}: copied from {} (the same configuration and seed)",
+                    job.condition,
+                    job.seed,
+                    from.display()
+                );
+                copied += 1;
+            }
+            None => todo.push(job),
+        }
+    }
     let bar = ProgressBar::new((todo.len() * episodes) as u64);
     bar.set_style(
         ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} episodes, eta {eta} {msg}")
@@ -316,7 +393,7 @@ pub fn run_all(
     if let Some(e) = errors.first() {
         return Err(format!("{} run(s) failed; the first: {e}", errors.len()));
     }
-    Ok((todo.len(), skipped))
+    Ok((todo.len(), copied, skipped))
 }
 
 #[cfg(test)]
@@ -378,6 +455,45 @@ mod tests {
         for d in [whole, cut, bad] {
             fs::remove_dir_all(d).unwrap();
         }
+    }
+
+    /// A job whose configuration, seed and length equal a finished run's elsewhere is copied,
+    /// and the copy is what playing it gives; any other job is played.
+    #[test]
+    fn identical_finished_runs_are_copied_not_played() {
+        let root = dir("reuse");
+        let config = RunConfig { task: "object-permanence".into(), t: Some(40), ..RunConfig::default() };
+        let write_config = |d: &Path, c: &RunConfig| {
+            fs::create_dir_all(d).unwrap();
+            fs::write(d.join("config.json"), serde_json::to_string(c).unwrap()).unwrap();
+        };
+        let bar = ProgressBar::hidden();
+        let first = Job { condition: "g/a".into(), config: config.clone(), seed: 3 };
+        write_config(&root.join("e1/g/a"), &config);
+        run_job(&first, &root.join("e1"), 4, 0, &bar).unwrap();
+
+        let same = Job { condition: "h/b".into(), ..first.clone() };
+        let other = Job { condition: "h/c".into(), config: RunConfig { t: Some(41), ..config.clone() }, seed: 3 };
+        let longer = Job { condition: "h/d".into(), ..first.clone() };
+        let (e2, e3) = (root.join("e2"), root.join("e3"));
+        for (d, c) in [(e2.join("h/b"), &config), (e2.join("h/c"), &other.config), (e3.join("h/b"), &config)] {
+            write_config(&d, c);
+        }
+        let finished = Finished::scan(&root);
+        assert!(finished.find(&same, &e2, 4).is_some());
+        assert!(finished.find(&other, &e2, 4).is_none(), "another configuration");
+        assert!(finished.find(&Job { seed: 4, ..same.clone() }, &e2, 4).is_none(), "another seed");
+        assert!(finished.find(&longer, &e2, 5).is_none(), "another length");
+        assert!(finished.find(&first, &root.join("e1"), 4).is_none(), "not its own file");
+        let (made, copied, skipped) = run_all(&[same.clone(), other.clone()], &e2, 4, 0, 1, Some(&finished)).unwrap();
+        assert_eq!((made, copied, skipped), (1, 1, 0));
+        let copy = fs::read(run_path(&e2, "h/b", 3)).unwrap();
+        assert_eq!(copy, fs::read(run_path(&root.join("e1"), "g/a", 3)).unwrap());
+
+        // Played instead (--reuse no), the same job writes the same log.
+        assert_eq!(run_all(&[same], &e3, 4, 0, 1, None).unwrap(), (1, 0, 0));
+        assert_eq!(read_run_text(&run_path(&e3, "h/b", 3)).unwrap(), read_run_text(&run_path(&e2, "h/b", 3)).unwrap());
+        fs::remove_dir_all(root).unwrap();
     }
 
     /// Shards of one grid started at once write and read the same manifests: none may see

@@ -36,12 +36,12 @@ fn runs_resume_shard_and_report() {
     };
     let (ok, _, err) = run(&a, &[]);
     assert!(ok, "{err}");
-    assert!(err.contains("6 runs made, 0 already there"), "{err}");
+    assert!(err.contains("6 runs made, 0 copied from identical finished runs, 0 already there"), "{err}");
     let whole = files(&a);
     assert!(whole.iter().all(|(_, text)| text.lines().count() == 3), "every run has its 3 episodes");
     // Resuming makes nothing new.
     let (ok, _, err) = run(&a, &[]);
-    assert!(ok && err.contains("0 runs made, 6 already there"), "{err}");
+    assert!(ok && err.contains("0 runs made, 0 copied from identical finished runs, 6 already there"), "{err}");
     // Two shards make disjoint halves of the same files, bit for bit.
     let (ok1, _, e1) = run(&b, &["--shard", "1/2"]);
     let (ok2, _, e2) = run(&b, &["--shard", "2/2"]);
@@ -113,6 +113,8 @@ fn bad_input_is_refused_by_name() {
     assert!(e.contains("agent.memory.tau: invalid type") && e.contains("line 1"), "{e}");
     let e = err(&["run", "smoke", "--checkpoint-every", "-1"]);
     assert!(e.contains("--checkpoint-every"), "{e}");
+    let e = err(&["run", "smoke", "--reuse", "maybe", "--out", dir.to_str().unwrap()]);
+    assert!(e.contains("--reuse: 'maybe' is not yes or no"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -29,7 +29,7 @@ use std::process::ExitCode;
 
 const USAGE: &str = "usage:
   sec-experiment run EXPERIMENT [--seeds N|A..B|A,B,C] [--episodes N] [--jobs N] [--shard i/N] [--out DIR]
-                     [--only GROUP/MODEL,GROUP/,...] [--checkpoint-every N]
+                     [--only GROUP/MODEL,GROUP/,...] [--checkpoint-every N] [--reuse yes|no]
   sec-experiment run --config FILE.json --name GROUP/MODEL [the same options]
   sec-experiment report EXPERIMENT [--out DIR]
   sec-experiment orderings [--out DIR] [--trained DIR] [--to DIR] [--quote PAGE.md]
@@ -39,7 +39,9 @@ const USAGE: &str = "usage:
   sec-experiment record --config FILE.json --seed S --episodes N --events OUT.jsonl
   sec-experiment trace --config FILE.json --seed S --events IN.jsonl [--trace OUT.jsonl]
 defaults: --seeds 1..20, --episodes 5000, --jobs all cores, --shard 1/1, --out results/experiments,
-  --checkpoint-every 50 (episodes; 0: never; SEC, DQN and ERLAM runs resume from it mid-run)";
+  --checkpoint-every 50 (episodes; 0: never; SEC, DQN and ERLAM runs resume from it mid-run),
+  --reuse yes (a run whose configuration, seed and episodes equal a finished run's under --out is
+  copied from it, not played again: runs are deterministic; no plays every run)";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -162,8 +164,10 @@ fn dispatch(args: &[String]) -> Result<(), String> {
 }
 
 fn run(args: &[String]) -> Result<(), String> {
-    let (pos, o) =
-        options(args, &["seeds", "episodes", "jobs", "shard", "out", "config", "name", "only", "checkpoint-every"])?;
+    let (pos, o) = options(
+        args,
+        &["seeds", "episodes", "jobs", "shard", "out", "config", "name", "only", "checkpoint-every", "reuse"],
+    )?;
     let seeds = runner::parse_seeds(o.get("seeds").copied().unwrap_or("1..20"))?;
     let episodes = number("episodes", o.get("episodes").copied().unwrap_or("5000"), 1usize, 1_000_000)?;
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
@@ -173,6 +177,11 @@ fn run(args: &[String]) -> Result<(), String> {
     };
     let shard = runner::parse_shard(o.get("shard").copied().unwrap_or("1/1"))?;
     let every = number("checkpoint-every", o.get("checkpoint-every").copied().unwrap_or("50"), 0usize, 1_000_000)?;
+    let reuse = match o.get("reuse").copied().unwrap_or("yes") {
+        "yes" => true,
+        "no" => false,
+        other => return Err(format!("--reuse: '{other}' is not yes or no")),
+    };
     let out = PathBuf::from(o.get("out").copied().unwrap_or("results/experiments"));
     let (experiment, conditions): (String, Vec<Condition>) = match (pos.as_slice(), o.get("config")) {
         ([name], None) => (name.to_string(), presets::experiment(name).map_err(|e| e.to_string())?),
@@ -223,8 +232,12 @@ fn run(args: &[String]) -> Result<(), String> {
         dir.display()
     );
     let t0 = std::time::Instant::now();
-    let (made, skipped) = runner::run_all(&jobs_list, &dir, episodes, every, jobs)?;
-    eprintln!("{made} runs made, {skipped} already there, in {:.0} s", t0.elapsed().as_secs_f64());
+    let finished = reuse.then(|| runner::Finished::scan(&out));
+    let (made, copied, skipped) = runner::run_all(&jobs_list, &dir, episodes, every, jobs, finished.as_ref())?;
+    eprintln!(
+        "{made} runs made, {copied} copied from identical finished runs, {skipped} already there, in {:.0} s",
+        t0.elapsed().as_secs_f64()
+    );
     Ok(())
 }
 
