@@ -32,6 +32,7 @@ pub fn upscale(rgba: &[u8], width: usize, height: usize, k: usize) -> Vec<u8> {
 pub mod matching;
 pub mod orderings;
 pub mod plot;
+pub mod quote;
 pub mod reference;
 pub mod report;
 pub mod runner;

@@ -139,8 +139,9 @@ pub fn matching(frames: usize, seeds: &[u64]) -> Result<Vec<Matching>, String> {
 
 /// Writes `matching.md`, `matching.csv` and `plots/ratio-vs-breadth.{svg,png}` into
 /// `dir` (the `perception` experiment's directory), joining the distributions with the runs
-/// there; returns the markdown.
-pub fn report(dir: &Path, frames: usize, seeds: &[u64]) -> Result<String, String> {
+/// there; returns the markdown and the part of it a page quotes (the table and the verdict on
+/// the protocol's prediction).
+pub fn report(dir: &Path, frames: usize, seeds: &[u64]) -> Result<(String, String), String> {
     let m = matching(frames, seeds)?;
     let runs = arms(dir);
     let arm = |label: &str, model: &str| runs.iter().find(|a| a.name == format!("{label}/{model}"));
@@ -152,8 +153,10 @@ pub fn report(dir: &Path, frames: usize, seeds: &[u64]) -> Result<String, String
          Matching breadth (the effective matching radius): the views a view selects, mean; their distance: the \
          median (and 90 %) arena distance between a view and the views it selects. SEC, NSEC: mean reward per episode of the \
          `perception` experiment's runs; contextual share: the share of decisions the contextual layer took over \
-         each run's last 10 % of episodes, mean over runs.\n\n\
-         | perception | NN MAE median / 90 % | views selecting one | matching breadth (views selected) | their distance median / 90 % (m) | selected > {FAR} m away | runs | SEC | NSEC | SEC/NSEC | contextual share SEC / NSEC |\n\
+         each run's last 10 % of episodes, mean over runs.\n\n"
+    );
+    let mut table = format!(
+        "| perception | NN MAE median / 90 % | views selecting one | matching breadth (views selected) | their distance median / 90 % (m) | selected > {FAR} m away | runs | SEC | NSEC | SEC/NSEC | contextual share SEC / NSEC |\n\
          |---|---|---|---|---|---|---|---|---|---|---|\n"
     );
     let mut csv = String::from(
@@ -171,7 +174,7 @@ pub fn report(dir: &Path, frames: usize, seeds: &[u64]) -> Result<String, String
         let (cs, cn) = (ctx(&format!("{}/SEC", x.arm)), ctx(&format!("{}/NSEC", x.arm)));
         let f = |v: Option<f64>, d: usize| v.map_or("-".to_string(), |v| format!("{v:.d$}"));
         writeln!(
-            md,
+            table,
             "| {} | {:.4} / {:.4} | {:.1} % | {:.1} | {:.1} / {:.1} | {:.1} % | {} | {} | {} | {} | {} / {} |",
             x.arm,
             x.nn[0],
@@ -225,11 +228,12 @@ pub fn report(dir: &Path, frames: usize, seeds: &[u64]) -> Result<String, String
         md += "\n![SEC/NSEC against the matching breadth](plots/ratio-vs-breadth.svg)\n";
     }
     if points.len() == m.len() && points.len() > 2 {
-        md += &prediction(&points);
+        table += &prediction(&points);
     }
+    md += &table;
     fs::write(dir.join("matching.md"), &md).map_err(|e| format!("{}: {e}", dir.display()))?;
     fs::write(dir.join("matching.csv"), csv).map_err(|e| format!("{}: {e}", dir.display()))?;
-    Ok(md)
+    Ok((md, table))
 }
 
 /// The verdict on the prediction results/PROTOCOL.md states before the `perception` runs: SEC/NSEC

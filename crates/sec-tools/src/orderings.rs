@@ -401,15 +401,13 @@ pub fn orderings(code: &Path, trained: &Path, out: &Path) -> Result<String, Stri
     Ok(md)
 }
 
-/// The markers around the table in a page that quotes it.
-pub const QUOTE: (&str, &str) = ("<!-- orderings: sec-experiment orderings --quote -->\n", "<!-- /orderings -->");
-
-/// Replaces what stands between the markers of `QUOTE` in `page` with `md`.
+/// Quotes the table into `page` between its markers (`<!-- orderings: ... -->`, crate::quote).
 pub fn quote_into(page: &Path, md: &str) -> Result<(), String> {
-    let text = std::fs::read_to_string(page).map_err(|e| format!("{}: {e}", page.display()))?;
-    let start = text.find(QUOTE.0).ok_or_else(|| format!("{}: no line '{}'", page.display(), QUOTE.0.trim()))?;
-    let from = start + QUOTE.0.len();
-    let len = text[from..].find(QUOTE.1).ok_or_else(|| format!("{}: no line '{}'", page.display(), QUOTE.1))?;
-    let quoted = format!("{}{md}\n{}", &text[..from], &text[from + len..]);
-    std::fs::write(page, quoted).map_err(|e| format!("{}: {e}", page.display()))
+    match crate::quote::quote_into(page, "orderings", md)? {
+        true => Ok(()),
+        false => Err(format!(
+            "{}: no quote of 'orderings' (a line '<!-- orderings: COMMAND -->' and '<!-- /orderings -->')",
+            page.display()
+        )),
+    }
 }

@@ -119,13 +119,22 @@ fn fmt_p(p: f64) -> String {
     }
 }
 
-/// Writes `report.md`, `summary.csv` and the plots into `dir`; returns the report's text.
-pub fn report(dir: &Path, description: &str) -> Result<String, String> {
+/// An experiment's report: the whole text and each group's table on its own (what a page quotes
+/// under `EXPERIMENT/GROUP`, crate::quote).
+pub struct Report {
+    pub md: String,
+    pub tables: Vec<(String, String)>,
+}
+
+/// Writes `report.md`, `summary.csv` and the plots of the runs in `dir` into `to` (`dir` itself
+/// but in tests).
+pub fn report(dir: &Path, to: &Path, description: &str) -> Result<Report, String> {
     let (manifest, conds) = load(dir)?;
     if conds.is_empty() {
         return Err(format!("{}: no finished runs yet", dir.display()));
     }
     let mut md = String::new();
+    let mut tables = Vec::new();
     let mut csv = String::from(
         "condition,runs,episodes,total_mean,total_ci95,per_episode,paper_total,paper_per_episode,last10_per_episode,final_mean,final_sd,entropy_first10,entropy_last10,entropy_fresh_last10,ltm_end,p_vs_reference,p_uncorrected\n",
     );
@@ -154,7 +163,7 @@ pub fn report(dir: &Path, description: &str) -> Result<String, String> {
         }
         g
     });
-    fs::create_dir_all(dir.join("plots")).map_err(|e| format!("{}: {e}", dir.display()))?;
+    fs::create_dir_all(to.join("plots")).map_err(|e| format!("{}: {e}", to.display()))?;
     for group in &groups {
         let members: Vec<&ConditionRuns> = conds.iter().filter(|c| c.group() == group).collect();
         let reference = members[0];
@@ -164,6 +173,7 @@ pub fn report(dir: &Path, description: &str) -> Result<String, String> {
         let tested = members[1..].iter().filter(|c| tested_against_reference(c)).count();
         let bonferroni = tested.max(1) as f64;
         writeln!(md, "## {group}\n").unwrap();
+        let table_start = md.len();
         writeln!(md, "| model | runs | total reward (95% CI) | per episode | paper: total (per episode) | last 10% per episode | final episode (sd) | entropy first 10% -> last 10% (fresh) | LTM at end | p vs {} |", reference.model()).unwrap();
         writeln!(md, "|---|---|---|---|---|---|---|---|---|---|").unwrap();
         for c in &members {
@@ -227,17 +237,18 @@ pub fn report(dir: &Path, description: &str) -> Result<String, String> {
             )
             .unwrap();
         }
+        tables.push((format!("{}/{group}", manifest.experiment), md[table_start..].to_string()));
         let stem = group.replace('/', "-");
         let reward: Vec<Series> = members.iter().map(|c| series(c, |m| m.reward)).collect();
         let entropy: Vec<Series> = members.iter().map(|c| series(c, |m| m.entropy)).collect();
         plot::curves(
-            &dir.join("plots").join(format!("{stem}-reward")),
+            &to.join("plots").join(format!("{stem}-reward")),
             &format!("{group}: reward"),
             "reward per episode",
             &reward,
         )?;
         plot::curves(
-            &dir.join("plots").join(format!("{stem}-entropy")),
+            &to.join("plots").join(format!("{stem}-entropy")),
             &format!("{group}: entropy"),
             "entropy (bits)",
             &entropy,
@@ -248,9 +259,9 @@ pub fn report(dir: &Path, description: &str) -> Result<String, String> {
     if manifest.experiment == "exp2" {
         md += &memory_ratios(&conds);
     }
-    fs::write(dir.join("report.md"), &md).map_err(|e| format!("{}: {e}", dir.display()))?;
-    fs::write(dir.join("summary.csv"), csv).map_err(|e| format!("{}: {e}", dir.display()))?;
-    Ok(md)
+    fs::write(to.join("report.md"), &md).map_err(|e| format!("{}: {e}", to.display()))?;
+    fs::write(to.join("summary.csv"), csv).map_err(|e| format!("{}: {e}", to.display()))?;
+    Ok(Report { md, tables })
 }
 
 fn series(c: &ConditionRuns, f: impl Fn(&EpisodeMetrics) -> f64) -> Series {

@@ -186,3 +186,40 @@ fn the_committed_reference_curves_are_regenerated_from_the_committed_runs() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Every table REPRODUCTION.md quotes from an experiment's report (`<!-- EXPERIMENT/GROUP: ... -->`)
+/// is that group's table in the report `sec-experiment report` makes of the committed runs, and
+/// the committed report.md is that report; the perception table is matching.md's (whose walk
+/// embeddings take too long for a debug test to redo). Like the orderings, this reads the
+/// working tree.
+#[test]
+fn every_table_reproduction_quotes_is_regenerated_from_the_committed_runs() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let out = root.join("results/experiments");
+    let page = std::fs::read_to_string(root.join("REPRODUCTION.md")).unwrap();
+    let keys = sec_tools::quote::keys(&page);
+    assert!(keys.len() >= 6, "{keys:?}");
+    let mut reports = std::collections::BTreeMap::new();
+    for key in keys.iter().filter(|k| *k != "orderings") {
+        let quoted = sec_tools::quote::quoted(&page, key).unwrap();
+        if key == "perception/matching" {
+            let md = std::fs::read_to_string(out.join("perception/matching.md")).unwrap();
+            assert!(md.contains(quoted.trim_end()), "{key}: REPRODUCTION.md differs from matching.md");
+            continue;
+        }
+        let (exp, group) = key.split_once('/').unwrap();
+        let md = reports.entry(exp.to_string()).or_insert_with(|| {
+            let to = temp(&format!("report-{exp}"));
+            let (ok, md, err) = cli(&["report", exp, "--out", out.to_str().unwrap(), "--to", to.to_str().unwrap()]);
+            assert!(ok, "{err}");
+            let committed = std::fs::read_to_string(out.join(exp).join("report.md")).unwrap();
+            assert_eq!(md, committed, "results/experiments/{exp}/report.md is not what its runs make");
+            let _ = std::fs::remove_dir_all(&to);
+            md
+        });
+        assert!(
+            md.contains(&format!("## {group}\n\n{}", quoted.trim_end())),
+            "{key}: REPRODUCTION.md's table is not the report's"
+        );
+    }
+}

@@ -5,10 +5,12 @@
 //!                      [--shard i/N] [--out results/experiments] [--only GROUP/MODEL,...]
 //!                      [--checkpoint-every 50]
 //!   sec-experiment run --config FILE.json --name GROUP/MODEL [same options]
-//!   sec-experiment report EXPERIMENT [--out results/experiments]
+//!   sec-experiment report EXPERIMENT [--out results/experiments] [--to OUT/EXPERIMENT]
+//!                         [--quote REPRODUCTION.md]
 //!   sec-experiment orderings [--out results/experiments] [--trained results/experiments-trained]
 //!                            [--to results] [--quote REPRODUCTION.md]
 //!   sec-experiment matching [--out results/experiments] [--frames 2000] [--seeds 3]
+//!                           [--quote REPRODUCTION.md]
 //!   sec-experiment reference [--out results/experiments] [--to assets/reference]
 //!   sec-experiment list
 //!   sec-experiment record --config FILE.json --seed S --episodes N --events OUT.jsonl
@@ -31,9 +33,9 @@ const USAGE: &str = "usage:
   sec-experiment run EXPERIMENT [--seeds N|A..B|A,B,C] [--episodes N] [--jobs N] [--shard i/N] [--out DIR]
                      [--only GROUP/MODEL,GROUP/,...] [--checkpoint-every N] [--reuse yes|no]
   sec-experiment run --config FILE.json --name GROUP/MODEL [the same options]
-  sec-experiment report EXPERIMENT [--out DIR]
+  sec-experiment report EXPERIMENT [--out DIR] [--to DIR] [--quote PAGE.md]
   sec-experiment orderings [--out DIR] [--trained DIR] [--to DIR] [--quote PAGE.md]
-  sec-experiment matching [--out DIR] [--frames N] [--seeds N|A..B|A,B,C]
+  sec-experiment matching [--out DIR] [--frames N] [--seeds N|A..B|A,B,C] [--quote PAGE.md]
   sec-experiment reference [--out DIR] [--to DIR]   (the page's reference curves)
   sec-experiment list
   sec-experiment record --config FILE.json --seed S --episodes N --events OUT.jsonl
@@ -41,7 +43,9 @@ const USAGE: &str = "usage:
 defaults: --seeds 1..20, --episodes 5000, --jobs all cores, --shard 1/1, --out results/experiments,
   --checkpoint-every 50 (episodes; 0: never; SEC, DQN and ERLAM runs resume from it mid-run),
   --reuse yes (a run whose configuration, seed and episodes equal a finished run's under --out is
-  copied from it, not played again: runs are deterministic; no plays every run)";
+  copied from it, not played again: runs are deterministic; no plays every run),
+  --to OUT/EXPERIMENT for report; --quote rewrites the page's quotes of the tables made, each between
+  '<!-- KEY: COMMAND -->' and '<!-- /KEY -->' (KEY: orderings, EXPERIMENT/GROUP, perception/matching)";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -134,11 +138,15 @@ fn dispatch(args: &[String]) -> Result<(), String> {
             Ok(())
         }
         "matching" => {
-            let (_, o) = options(rest, &["out", "frames", "seeds"])?;
+            let (_, o) = options(rest, &["out", "frames", "seeds", "quote"])?;
             let frames = number("frames", o.get("frames").copied().unwrap_or("2000"), 100usize, 20_000)?;
             let seeds = runner::parse_seeds(o.get("seeds").copied().unwrap_or("3"))?;
             let out = PathBuf::from(o.get("out").copied().unwrap_or("results/experiments"));
-            print!("{}", sec_tools::matching::report(&out.join("perception"), frames, &seeds)?);
+            let (md, table) = sec_tools::matching::report(&out.join("perception"), frames, &seeds)?;
+            if let Some(page) = o.get("quote") {
+                sec_tools::quote::quote_into(Path::new(page), "perception/matching", &table)?;
+            }
+            print!("{md}");
             Ok(())
         }
         "reference" => {
@@ -242,12 +250,18 @@ fn run(args: &[String]) -> Result<(), String> {
 }
 
 fn report(args: &[String]) -> Result<(), String> {
-    let (pos, o) = options(args, &["out"])?;
+    let (pos, o) = options(args, &["out", "to", "quote"])?;
     let [name] = pos.as_slice() else { return Err(format!("report takes one EXPERIMENT\n{USAGE}")) };
     let out = PathBuf::from(o.get("out").copied().unwrap_or("results/experiments"));
+    let to = o.get("to").map_or_else(|| out.join(name), PathBuf::from);
     let what = EXPERIMENTS.iter().find(|(n, _)| n == name).map_or("custom runs", |(_, w)| w);
-    let md = sec_tools::report::report(&out.join(name), what)?;
-    print!("{md}");
+    let report = sec_tools::report::report(&out.join(name), &to, what)?;
+    if let Some(page) = o.get("quote") {
+        for (key, table) in &report.tables {
+            sec_tools::quote::quote_into(Path::new(page), key, table)?;
+        }
+    }
+    print!("{}", report.md);
     Ok(())
 }
 
