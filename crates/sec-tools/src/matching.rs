@@ -37,6 +37,10 @@ pub struct Matching {
     pub arm: String,
     /// Median and 90 % quantile of each view's nearest-neighbour MAE.
     pub nn: [f64; 2],
+    /// Every view's nearest-neighbour MAE, ascending.
+    pub nn_all: Vec<f64>,
+    /// Share of views with an identical embedding elsewhere in the walk (nearest-neighbour MAE 0).
+    pub identical: f64,
     /// Share of views that select at least one other view.
     pub matched_views: f64,
     /// Views selected per view, mean.
@@ -128,10 +132,12 @@ pub fn matching(frames: usize, seeds: &[u64]) -> Result<Vec<Matching>, String> {
         out.push(Matching {
             arm: c.name.trim_end_matches("/SEC").to_string(),
             nn: [quantile(&nn, 0.5), quantile(&nn, 0.9)],
+            identical: nn.iter().filter(|&&v| v == 0.0).count() as f64 / nn.len().max(1) as f64,
             matched_views: matched as f64 / views as f64,
             matches_per_view: pairs as f64 / views as f64,
             radius: [quantile(&dist, 0.5), quantile(&dist, 0.9)],
             far: dist.iter().filter(|&&d| d > FAR).count() as f64 / dist.len().max(1) as f64,
+            nn_all: nn,
         });
     }
     Ok(out)
@@ -156,11 +162,11 @@ pub fn report(dir: &Path, frames: usize, seeds: &[u64]) -> Result<(String, Strin
          each run's last 10 % of episodes, mean over runs.\n\n"
     );
     let mut table = format!(
-        "| perception | NN MAE median / 90 % | views selecting one | matching breadth (views selected) | their distance median / 90 % (m) | selected > {FAR} m away | runs | SEC | NSEC | SEC/NSEC | contextual share SEC / NSEC |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|\n"
+        "| perception | NN MAE median / 90 % | identical view (NN MAE 0) | views selecting one | matching breadth (views selected) | their distance median / 90 % (m) | selected > {FAR} m away | runs | SEC | NSEC | SEC/NSEC | contextual share SEC / NSEC |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|\n"
     );
     let mut csv = String::from(
-        "perception,nn_median,nn_q90,matched_views,matches_per_view,radius_median,radius_q90,far_share,runs,sec,nsec,ratio,ctx_sec,ctx_nsec\n",
+        "perception,nn_median,nn_q90,identical,matched_views,matches_per_view,radius_median,radius_q90,far_share,runs,sec,nsec,ratio,ctx_sec,ctx_nsec\n",
     );
     let mut points = Vec::new();
     let loaded = crate::report::load(dir).ok();
@@ -175,10 +181,11 @@ pub fn report(dir: &Path, frames: usize, seeds: &[u64]) -> Result<(String, Strin
         let f = |v: Option<f64>, d: usize| v.map_or("-".to_string(), |v| format!("{v:.d$}"));
         writeln!(
             table,
-            "| {} | {:.4} / {:.4} | {:.1} % | {:.1} | {:.1} / {:.1} | {:.1} % | {} | {} | {} | {} | {} / {} |",
+            "| {} | {:.4} / {:.4} | {:.1} % | {:.1} % | {:.1} | {:.1} / {:.1} | {:.1} % | {} | {} | {} | {} | {} / {} |",
             x.arm,
             x.nn[0],
             x.nn[1],
+            100.0 * x.identical,
             100.0 * x.matched_views,
             x.matches_per_view,
             x.radius[0],
@@ -195,10 +202,11 @@ pub fn report(dir: &Path, frames: usize, seeds: &[u64]) -> Result<(String, Strin
         let o = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
         writeln!(
             csv,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             x.arm,
             x.nn[0],
             x.nn[1],
+            x.identical,
             x.matched_views,
             x.matches_per_view,
             x.radius[0],
@@ -216,7 +224,23 @@ pub fn report(dir: &Path, frames: usize, seeds: &[u64]) -> Result<(String, Strin
             points.push((x.arm.clone(), x.matches_per_view, r));
         }
     }
+    if points.len() == m.len() && points.len() > 2 {
+        table += &prediction(&points);
+    }
+    md += &table;
     fs::create_dir_all(dir.join("plots")).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let samples: Vec<(String, Vec<f64>)> = m.iter().map(|x| (x.arm.clone(), x.nn_all.clone())).collect();
+    // Up to past the broadest 90 % quantile, and past the matching radius in any case.
+    let xmax = m.iter().map(|x| x.nn[1]).fold(2.0 * RADIUS_MAE, f64::max) * 1.25;
+    plot::distributions(
+        &dir.join("plots").join("nearest-neighbour-mae"),
+        "Each view's nearest other view of the walk, by perception",
+        "nearest-neighbour MAE of the embeddings",
+        &samples,
+        xmax,
+        (RADIUS_MAE, " theta_abs 0.98: MAE 0.02"),
+    )?;
+    md += "\n![The nearest-neighbour MAE's distribution by perception](plots/nearest-neighbour-mae.svg)\n";
     if !points.is_empty() {
         plot::scatter(
             &dir.join("plots").join("ratio-vs-breadth"),
@@ -227,10 +251,6 @@ pub fn report(dir: &Path, frames: usize, seeds: &[u64]) -> Result<(String, Strin
         )?;
         md += "\n![SEC/NSEC against the matching breadth](plots/ratio-vs-breadth.svg)\n";
     }
-    if points.len() == m.len() && points.len() > 2 {
-        table += &prediction(&points);
-    }
-    md += &table;
     fs::write(dir.join("matching.md"), &md).map_err(|e| format!("{}: {e}", dir.display()))?;
     fs::write(dir.join("matching.csv"), csv).map_err(|e| format!("{}: {e}", dir.display()))?;
     Ok((md, table))

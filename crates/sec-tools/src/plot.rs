@@ -1,4 +1,5 @@
-//! Learning curves with standard-error bands, drawn with plotters to SVG and PNG. The PNG's text
+//! The reports' figures (learning curves with standard-error bands, labelled points, distribution
+//! functions), drawn with plotters to SVG and PNG. The PNG's text
 //! uses DejaVu Sans compiled in, so the plots need no system fonts.
 
 use plotters::coord::Shift;
@@ -104,17 +105,44 @@ where
     root.present().map_err(err)
 }
 
-/// Writes `<stem>.svg` and `<stem>.png`.
-pub fn curves(stem: &Path, title: &str, ylabel: &str, series: &[Series]) -> Result<(), String> {
+/// Draws a chart on any plotters backend (the SVG and the PNG of one figure).
+trait Chart {
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), String>
+    where
+        DB::ErrorType: 'static;
+}
+
+/// Writes `<stem>.svg` and `<stem>.png` of `chart`.
+fn write(stem: &Path, chart: &impl Chart) -> Result<(), String> {
     register_font();
     let svg = stem.with_extension("svg");
-    draw(SVGBackend::new(&svg, SIZE).into_drawing_area(), title, ylabel, series)
-        .map_err(|e| format!("{}: {e}", svg.display()))?;
+    chart.draw(SVGBackend::new(&svg, SIZE).into_drawing_area()).map_err(|e| format!("{}: {e}", svg.display()))?;
     let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
-    draw(BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area(), title, ylabel, series)
+    chart
+        .draw(BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area())
         .map_err(|e| format!("{}.png: {e}", stem.display()))?;
     let rgba: Vec<u8> = rgb.chunks_exact(3).flat_map(|p| [p[0], p[1], p[2], 255]).collect();
     crate::write_png(&stem.with_extension("png"), SIZE.0 as usize, SIZE.1 as usize, &rgba)
+}
+
+struct Curves<'a> {
+    title: &'a str,
+    ylabel: &'a str,
+    series: &'a [Series],
+}
+
+impl Chart for Curves<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), String>
+    where
+        DB::ErrorType: 'static,
+    {
+        draw(root, self.title, self.ylabel, self.series)
+    }
+}
+
+/// Writes `<stem>.svg` and `<stem>.png`: per-episode curves with their standard-error bands.
+pub fn curves(stem: &Path, title: &str, ylabel: &str, series: &[Series]) -> Result<(), String> {
+    write(stem, &Curves { title, ylabel, series })
 }
 
 fn draw_scatter<DB: DrawingBackend>(
@@ -164,6 +192,22 @@ where
     root.present().map_err(err)
 }
 
+struct Scatter<'a> {
+    title: &'a str,
+    xlabel: &'a str,
+    ylabel: &'a str,
+    points: &'a [(String, f64, f64)],
+}
+
+impl Chart for Scatter<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), String>
+    where
+        DB::ErrorType: 'static,
+    {
+        draw_scatter(root, self.title, self.xlabel, self.ylabel, self.points)
+    }
+}
+
 /// Writes `<stem>.svg` and `<stem>.png`: labelled points on a log-scale x axis, with y = 1 marked.
 pub fn scatter(
     stem: &Path,
@@ -172,13 +216,86 @@ pub fn scatter(
     ylabel: &str,
     points: &[(String, f64, f64)],
 ) -> Result<(), String> {
-    register_font();
-    let svg = stem.with_extension("svg");
-    draw_scatter(SVGBackend::new(&svg, SIZE).into_drawing_area(), title, xlabel, ylabel, points)
-        .map_err(|e| format!("{}: {e}", svg.display()))?;
-    let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
-    draw_scatter(BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area(), title, xlabel, ylabel, points)
-        .map_err(|e| format!("{}.png: {e}", stem.display()))?;
-    let rgba: Vec<u8> = rgb.chunks_exact(3).flat_map(|p| [p[0], p[1], p[2], 255]).collect();
-    crate::write_png(&stem.with_extension("png"), SIZE.0 as usize, SIZE.1 as usize, &rgba)
+    write(stem, &Scatter { title, xlabel, ylabel, points })
+}
+
+/// Empirical distribution functions: for each labelled sample, the share of its values at or
+/// below x, over x from 0 to `xmax`, with a vertical line at `mark`.
+struct Distributions<'a> {
+    title: &'a str,
+    xlabel: &'a str,
+    samples: &'a [(String, Vec<f64>)],
+    xmax: f64,
+    mark: (f64, &'a str),
+}
+
+impl Chart for Distributions<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), String>
+    where
+        DB::ErrorType: 'static,
+    {
+        let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+        root.fill(&WHITE).map_err(err)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(self.title, ("sans-serif", 22))
+            .margin(16)
+            .x_label_area_size(44)
+            .y_label_area_size(60)
+            .build_cartesian_2d(0f64..self.xmax, 0f64..1.0)
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .x_desc(self.xlabel)
+            .y_desc("share of views at or below")
+            .label_style(("sans-serif", 14))
+            .max_light_lines(0)
+            .draw()
+            .map_err(err)?;
+        let (x, label) = self.mark;
+        chart.draw_series(LineSeries::new([(x, 0.0), (x, 1.0)], BLACK.mix(0.4).stroke_width(1))).map_err(err)?;
+        chart
+            .draw_series(std::iter::once(Text::new(label.to_string(), (x, 0.04), ("sans-serif", 14).into_font())))
+            .map_err(err)?;
+        for (i, (name, values)) in self.samples.iter().enumerate() {
+            let colour = COLOURS[i % COLOURS.len()];
+            let mut sorted = values.clone();
+            sorted.sort_by(f64::total_cmp);
+            let n = sorted.len().max(1) as f64;
+            // A step at each value, cut at the axis' end.
+            let mut steps = vec![(0.0, 0.0)];
+            for (k, &v) in sorted.iter().enumerate().filter(|(_, &v)| v <= self.xmax) {
+                steps.push((v, k as f64 / n));
+                steps.push((v, (k + 1) as f64 / n));
+            }
+            let last = steps.last().map_or(0.0, |p| p.1);
+            steps.push((self.xmax, last));
+            chart
+                .draw_series(LineSeries::new(steps, colour.stroke_width(2)))
+                .map_err(err)?
+                .label(name)
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3)));
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 14))
+            .position(SeriesLabelPosition::LowerRight)
+            .draw()
+            .map_err(err)?;
+        root.present().map_err(err)
+    }
+}
+
+/// Writes `<stem>.svg` and `<stem>.png`: the distribution function of each labelled sample over
+/// [0, `xmax`], with a vertical line at `mark.0` labelled `mark.1`.
+pub fn distributions(
+    stem: &Path,
+    title: &str,
+    xlabel: &str,
+    samples: &[(String, Vec<f64>)],
+    xmax: f64,
+    mark: (f64, &str),
+) -> Result<(), String> {
+    write(stem, &Distributions { title, xlabel, samples, xmax, mark })
 }
