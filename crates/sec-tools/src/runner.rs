@@ -261,12 +261,7 @@ fn run_job(job: &Job, out: &Path, episodes: usize, every: usize, bar: &ProgressB
         let mut gz = GzEncoder::new(w, flate2::Compression::best());
         gz.write_all(&text).and_then(|()| gz.finish().map(drop)).map_err(|e| format!("{}: {e}", path.display()))
     })?;
-    fs::remove_file(&part).map_err(|e| format!("{}: {e}", part.display()))?;
-    let ckpt = checkpoint_path(out, &job.condition, job.seed);
-    match fs::remove_file(&ckpt) {
-        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(format!("{}: {e}", ckpt.display())),
-        _ => Ok(()),
-    }
+    remove_leftovers(&path, &checkpoint_path(out, &job.condition, job.seed))
 }
 
 /// Every finished run under `root` (experiment directories and their condition directories, as
@@ -320,11 +315,24 @@ fn same_dir(a: &Path, b: &Path) -> bool {
     }
 }
 
-/// Copies the finished log `from` into `job`'s place under `out`.
+/// Copies the finished log `from` into `job`'s place under `out`, removing what an interrupted
+/// play of the job left (its `.part` log and checkpoint).
 fn copy_run(from: &Path, job: &Job, out: &Path) -> Result<(), String> {
     let bytes = fs::read(from).map_err(|e| format!("{}: {e}", from.display()))?;
     let path = run_path(out, &job.condition, job.seed);
-    write_atomically(&path, |w| w.write_all(&bytes).map_err(|e| format!("{}: {e}", path.display())))
+    write_atomically(&path, |w| w.write_all(&bytes).map_err(|e| format!("{}: {e}", path.display())))?;
+    remove_leftovers(&path, &checkpoint_path(out, &job.condition, job.seed))
+}
+
+/// Removes a finished run's `.part` log and checkpoint, where there are any.
+fn remove_leftovers(path: &Path, ckpt: &Path) -> Result<(), String> {
+    for leftover in [&path.with_extension("part"), ckpt] {
+        match fs::remove_file(leftover) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(format!("{}: {e}", leftover.display())),
+            _ => {}
+        }
+    }
+    Ok(())
 }
 
 /// Runs the unfinished `jobs` on `threads` threads with a progress bar on standard error (a line
@@ -485,7 +493,12 @@ mod tests {
         assert!(finished.find(&Job { seed: 4, ..same.clone() }, &e2, 4).is_none(), "another seed");
         assert!(finished.find(&longer, &e2, 5).is_none(), "another length");
         assert!(finished.find(&first, &root.join("e1"), 4).is_none(), "not its own file");
+        // An interrupted play of the job leaves a log and a checkpoint that the copy removes.
+        play(&same, &e2, 4, 1, 2, &bar).unwrap();
+        assert_eq!(fs::read_dir(e2.join("h/b")).unwrap().count(), 3);
         let (made, copied, skipped) = run_all(&[same.clone(), other.clone()], &e2, 4, 0, 1, Some(&finished)).unwrap();
+        let left: Vec<_> = fs::read_dir(e2.join("h/b")).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert_eq!(left.len(), 2, "config.json and the log: {left:?}");
         assert_eq!((made, copied, skipped), (1, 1, 0));
         let copy = fs::read(run_path(&e2, "h/b", 3)).unwrap();
         assert_eq!(copy, fs::read(run_path(&root.join("e1"), "g/a", 3)).unwrap());
