@@ -57,10 +57,11 @@ export const COMPARE_PRESETS = {
   exp3: {
     title: 'Experiment 3: the value function and its ablations',
     caption: 'The paper (figure 7): removing one term of the value (noGi, noRR, noDist) costs no significant reward. '
-      + 'The reference runs at the code preset (so far 6-8 of the protocol\'s 10 seeds x 2000 episodes per arm, the '
-      + 'authors\' untrained encoder) agree: the seven variants got 1.44 to 1.75 per episode against the default\'s '
-      + '1.55, none significantly different (REPRODUCTION.md). Live, they stay together: they differ only once '
-      + 'the memory holds many sequences, hundreds of episodes in.',
+      + 'The reference runs at the code preset (the protocol\'s 10 seeds x 2000 episodes per arm, the authors\' '
+      + 'untrained encoder) agree: the six variants got 1.58 to 1.73 per episode against the default\'s 1.65, none '
+      + 'significantly different, though 10 runs per arm could not detect a difference under about a quarter '
+      + '(REPRODUCTION.md). Live, they stay together: they differ only once the memory holds many sequences, '
+      + 'hundreds of episodes in.',
     arms: ['default', 'noGi', 'noDist', 'noRR', 'soloGi', 'soloDist', 'soloRR']
       .map((v) => ({ label: `SEC ${v}`, settings: { ...SEC, value: v }, reference: `exp3:value-function/SEC-${v}` })),
   },
@@ -68,9 +69,10 @@ export const COMPARE_PRESETS = {
     title: 'Experiment 4: forgetting',
     caption: 'The paper (figure 8): once the LTM is full, forgetting (FIFO, or the lowest reward first) helps '
       + 'both models a little; the sequential bias matters more than forgetting. The reference runs at the code preset '
-      + '(m = 500, as the paper) are still to come (REPRODUCTION.md); with the trained encoder (2 runs x 1000 '
-      + 'episodes) every mode was a little above none, not significantly. Forgetting acts only on a full memory, after '
-      + 'about 800 episodes for SEC: live, the arms are one for a long while.',
+      + '(m = 500, as the paper) are in part: the arms without forgetting are complete (10 x 2000, exp1\'s runs), the '
+      + 'forgetting arms have only their first seeds, too few to say anything (REPRODUCTION.md); with the trained '
+      + 'encoder (2 runs x 1000 episodes) every mode was a little above none, not significantly. Forgetting acts '
+      + 'only on a full memory, after about 800 episodes for SEC: live, the arms are one for a long while.',
     arms: [
       { label: 'SEC none', settings: { ...SEC, forgetting: 'none' }, reference: 'exp4:forgetting/SEC-none' },
       { label: 'SEC fifo', settings: { ...SEC, forgetting: 'fifo' }, reference: 'exp4:forgetting/SEC-fifo' },
