@@ -76,9 +76,15 @@ test('at max speed the views keep moving and decisions/s is the true rate', asyn
     return h;
   });
   await page.waitForTimeout(1500);
-  const a = await pixels();
-  await page.waitForTimeout(1000);
-  assert.notEqual(await pixels(), a, 'the camera image changed within 1 s at max speed');
+  // Sampled every 0.5 s for 3 s: one pair of samples can match where the agent stands against a
+  // wall (half the double T-maze's views have an identical view elsewhere), but frozen views
+  // never change at all.
+  const seen = new Set();
+  for (let i = 0; i < 6; i += 1) {
+    seen.add(await pixels());
+    await page.waitForTimeout(500);
+  }
+  assert.ok(seen.size >= 2, `the camera image changed within 3 s at max speed (${seen.size} distinct)`);
   // The readout against a count of the run's own decisions over 5 s.
   const count = () => page.evaluate(() => ({ t: performance.now(), d: window.secPlayground.view.decisions }));
   const c0 = await count();
