@@ -2,6 +2,7 @@
 //! functions), drawn with plotters to SVG and PNG. The PNG's text
 //! uses DejaVu Sans compiled in, so the plots need no system fonts.
 
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -85,24 +86,46 @@ where
         chart
             .draw_series(std::iter::once(Polygon::new(upper.chain(lower).collect::<Vec<_>>(), colour.mix(0.2))))
             .map_err(err)?;
-        chart
-            .draw_series(LineSeries::new(
-                s.mean.iter().enumerate().map(|(x, &m)| (x as f64, m)),
-                colour.stroke_width(2),
-            ))
-            .map_err(err)?
-            .label(&s.label)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3)));
+        line(&mut chart, s.mean.iter().enumerate().map(|(x, &m)| (x as f64, m)), colour, &s.label)?;
     }
+    legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
+    root.present().map_err(err)
+}
+
+/// A chart over two f64 axes.
+type Plane<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// A labelled line, entered in the legend.
+fn line<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Plane<'a, DB>,
+    points: impl IntoIterator<Item = (f64, f64)>,
+    colour: RGBColor,
+    label: &str,
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    chart
+        .draw_series(LineSeries::new(points, colour.stroke_width(2)))
+        .map_err(|e| e.to_string())?
+        .label(label)
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3)));
+    Ok(())
+}
+
+/// The legend of the labelled lines, in one style for every figure.
+fn legend<'a, DB: DrawingBackend + 'a>(chart: &mut Plane<'a, DB>, position: SeriesLabelPosition) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
     chart
         .configure_series_labels()
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .label_font(("sans-serif", 14))
-        .position(SeriesLabelPosition::UpperLeft)
+        .position(position)
         .draw()
-        .map_err(err)?;
-    root.present().map_err(err)
+        .map_err(|e| e.to_string())
 }
 
 /// Draws a chart on any plotters backend (the SVG and the PNG of one figure).
@@ -269,20 +292,9 @@ impl Chart for Distributions<'_> {
             }
             let last = steps.last().map_or(0.0, |p| p.1);
             steps.push((self.xmax, last));
-            chart
-                .draw_series(LineSeries::new(steps, colour.stroke_width(2)))
-                .map_err(err)?
-                .label(name)
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3)));
+            line(&mut chart, steps, colour, name)?;
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .position(SeriesLabelPosition::LowerRight)
-            .draw()
-            .map_err(err)?;
+        legend(&mut chart, SeriesLabelPosition::LowerRight)?;
         root.present().map_err(err)
     }
 }
