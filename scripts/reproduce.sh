@@ -2,6 +2,8 @@
 # Runs the reproduction grid of results/PROTOCOL.md on all cores (or one shard of it), then writes
 # every report: each experiment's report.md, summary.csv and plots/, results/orderings.md, the
 # perception analysis and the page's reference curves (assets/reference/). Resumable: run it again after an interruption and it skips finished runs.
+# A condition another experiment already ran (exp1's double T-maze SEC is exp2's m = 500, exp3's
+# default, ...) is copied from its finished runs, not played again (`sec-experiment run --reuse`).
 #   SCALE=2 ./scripts/reproduce.sh      # every seeds x episodes of the protocol multiplied by 2
 #   SHARD=2/4 ./scripts/reproduce.sh    # one machine's quarter of the grid (copy the trees together)
 #   JOBS=1 nice -n 19 ./scripts/reproduce.sh
