@@ -282,11 +282,14 @@ impl Finished {
                     dirs.push((dir.to_path_buf(), config));
                 }
             }
+            if depth == 0 {
+                return;
+            }
             let Ok(entries) = fs::read_dir(dir) else { return };
             let mut subdirs: Vec<PathBuf> =
                 entries.filter_map(|e| e.ok()).map(|e| e.path()).filter(|p| p.is_dir()).collect();
             subdirs.sort();
-            for d in subdirs.into_iter().filter(|_| depth > 0) {
+            for d in subdirs {
                 walk(&d, depth - 1, dirs);
             }
         }
