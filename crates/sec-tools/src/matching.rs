@@ -9,7 +9,7 @@
 //! from the view those are. A broad match lets NSEC act on memories of other places; the bias then
 //! narrows recall to the successors of what was just recalled.
 
-use crate::orderings::arms;
+use crate::orderings::{arms, Arm};
 use crate::plot;
 use crate::stats::{mean, spearman};
 use rand::SeedableRng;
@@ -157,7 +157,8 @@ pub fn report(dir: &Path, frames: usize, seeds: &[u64]) -> Result<(String, Strin
          the `perception` experiment. Each view selects the walk's other views (fewer than {EXCLUDE} decisions apart \
          excluded) as NSEC would select stored couplets: G = 1 - MAE above 0.98 and above 0.995 times the best G. \
          Matching breadth (the effective matching radius): the views a view selects, mean; their distance: the \
-         median (and 90 %) arena distance between a view and the views it selects. SEC, NSEC: mean reward per episode of the \
+         median (and 90 %) arena distance between a view and the views it selects. Runs: runs x episodes of each of SEC and \
+         NSEC (\"SEC / NSEC x episodes\" while the two differ). SEC, NSEC: mean reward per episode of the \
          `perception` experiment's runs; contextual share: the share of decisions the contextual layer took over \
          each run's last 10 % of episodes, mean over runs.\n\n"
     );
@@ -191,7 +192,7 @@ pub fn report(dir: &Path, frames: usize, seeds: &[u64]) -> Result<(String, Strin
             x.radius[0],
             x.radius[1],
             100.0 * x.far,
-            s.map_or("-".into(), |a| format!("{} x {}", a.runs, a.episodes)),
+            runs_column(s, n),
             f(s.map(|a| a.per_episode), 3),
             f(n.map(|a| a.per_episode), 3),
             f(ratio, 2),
@@ -225,7 +226,11 @@ pub fn report(dir: &Path, frames: usize, seeds: &[u64]) -> Result<(String, Strin
         }
     }
     if points.len() == m.len() && points.len() > 2 {
-        table += &prediction(&points);
+        let counts: Vec<usize> =
+            m.iter().flat_map(|x| ["SEC", "NSEC"].map(|model| arm(&x.arm, model).map_or(0, |a| a.runs))).collect();
+        let (fewest, most) = (counts.iter().min().unwrap(), counts.iter().max().unwrap());
+        let runs = if fewest == most { format!("{fewest}") } else { format!("{fewest}-{most}") };
+        table += &prediction(&points, &runs);
     }
     md += &table;
     fs::create_dir_all(dir.join("plots")).map_err(|e| format!("{}: {e}", dir.display()))?;
@@ -256,10 +261,21 @@ pub fn report(dir: &Path, frames: usize, seeds: &[u64]) -> Result<(String, Strin
     Ok((md, table))
 }
 
+/// The table's runs column: "runs x episodes", with SEC's and NSEC's counts apart while they differ
+/// (a partial grid).
+fn runs_column(sec: Option<&Arm>, nsec: Option<&Arm>) -> String {
+    match (sec, nsec) {
+        (Some(s), Some(n)) if s.runs != n.runs => format!("{} / {} x {}", s.runs, n.runs, s.episodes),
+        (Some(a), _) | (None, Some(a)) => format!("{} x {}", a.runs, a.episodes),
+        (None, None) => "-".into(),
+    }
+}
+
 /// The verdict on the prediction results/PROTOCOL.md states before the `perception` runs: SEC/NSEC
 /// falls as the matching breadth falls, failing where the ratios' order differs from the
 /// breadths' and counted a failure where Spearman's correlation of the two is below 0.7.
-fn prediction(points: &[(String, f64, f64)]) -> String {
+/// `runs`: how many runs each of SEC and NSEC has per arm ("6", or "2-3" while the grid is partial).
+fn prediction(points: &[(String, f64, f64)], runs: &str) -> String {
     let (breadth, ratio): (Vec<f64>, Vec<f64>) = points.iter().map(|p| (p.1, p.2)).unzip();
     let rho = spearman(&breadth, &ratio);
     let mut by_breadth: Vec<&(String, f64, f64)> = points.iter().collect();
@@ -273,8 +289,8 @@ fn prediction(points: &[(String, f64, f64)]) -> String {
     };
     format!(
         "\n**The protocol's prediction** (SEC/NSEC falls as the matching breadth falls; fails below a Spearman \
-         correlation of 0.7): {verdict}. Spearman's rho of breadth and SEC/NSEC over the {} arms: {rho:.2}. SEC/NSEC \
-         from the broadest to the narrowest matching: {}.\n",
+         correlation of 0.7): {verdict}. Spearman's rho of breadth and SEC/NSEC over the {} arms ({runs} runs each of SEC \
+         and NSEC): {rho:.2}. SEC/NSEC from the broadest to the narrowest matching: {}.\n",
         points.len(),
         order.join(", ")
     )
@@ -291,14 +307,33 @@ mod tests {
 
     #[test]
     fn the_prediction_is_judged_by_order_then_by_spearman() {
-        assert!(prediction(&arms(&[2.0, 1.6, 1.3, 1.1, 1.1])).contains(": holds: the ratios fall"));
+        assert!(prediction(&arms(&[2.0, 1.6, 1.3, 1.1, 1.1]), "6").contains(": holds: the ratios fall"));
         // One neighbouring pair swapped: rho 0.9.
-        let one_swap = prediction(&arms(&[2.0, 1.3, 1.6, 1.1, 1.0]));
+        let one_swap = prediction(&arms(&[2.0, 1.3, 1.6, 1.1, 1.0]), "6");
         assert!(
             one_swap.contains("holds by the Spearman criterion only")
-                && one_swap.contains("rho of breadth and SEC/NSEC over the 5 arms: 0.90"),
+                && one_swap.contains("rho of breadth and SEC/NSEC over the 5 arms (6 runs each of SEC and NSEC): 0.90"),
             "{one_swap}"
         );
-        assert!(prediction(&arms(&[1.0, 1.6, 1.3, 1.1, 2.0])).contains("fails"));
+        assert!(prediction(&arms(&[1.0, 1.6, 1.3, 1.1, 2.0]), "6").contains("fails"));
+    }
+
+    #[test]
+    fn the_runs_column_shows_both_counts_while_they_differ() {
+        let arm = |runs| Arm {
+            name: String::new(),
+            runs,
+            episodes: 2000,
+            per_episode: 1.0,
+            totals: None,
+            rewards: None,
+            entropy_late: None,
+            entropy_late_mean: 0.0,
+            p_vs_reference: None,
+        };
+        assert_eq!(runs_column(Some(&arm(6)), Some(&arm(6))), "6 x 2000");
+        assert_eq!(runs_column(Some(&arm(3)), Some(&arm(2))), "3 / 2 x 2000");
+        assert_eq!(runs_column(None, Some(&arm(2))), "2 x 2000");
+        assert_eq!(runs_column(None, None), "-");
     }
 }
