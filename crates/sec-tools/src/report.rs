@@ -6,6 +6,7 @@ use crate::plot::{self, Series};
 use crate::runner::{Manifest, ManifestCondition};
 use crate::stats::{ci95, mann_whitney, mean, moving_mean, sd, se};
 use sec_playground::experiment::EpisodeMetrics;
+use sec_playground::memory::Forgetting;
 use std::fmt::Write as _;
 use std::fs;
 use std::path::Path;
@@ -259,6 +260,14 @@ pub fn report(dir: &Path, to: &Path, description: &str) -> Result<Report, String
     if manifest.experiment == "exp2" {
         md += &memory_ratios(&conds);
     }
+    let pairs = forgetting_pairs(&conds);
+    if !pairs.is_empty() {
+        md += "## same-seeds\n\n";
+        md += FORGETTING_PAIRS_NOTE;
+        let table_start = md.len();
+        md += &pairs;
+        tables.push((format!("{}/same-seeds", manifest.experiment), md[table_start..].to_string()));
+    }
     fs::write(to.join("report.md"), &md).map_err(|e| format!("{}: {e}", to.display()))?;
     fs::write(to.join("summary.csv"), csv).map_err(|e| format!("{}: {e}", to.display()))?;
     Ok(Report { md, tables })
@@ -292,11 +301,140 @@ fn memory_ratios(conds: &[ConditionRuns]) -> String {
     md
 }
 
+const FORGETTING_PAIRS_NOTE: &str = "The same seed with and without forgetting. Forgetting acts only once the LTM is full, and a run is a pure function of its \
+configuration and seed, so a run with forgetting and the run of the same seed without it are the same run until the \
+LTM fills. What forgetting changes is what comes after: per seed, the reward per episode from the episode in which the run \
+without forgetting first held m sequences (episodes counted from 1) to the run's end. A run whose LTM never filled has nothing after and counts for \
+neither side. Descriptive only: the protocol's test is the table's Mann-Whitney over the whole runs.\n\n";
+
+/// Each condition with forgetting against the condition of its group that differs from it only
+/// in having none, over the seeds both have: the table of FORGETTING_PAIRS_NOTE, or nothing if
+/// there is no such pair.
+fn forgetting_pairs(conds: &[ConditionRuns]) -> String {
+    let mut md = String::new();
+    for c in conds {
+        let memory = &c.condition.config.agent.memory;
+        if memory.forgetting == Forgetting::None {
+            continue;
+        }
+        let mut without = c.condition.config.clone();
+        without.agent.memory.forgetting = Forgetting::None;
+        let Some(r) = conds.iter().find(|r| r.group() == c.group() && r.condition.config == without) else { continue };
+        let (mut fills, mut identical, mut after) = (Vec::new(), 0, [0.0, 0.0]);
+        let (mut more, mut fewer, mut episodes_after) = (0, 0, 0);
+        let seeds: Vec<u64> = c.seeds.iter().copied().filter(|s| r.seeds.contains(s)).collect();
+        for seed in &seeds {
+            fn run<'a>(x: &'a ConditionRuns, seed: &u64) -> &'a [EpisodeMetrics] {
+                &x.runs[x.seeds.iter().position(|s| s == seed).unwrap()]
+            }
+            let (with, none) = (run(c, seed), run(r, seed));
+            let fill = none.iter().position(|m| m.ltm >= memory.m).unwrap_or(none.len());
+            identical += usize::from(with[..fill.min(with.len())] == none[..fill]);
+            if fill == none.len() {
+                continue;
+            }
+            fills.push(fill + 1);
+            let reward = |x: &[EpisodeMetrics]| x.iter().map(|m| m.reward).sum::<f64>();
+            let n = with.len().min(none.len());
+            let (w, o) = (reward(&with[fill..n]), reward(&none[fill..n]));
+            after[0] += o;
+            after[1] += w;
+            episodes_after += n - fill;
+            more += usize::from(w > o);
+            fewer += usize::from(w < o);
+        }
+        if md.is_empty() {
+            md += "| model | against | seeds | LTM full in episode (runs) | identical until then | per episode from then: without -> with | with / without | seeds with more / fewer |\n";
+            md += "|---|---|---|---|---|---|---|---|\n";
+        }
+        let filled = match (fills.iter().min(), fills.iter().max()) {
+            (Some(a), Some(b)) => format!("{a}-{b} ({} of {})", fills.len(), seeds.len()),
+            _ => format!("never (0 of {})", seeds.len()),
+        };
+        let per =
+            |x: f64| if episodes_after == 0 { "-".to_string() } else { format!("{:.3}", x / episodes_after as f64) };
+        let ratio = if after[0] > 0.0 { format!("{:.3}", after[1] / after[0]) } else { "-".into() };
+        writeln!(
+            md,
+            "| {} | {} | {} | {filled} | {identical} of {} | {} -> {} | {ratio} | {more} / {fewer} |",
+            c.model(),
+            r.model(),
+            seeds.len(),
+            seeds.len(),
+            per(after[0]),
+            per(after[1]),
+        )
+        .unwrap();
+    }
+    md
+}
+
 /// A CSV number; empty where there is none (one run has no interval).
 fn num(x: f64) -> String {
     if x.is_nan() {
         String::new()
     } else {
         x.to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sec_playground::experiment::RunConfig;
+
+    fn episode(reward: f64, ltm: usize) -> EpisodeMetrics {
+        EpisodeMetrics {
+            episode: 0,
+            layout: String::new(),
+            reward,
+            raw_reward: reward,
+            goal: reward > 0.0,
+            env_steps: 0,
+            decisions: 0,
+            entropy: 0.0,
+            entropy_fresh: None,
+            ltm,
+            contextual_share: 0.0,
+            human: false,
+        }
+    }
+
+    fn condition(name: &str, forgetting: Forgetting, runs: Vec<Vec<EpisodeMetrics>>) -> ConditionRuns {
+        let mut config = RunConfig::default();
+        config.agent.memory.m = 2;
+        config.agent.memory.forgetting = forgetting;
+        ConditionRuns {
+            condition: ManifestCondition { name: name.into(), paper_total: None, config },
+            seeds: vec![1, 2],
+            runs,
+        }
+    }
+
+    #[test]
+    fn forgetting_is_compared_with_the_same_seed_from_the_episode_the_ltm_filled() {
+        // Seed 1's LTM fills in episode 2 (counted from 1); seed 2's never does.
+        let none = vec![
+            vec![episode(0.0, 1), episode(0.0, 2), episode(1.0, 2), episode(1.0, 2)],
+            vec![episode(1.0, 0), episode(0.0, 1), episode(0.0, 1), episode(0.0, 1)],
+        ];
+        let mut fifo = none.clone();
+        fifo[0][1].reward = 1.0;
+        fifo[0][2].reward = 2.0;
+        fifo[0][3].reward = 1.0;
+        let conds =
+            vec![condition("g/SEC-none", Forgetting::None, none), condition("g/SEC-fifo", Forgetting::Fifo, fifo)];
+        let table = forgetting_pairs(&conds);
+        assert!(
+            table.contains("| SEC-fifo | SEC-none | 2 | 2-2 (1 of 2) | 2 of 2 | 0.667 -> 1.333 | 2.000 | 1 / 0 |"),
+            "{table}"
+        );
+        // A run that differs before the LTM fills is not the same run: the comparison says so.
+        let mut early = conds[1].runs.clone();
+        early[1][0].reward = 0.0;
+        let conds = vec![conds.into_iter().next().unwrap(), condition("g/SEC-fifo", Forgetting::Fifo, early)];
+        assert!(forgetting_pairs(&conds).contains("| 1 of 2 |"));
+        // No condition without forgetting to compare with: no table.
+        assert!(forgetting_pairs(&conds[1..]).is_empty());
     }
 }
