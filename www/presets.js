@@ -69,11 +69,11 @@ export const COMPARE_PRESETS = {
     title: 'Experiment 4: forgetting',
     caption: 'The paper (figure 8): once the LTM is full, forgetting (FIFO, or the lowest reward first) helps '
       + 'both models a little; the sequential bias matters more than forgetting. The reference runs at the code preset '
-      + '(m = 500, as the paper) are in part: the arms without forgetting are complete (10 x 2000, exp1\'s runs), the '
-      + 'forgetting arms have 7 to 10 of their 10 seeds (REPRODUCTION.md). Forgetting acts only on a full memory: in '
-      + 'the reference runs SEC\'s filled after 711 to 1886 episodes, NSEC\'s in only some runs, and until then a run '
+      + '(m = 500, as the paper) are 10 x 2000 per arm, the arms without forgetting exp1\'s runs (REPRODUCTION.md). '
+      + 'Forgetting acts only on a full memory: in the reference runs SEC\'s filled after 711 to 1886 episodes, '
+      + 'NSEC\'s in 5 of 10 runs, and until then a run '
       + 'with forgetting is the same run as its seed\'s without. From the episode the memory filled, forgetting got '
-      + '4 to 5 % more reward for SEC and 6 to 10 % for NSEC on the same seeds, the paper\'s direction; over whole '
+      + '4 to 5 % more reward for SEC and 5 to 9 % for NSEC on the same seeds, the paper\'s direction; over whole '
       + 'runs no difference is significant. Live, the arms are one for a long while.',
     arms: [
       { label: 'SEC none', settings: { ...SEC, forgetting: 'none' }, reference: 'exp4:forgetting/SEC-none' },
