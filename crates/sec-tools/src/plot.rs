@@ -5,7 +5,7 @@
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Once;
 
 /// One model's curve: the mean across runs and its standard error, per episode.
@@ -135,17 +135,26 @@ trait Chart {
         DB::ErrorType: 'static;
 }
 
+/// `<stem>.<ext>`. Not `Path::with_extension`, which would cut a stem with a dot in it
+/// (`untrained-x0.5-reward` became `untrained-x0.svg`, and the entropy figure overwrote the reward's).
+fn file(stem: &Path, ext: &str) -> PathBuf {
+    let mut name = stem.as_os_str().to_owned();
+    name.push(".");
+    name.push(ext);
+    name.into()
+}
+
 /// Writes `<stem>.svg` and `<stem>.png` of `chart`.
 fn write(stem: &Path, chart: &impl Chart) -> Result<(), String> {
     register_font();
-    let svg = stem.with_extension("svg");
+    let svg = file(stem, "svg");
     chart.draw(SVGBackend::new(&svg, SIZE).into_drawing_area()).map_err(|e| format!("{}: {e}", svg.display()))?;
     let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
     chart
         .draw(BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area())
         .map_err(|e| format!("{}.png: {e}", stem.display()))?;
     let rgba: Vec<u8> = rgb.chunks_exact(3).flat_map(|p| [p[0], p[1], p[2], 255]).collect();
-    crate::write_png(&stem.with_extension("png"), SIZE.0 as usize, SIZE.1 as usize, &rgba)
+    crate::write_png(&file(stem, "png"), SIZE.0 as usize, SIZE.1 as usize, &rgba)
 }
 
 struct Curves<'a> {
@@ -310,4 +319,24 @@ pub fn distributions(
     mark: (f64, &str),
 ) -> Result<(), String> {
     write(stem, &Distributions { title, xlabel, samples, xmax, mark })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_stem_with_a_dot_keeps_its_whole_name() {
+        let dir = std::env::temp_dir().join(format!("sec-plot-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let series = [Series { label: "SEC".into(), mean: vec![0.0, 1.0], se: vec![0.1, 0.1] }];
+        for figure in ["x0.5-reward", "x0.5-entropy"] {
+            curves(&dir.join(figure), figure, "y", &series).unwrap();
+        }
+        let mut names: Vec<String> =
+            std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+        names.sort();
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(names, ["x0.5-entropy.png", "x0.5-entropy.svg", "x0.5-reward.png", "x0.5-reward.svg"]);
+    }
 }

@@ -222,3 +222,39 @@ fn every_table_reproduction_quotes_is_regenerated_from_the_committed_runs() {
         assert!(section.contains(quoted.trim_end()), "{key}: REPRODUCTION.md's table is not the report's");
     }
 }
+
+/// Every figure the docs and the committed reports link to is there (a report once linked
+/// `untrained-x0.5-reward.svg` while the plot was written as `untrained-x0.svg`).
+#[test]
+fn every_figure_the_docs_and_reports_show_exists() {
+    fn markdown(dir: &Path, out: &mut Vec<PathBuf>) {
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                markdown(&path, out);
+            } else if path.extension().is_some_and(|e| e == "md") {
+                out.push(path);
+            }
+        }
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut docs: Vec<PathBuf> =
+        ["README.md", "REPRODUCTION.md", "BENCHMARKS.md"].iter().map(|f| root.join(f)).collect();
+    markdown(&root.join("docs"), &mut docs);
+    markdown(&root.join("results"), &mut docs);
+    let (mut figures, mut missing) = (0, Vec::new());
+    for doc in &docs {
+        let text = std::fs::read_to_string(doc).unwrap();
+        for link in text.split("](").skip(1).filter_map(|rest| rest.split(')').next()) {
+            if link.contains("://") || !(link.ends_with(".svg") || link.ends_with(".png")) {
+                continue;
+            }
+            figures += 1;
+            if !doc.parent().unwrap().join(link).is_file() {
+                missing.push(format!("{}: {link}", doc.strip_prefix(&root).unwrap().display()));
+            }
+        }
+    }
+    assert!(figures > 20, "only {figures} figures found: is the link pattern still right?");
+    assert!(missing.is_empty(), "figures linked but not there: {missing:#?}");
+}
