@@ -149,12 +149,12 @@ fn write(stem: &Path, chart: &impl Chart) -> Result<(), String> {
     register_font();
     let svg = file(stem, "svg");
     chart.draw(SVGBackend::new(&svg, SIZE).into_drawing_area()).map_err(|e| format!("{}: {e}", svg.display()))?;
-    let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
+    let (png, mut rgb) = (file(stem, "png"), vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize]);
     chart
         .draw(BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area())
-        .map_err(|e| format!("{}.png: {e}", stem.display()))?;
+        .map_err(|e| format!("{}: {e}", png.display()))?;
     let rgba: Vec<u8> = rgb.chunks_exact(3).flat_map(|p| [p[0], p[1], p[2], 255]).collect();
-    crate::write_png(&file(stem, "png"), SIZE.0 as usize, SIZE.1 as usize, &rgba)
+    crate::write_png(&png, SIZE.0 as usize, SIZE.1 as usize, &rgba)
 }
 
 struct Curves<'a> {
