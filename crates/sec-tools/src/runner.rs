@@ -251,17 +251,41 @@ fn play(job: &Job, out: &Path, episodes: usize, every: usize, stop: usize, bar: 
 }
 
 /// Plays one job's `episodes` (resuming an interrupted run from its checkpoint), then gzips the
-/// log into place and removes the checkpoint.
+/// log into place and removes the checkpoint. A shorter finished log of the job is replaced only
+/// when it is the new log's head, line for line: a run is a pure function of (configuration,
+/// seed), so a difference means one of them is wrong, and both are kept for a look.
 fn run_job(job: &Job, out: &Path, episodes: usize, every: usize, bar: &ProgressBar) -> Result<(), String> {
-    play(job, out, episodes, every, episodes, bar)?;
     let path = run_path(out, &job.condition, job.seed);
+    let shorter = read_run_text(&path).ok().filter(|t| !t.is_empty());
+    play(job, out, episodes, every, episodes, bar)?;
     let part = path.with_extension("part");
     let text = fs::read(&part).map_err(|e| format!("{}: {e}", part.display()))?;
-    write_atomically(&path, |w| {
-        let mut gz = GzEncoder::new(w, flate2::Compression::best());
-        gz.write_all(&text).and_then(|()| gz.finish().map(drop)).map_err(|e| format!("{}: {e}", path.display()))
-    })?;
+    if let Some(old) = shorter {
+        let new = String::from_utf8_lossy(&text);
+        if let Some(line) = first_difference(&old, &new) {
+            return Err(format!(
+                "{}: the new {episodes}-episode log differs from the finished {}-episode log {} at episode {line}; \
+                 both are kept",
+                part.display(),
+                old.lines().count(),
+                path.display()
+            ));
+        }
+    }
+    write_gzip(&path, &text)?;
     remove_leftovers(&path, &checkpoint_path(out, &job.condition, job.seed))
+}
+
+/// The first episode (1-based) at which `shorter` is not the head of `longer`, line for line, or
+/// `None` when it is (an equal or longer `shorter` differs where `longer` ends).
+pub fn first_difference(shorter: &str, longer: &str) -> Option<usize> {
+    let mut long = longer.lines();
+    for (i, line) in shorter.lines().enumerate() {
+        if long.next() != Some(line) {
+            return Some(i + 1);
+        }
+    }
+    None
 }
 
 /// Every finished run under `root` (experiment directories and their condition directories, as
@@ -299,15 +323,19 @@ impl Finished {
         Finished { dirs }
     }
 
-    /// A finished log of `episodes` episodes of `job`'s configuration and seed outside `job`'s
-    /// own directory under `out`.
+    /// A finished log of at least `episodes` episodes of `job`'s configuration and seed outside
+    /// `job`'s own directory under `out` (the shortest there is): its first `episodes` lines are
+    /// the job's log.
     pub fn find(&self, job: &Job, out: &Path, episodes: usize) -> Option<PathBuf> {
         let own = out.join(&job.condition);
         self.dirs
             .iter()
             .filter(|(dir, config)| *config == job.config && !same_dir(dir, &own))
             .map(|(dir, _)| dir.join(format!("seed-{}.jsonl.gz", job.seed)))
-            .find(|path| finished_episodes(path) == episodes)
+            .map(|path| (finished_episodes(&path), path))
+            .filter(|(n, _)| *n >= episodes)
+            .min_by_key(|(n, _)| *n)
+            .map(|(_, path)| path)
     }
 }
 
@@ -318,13 +346,28 @@ fn same_dir(a: &Path, b: &Path) -> bool {
     }
 }
 
-/// Copies the finished log `from` into `job`'s place under `out`, removing what an interrupted
-/// play of the job left (its `.part` log and checkpoint).
-fn copy_run(from: &Path, job: &Job, out: &Path) -> Result<(), String> {
+/// Copies the head of `episodes` lines of the finished log `from` into `job`'s place under `out`
+/// (the file itself when it has no more), removing what an interrupted play of the job left (its
+/// `.part` log and checkpoint).
+fn copy_run(from: &Path, job: &Job, out: &Path, episodes: usize) -> Result<(), String> {
     let bytes = fs::read(from).map_err(|e| format!("{}: {e}", from.display()))?;
     let path = run_path(out, &job.condition, job.seed);
-    write_atomically(&path, |w| w.write_all(&bytes).map_err(|e| format!("{}: {e}", path.display())))?;
+    let text = read_run_text(from)?;
+    if text.lines().count() == episodes {
+        write_atomically(&path, |w| w.write_all(&bytes).map_err(|e| format!("{}: {e}", path.display())))?;
+    } else {
+        let head: String = text.split_inclusive('\n').take(episodes).collect();
+        write_gzip(&path, head.as_bytes())?;
+    }
     remove_leftovers(&path, &checkpoint_path(out, &job.condition, job.seed))
+}
+
+/// Writes `text` gzipped to `path` (atomically), as every finished run is written.
+fn write_gzip(path: &Path, text: &[u8]) -> Result<(), String> {
+    write_atomically(path, |w| {
+        let mut gz = GzEncoder::new(w, flate2::Compression::best());
+        gz.write_all(text).and_then(|()| gz.finish().map(drop)).map_err(|e| format!("{}: {e}", path.display()))
+    })
 }
 
 /// Removes a finished run's `.part` log and checkpoint, where there are any.
@@ -358,7 +401,7 @@ pub fn run_all(
     for job in unfinished {
         match reuse.and_then(|r| r.find(job, out, episodes)) {
             Some(from) => {
-                copy_run(&from, job, out)?;
+                copy_run(&from, job, out, episodes)?;
                 eprintln!(
                     "{} seed {}: copied from {} (the same configuration and seed)",
                     job.condition,
@@ -494,7 +537,8 @@ mod tests {
         assert!(finished.find(&same, &e2, 4).is_some());
         assert!(finished.find(&other, &e2, 4).is_none(), "another configuration");
         assert!(finished.find(&Job { seed: 4, ..same.clone() }, &e2, 4).is_none(), "another seed");
-        assert!(finished.find(&longer, &e2, 5).is_none(), "another length");
+        assert!(finished.find(&longer, &e2, 5).is_none(), "a longer run than any finished");
+        assert!(finished.find(&longer, &e2, 3).is_some(), "a shorter run is a finished one's head");
         assert!(finished.find(&first, &root.join("e1"), 4).is_none(), "not its own file");
         // An interrupted play of the job leaves a log and a checkpoint that the copy removes.
         play(&same, &e2, 4, 1, 2, &bar).unwrap();
@@ -510,6 +554,37 @@ mod tests {
         assert_eq!(run_all(&[same], &e3, 4, 0, 1, None).unwrap(), (1, 0, 0));
         assert_eq!(read_run_text(&run_path(&e3, "h/b", 3)).unwrap(), read_run_text(&run_path(&e2, "h/b", 3)).unwrap());
         fs::remove_dir_all(root).unwrap();
+    }
+
+    /// A longer run of a finished job re-plays it and replaces the shorter log only when that log
+    /// is its head; a doctored shorter log stops the job and both logs are kept.
+    #[test]
+    fn a_longer_run_replaces_a_shorter_log_only_when_it_is_its_head() {
+        let out = dir("longer");
+        let config = RunConfig { task: "object-permanence".into(), t: Some(40), ..RunConfig::default() };
+        let job = Job { condition: "c/dqn".into(), config, seed: 5 };
+        let bar = ProgressBar::hidden();
+        run_job(&job, &out, 3, 0, &bar).unwrap();
+        let short = read_run_text(&run_path(&out, "c/dqn", 5)).unwrap();
+        run_job(&job, &out, 5, 0, &bar).unwrap();
+        let long = read_run_text(&run_path(&out, "c/dqn", 5)).unwrap();
+        assert_eq!(long.lines().count(), 5);
+        assert_eq!(first_difference(&short, &long), None);
+
+        // Episode 2 of the shorter log doctored: the 6-episode run is refused.
+        let mut lines: Vec<String> = short.lines().map(String::from).collect();
+        lines[1] = lines[1].replacen("\"episode\":", "\"episode\": ", 1);
+        assert_ne!(lines[1], short.lines().nth(1).unwrap(), "the doctoring changed the line");
+        let doctored = lines.join("\n") + "\n";
+        let path = run_path(&out, "c/dqn", 5);
+        let mut gz = GzEncoder::new(Vec::new(), flate2::Compression::fast());
+        gz.write_all(doctored.as_bytes()).unwrap();
+        fs::write(&path, gz.finish().unwrap()).unwrap();
+        let e = run_job(&job, &out, 6, 0, &bar).unwrap_err();
+        assert!(e.contains("at episode 2") && e.contains("both are kept"), "{e}");
+        assert_eq!(read_run_text(&path).unwrap(), doctored, "the shorter log is kept");
+        assert_eq!(fs::read_to_string(path.with_extension("part")).unwrap().lines().count(), 6);
+        fs::remove_dir_all(out).unwrap();
     }
 
     /// Shards of one grid started at once write and read the same manifests: none may see
