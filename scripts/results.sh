@@ -1,18 +1,22 @@
 #!/usr/bin/env bash
 # Regenerates everything the docs and the page show from the runs in results/experiments: each
 # experiment's report.md, summary.csv and plots/, results/orderings.md, the perception matching
-# analysis (the tables REPRODUCTION.md quotes are rewritten there) and the page's reference
-# curves (assets/reference/). Run it before committing new runs, so that runs and reports agree.
+# analysis, the comparison with the authors' runs (the tables REPRODUCTION.md quotes are rewritten
+# there) and the page's reference curves (assets/reference/), after checking that every pair of
+# runs of one configuration and seed agrees. Run it before committing new runs, so that runs and
+# reports agree.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
 OUT="${OUT:-results/experiments}"
 cargo build --release -p sec-tools --bin sec-experiment
 bin=./target/release/sec-experiment
+"$bin" verify --out "$OUT"
 for exp in "$OUT"/*/; do
     exp=$(basename "$exp")
     [ -f "$OUT/$exp/experiment.json" ] && "$bin" report "$exp" --out "$OUT" --quote REPRODUCTION.md > /dev/null
 done
 "$bin" orderings --out "$OUT" --quote REPRODUCTION.md > /dev/null
 "$bin" matching --out "$OUT" --quote REPRODUCTION.md > /dev/null
+"$bin" versus-authors --out "$OUT" --quote REPRODUCTION.md > /dev/null
 "$bin" reference --out "$OUT"

@@ -70,6 +70,20 @@ pub struct MemoryUse {
     pub capacity: usize,
 }
 
+/// What a controller's memory holds, logged with an episode now and then so that an explanation
+/// of how it learns (ERLAM's: only once its graph filled) can be read off the log.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "camelCase", deny_unknown_fields)]
+pub struct MemoryCensus {
+    /// Entries held (ERLAM's graph nodes).
+    pub nodes: usize,
+    /// The share of them with a value other than 0 (ERLAM: the graph's target G for the node's own
+    /// action).
+    pub valued_share: f64,
+    /// The median of their values (0 for no entries).
+    pub median_value: f64,
+}
+
 /// An agent as the run loop drives it: told of every env step, asked for a decision every
 /// `decisionPeriod` steps, told of each episode's end.
 pub trait Controller: Send {
@@ -109,6 +123,12 @@ pub trait Controller: Send {
 
     /// How full its memory is.
     fn memory_use(&self) -> MemoryUse;
+
+    /// A census of its memory to log with the episode that just ended, when it keeps one then
+    /// (ERLAM every `erlam.censusEvery` episodes); asked after `on_episode_end`.
+    fn census(&self) -> Option<MemoryCensus> {
+        None
+    }
 
     /// Whether it can write its state to a checkpoint (`experiment::checkpoint`).
     fn checkpoints(&self) -> bool {

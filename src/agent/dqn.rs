@@ -122,6 +122,9 @@ pub struct ErlamConfig {
     /// the cycles this makes lift values above any reward (REPRODUCTION.md). Off, a deviation: a
     /// terminal node keeps the return it was stored with.
     pub propagate_past_terminals: bool,
+    /// Logs the graph's census (nodes, the share with G != 0, the median G) with every this
+    /// many episodes (0: never), so the timing of learning can be held against the graph's fill.
+    pub census_every: u64,
 }
 
 impl Default for ErlamConfig {
@@ -134,6 +137,7 @@ impl Default for ErlamConfig {
             merge_distance: 0.02,
             converge: 1e-6,
             propagate_past_terminals: true,
+            census_every: 0,
         }
     }
 }
@@ -157,6 +161,9 @@ impl ErlamConfig {
         }
         if !(self.converge.is_finite() && self.converge > 0.0 && self.converge <= 1e6) {
             return bad("converge", self.converge.to_string(), "(0, 1e6]");
+        }
+        if self.census_every > 1_000_000 {
+            return bad("censusEvery", self.census_every.to_string(), "0..=1000000");
         }
         Ok(())
     }

@@ -1,6 +1,7 @@
 //! What an episode counts, as the paper's tables count it: the running totals of the episode in
 //! progress (`EpisodeState`) and the line they become at its end (`EpisodeMetrics`).
 
+use crate::agent::controller::MemoryCensus;
 use crate::agent::{Decision, Layer};
 
 /// One episode as the paper's tables count it.
@@ -27,6 +28,10 @@ pub struct EpisodeMetrics {
     /// A person drove at least one decision of it (the page's "drive it yourself").
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub human: bool,
+    /// The agent's census of its memory after the episode, where it logs one (ERLAM's graph every
+    /// `erlam.censusEvery` episodes).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub census: Option<MemoryCensus>,
 }
 
 impl EpisodeMetrics {
@@ -98,6 +103,7 @@ impl EpisodeState {
             contextual_share: per_decision(self.contextual as f64),
             human: self.human > 0,
             layout: self.layout,
+            census: None,
         }
     }
 }

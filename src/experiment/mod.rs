@@ -489,7 +489,8 @@ impl Run {
         if let Some(ev) = self.sec_events() {
             ev.push(trace::Event::EpisodeEnd);
         }
-        let metrics = ep.metrics.finish(self.env.steps(), self.controller.memory_use().used);
+        let mut metrics = ep.metrics.finish(self.env.steps(), self.controller.memory_use().used);
+        metrics.census = self.controller.census();
         self.env.reset(None);
         Tick { decision, finished: Some(metrics) }
     }

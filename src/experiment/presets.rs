@@ -95,6 +95,12 @@ pub fn experiment(name: &str) -> Result<Vec<Condition>, ConfigError> {
                     let mut kept = erlam.clone();
                     kept.erlam.propagate_past_terminals = false;
                     out.push(condition(format!("{task}/ERLAM-noPastTerminals"), kept, None));
+                    // The authors' 5000-node variant, logging its graph's census: whether it learns
+                    // once the graph fills (results/PROTOCOL.md, 2026-12-03).
+                    let mut small = erlam.clone();
+                    small.erlam.nodes = 5000;
+                    small.erlam.census_every = 50;
+                    out.push(condition(format!("{task}/ERLAM-5k"), small, None));
                 }
                 out.push(condition(format!("{task}/ERLAM"), erlam, Some(paper[5])));
             }

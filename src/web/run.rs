@@ -48,7 +48,7 @@ export interface RunConfig {
   };
   erlam?: {
     lambda?: number; nodes?: number; forgetting?: boolean; propagateEvery?: number; mergeDistance?: number; converge?: number;
-    propagatePastTerminals?: boolean;
+    propagatePastTerminals?: boolean; censusEvery?: number;
   };
   /** Which encoder embeds the frames: untrained (the authors' code, the default) or trained. */
   perception?: "untrained" | "trained";
@@ -64,6 +64,8 @@ export interface EpisodeMetrics {
   ltm: number; contextualShare: number;
   /** Present and true when a person drove part of the episode. */
   human?: boolean;
+  /** The agent's census of its memory, where it logs one (ERLAM natively; never on the page). */
+  census?: { nodes: number; valuedShare: number; medianValue: number };
 }
 /** One of the page's settings, with its range. */
 export interface Param {

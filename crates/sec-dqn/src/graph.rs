@@ -130,6 +130,11 @@ impl Graph {
         Graph { cfg, gamma, ..Graph::default() }
     }
 
+    /// What it was built with.
+    pub fn config(&self) -> &ErlamConfig {
+        &self.cfg
+    }
+
     pub fn len(&self) -> usize {
         self.nodes.len()
     }

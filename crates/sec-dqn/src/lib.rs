@@ -33,7 +33,7 @@ use net::{values, NatureCnn};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use replay::{Meta, Replay};
-use sec_playground::agent::controller::{Controller, EpisodeEnd, Input, MemoryUse, Observation, Step};
+use sec_playground::agent::controller::{Controller, EpisodeEnd, Input, MemoryCensus, MemoryUse, Observation, Step};
 use sec_playground::agent::dqn::DqnConfig;
 use sec_playground::agent::dqn::ErlamConfig;
 use sec_playground::agent::mfec::softmax_entropy_bits;
@@ -387,6 +387,28 @@ impl Controller for Dqn {
             a.graph.end_episode();
             a.graph.propagate(a.episodes);
         }
+    }
+
+    fn census(&self) -> Option<MemoryCensus> {
+        let Memory::Graph(a) = &self.memory else { return None };
+        let every = a.graph.config().census_every;
+        if every == 0 || a.episodes % every != 0 {
+            return None;
+        }
+        let c = a.graph.census();
+        let valued = c.values.iter().filter(|&&v| v != 0.0).count();
+        // `values` is sorted: the middle one, or the mean of the middle two.
+        let n = c.values.len();
+        let median = match n {
+            0 => 0.0,
+            _ if n % 2 == 1 => c.values[n / 2],
+            _ => (c.values[n / 2 - 1] + c.values[n / 2]) / 2.0,
+        };
+        Some(MemoryCensus {
+            nodes: c.nodes,
+            valued_share: if c.nodes == 0 { 0.0 } else { valued as f64 / c.nodes as f64 },
+            median_value: median,
+        })
     }
 
     fn entropy(&self) -> f64 {

@@ -8,7 +8,7 @@ use sec_dqn::replay::{Meta, Replay};
 use sec_dqn::{factory, Dqn};
 use sec_playground::agent::controller::{Controller, Step};
 use sec_playground::agent::dqn::DqnConfig;
-use sec_playground::experiment::{AgentKind, Run, RunConfig};
+use sec_playground::experiment::{AgentKind, EpisodeMetrics, Run, RunConfig};
 
 fn rng() -> ChaCha8Rng {
     ChaCha8Rng::seed_from_u64(3)
@@ -223,6 +223,40 @@ fn erlam_runs_episodes_through_the_core_run_loop() {
     assert!(nodes[0] > 0 && nodes[2] >= nodes[0], "the graph grows at episode ends: {nodes:?}");
     let e = RunConfig { erlam: ErlamConfig { nodes: 1, ..ErlamConfig::default() }, ..cfg }.validate().unwrap_err();
     assert_eq!(e.field, "erlam.nodes");
+}
+
+/// `erlam.censusEvery` adds the graph's census to every N-th episode's line and nothing else:
+/// the episodes are the same as without it.
+#[test]
+fn erlam_logs_its_graphs_census_every_n_episodes_and_changes_nothing_else() {
+    let cfg = RunConfig {
+        task: "object-permanence".into(),
+        kind: AgentKind::Erlam,
+        t: Some(60),
+        dqn: DqnConfig { random_decisions: 10, batch_size: 8, epsilon_decisions: 50, ..DqnConfig::default() },
+        erlam: ErlamConfig { propagate_every: 2, census_every: 2, ..ErlamConfig::default() },
+        ..RunConfig::default()
+    };
+    let play = |cfg: &RunConfig| {
+        let mut run = Run::with_agents(cfg.clone(), 4, Some(factory)).unwrap();
+        (0..4).map(|_| run.episode()).collect::<Vec<_>>()
+    };
+    let with = play(&cfg);
+    let logged: Vec<bool> = with.iter().map(|m| m.census.is_some()).collect();
+    assert_eq!(logged, [false, true, false, true], "after episodes 2 and 4");
+    let c = with[1].census.unwrap();
+    assert_eq!(c.nodes, with[1].ltm, "the census counts the graph the line's ltm counts");
+    assert!((0.0..=1.0).contains(&c.valued_share) && c.median_value.is_finite(), "{c:?}");
+    let json = with[1].to_json();
+    assert!(json.contains("\"census\":{\"nodes\":"), "{json}");
+    let without = play(&RunConfig { erlam: ErlamConfig { census_every: 0, ..cfg.erlam.clone() }, ..cfg.clone() });
+    for (a, b) in with.iter().zip(&without) {
+        assert_eq!(EpisodeMetrics { census: None, ..a.clone() }, *b);
+    }
+    let e = RunConfig { erlam: ErlamConfig { census_every: 2_000_000, ..cfg.erlam.clone() }, ..cfg }
+        .validate()
+        .unwrap_err();
+    assert_eq!(e.field, "erlam.censusEvery");
 }
 
 #[test]

@@ -29,6 +29,7 @@ pub fn upscale(rgba: &[u8], width: usize, height: usize, k: usize) -> Vec<u8> {
     out
 }
 
+pub mod authors;
 pub mod matching;
 pub mod orderings;
 pub mod plot;

@@ -321,6 +321,91 @@ pub fn distributions(
     write(stem, &Distributions { title, xlabel, samples, xmax, mark })
 }
 
+/// Per-run values as dots, two columns per group (ours, theirs), with a horizontal line at
+/// `mark`: run against run, where a mean would hide how many runs learned.
+struct Dots<'a> {
+    title: &'a str,
+    ylabel: &'a str,
+    groups: &'a [(String, [Vec<f64>; 2])],
+    sides: [&'a str; 2],
+    mark: (f64, &'a str),
+}
+
+impl Chart for Dots<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), String>
+    where
+        DB::ErrorType: 'static,
+    {
+        let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+        root.fill(&WHITE).map_err(err)?;
+        let hi = self.groups.iter().flat_map(|(_, s)| s.iter().flatten()).fold(self.mark.0, |a, &b| a.max(b));
+        let n = self.groups.len().max(1) as f64;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(self.title, ("sans-serif", 22))
+            .margin(16)
+            .x_label_area_size(44)
+            .y_label_area_size(60)
+            .build_cartesian_2d(0f64..n, 0f64..hi * 1.08 + 1e-3)
+            .map_err(err)?;
+        let names: Vec<&str> = self.groups.iter().map(|(g, _)| g.as_str()).collect();
+        chart
+            .configure_mesh()
+            .y_desc(self.ylabel)
+            .x_labels(names.len() * 2 + 1)
+            .x_label_formatter(&|x| {
+                let i = x.floor() as usize;
+                let centre = (x - x.floor() - 0.5).abs() < 1e-6;
+                names.get(i).filter(|_| centre).map_or(String::new(), |n| n.to_string())
+            })
+            .label_style(("sans-serif", 14))
+            .max_light_lines(0)
+            .disable_x_mesh()
+            .draw()
+            .map_err(err)?;
+        let (y, label) = self.mark;
+        chart.draw_series(LineSeries::new([(0.0, y), (n, y)], BLACK.mix(0.4).stroke_width(1))).map_err(err)?;
+        chart
+            .draw_series(std::iter::once(Text::new(label.to_string(), (0.02, y), ("sans-serif", 13).into_font())))
+            .map_err(err)?;
+        for side in 0..2 {
+            let colour = COLOURS[side];
+            let dots: Vec<(f64, f64)> = self
+                .groups
+                .iter()
+                .enumerate()
+                .flat_map(|(i, (_, s))| {
+                    let mut v = s[side].clone();
+                    v.sort_by(f64::total_cmp);
+                    // Spread across a band of the column by rank, so equal values stay apart.
+                    let k = v.len().max(2) as f64 - 1.0;
+                    let x0 = i as f64 + 0.18 + 0.36 * side as f64;
+                    v.into_iter().enumerate().map(move |(j, y)| (x0 + 0.22 * j as f64 / k, y)).collect::<Vec<_>>()
+                })
+                .collect();
+            chart
+                .draw_series(dots.into_iter().map(|p| Circle::new(p, 4, colour.filled())))
+                .map_err(err)?
+                .label(self.sides[side])
+                .legend(move |(x, y)| Circle::new((x + 10, y), 4, colour.filled()));
+        }
+        legend(&mut chart, SeriesLabelPosition::UpperRight)?;
+        root.present().map_err(err)
+    }
+}
+
+/// Writes `<stem>.svg` and `<stem>.png`: for each group, the values of `sides[0]` and `sides[1]`
+/// as two columns of dots, with a horizontal line at `mark.0` labelled `mark.1`.
+pub fn dots(
+    stem: &Path,
+    title: &str,
+    ylabel: &str,
+    groups: &[(String, [Vec<f64>; 2])],
+    sides: [&str; 2],
+    mark: (f64, &str),
+) -> Result<(), String> {
+    write(stem, &Dots { title, ylabel, groups, sides, mark })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -397,6 +397,7 @@ mod tests {
             ltm,
             contextual_share: 0.0,
             human: false,
+            census: None,
         }
     }
 

@@ -339,6 +339,55 @@ impl Finished {
     }
 }
 
+/// What `verify` found: the runs it read, the pairs of one configuration and seed it compared,
+/// and each pair whose shorter log is not the longer one's head.
+#[derive(Debug, Default)]
+pub struct Verified {
+    pub runs: usize,
+    pub pairs: usize,
+    pub failures: Vec<String>,
+}
+
+/// Checks every finished run under `root` against every other of the same configuration and seed
+/// (several experiments share conditions, and a longer run of a condition replaces a shorter
+/// one): a run is a pure function of (configuration, seed), so the shorter log must be the
+/// longer one's head, line for line.
+pub fn verify(root: &Path) -> Result<Verified, String> {
+    let finished = Finished::scan(root);
+    let mut by_run: std::collections::BTreeMap<(String, u64), Vec<PathBuf>> = Default::default();
+    for (dir, config) in &finished.dirs {
+        let key = serde_json::to_string(config).expect("configurations serialise");
+        let Ok(entries) = fs::read_dir(dir) else { continue };
+        for e in entries.filter_map(|e| e.ok()) {
+            let name = e.file_name().to_string_lossy().into_owned();
+            let Some(seed) = name.strip_prefix("seed-").and_then(|s| s.strip_suffix(".jsonl.gz")) else { continue };
+            let Ok(seed) = seed.parse::<u64>() else { continue };
+            by_run.entry((key.clone(), seed)).or_default().push(e.path());
+        }
+    }
+    let mut v = Verified::default();
+    for paths in by_run.values() {
+        v.runs += paths.len();
+        let mut logs: Vec<(String, &PathBuf)> =
+            paths.iter().map(|p| read_run_text(p).map(|t| (t, p))).collect::<Result<_, _>>()?;
+        logs.sort_by_key(|(t, p)| (t.lines().count(), (*p).clone()));
+        for pair in logs.windows(2) {
+            let ((short, a), (long, b)) = (&pair[0], &pair[1]);
+            v.pairs += 1;
+            if let Some(line) = first_difference(short, long) {
+                v.failures.push(format!(
+                    "{} ({} episodes) is not the head of {} ({} episodes): they differ at episode {line}",
+                    a.display(),
+                    short.lines().count(),
+                    b.display(),
+                    long.lines().count()
+                ));
+            }
+        }
+    }
+    Ok(v)
+}
+
 fn same_dir(a: &Path, b: &Path) -> bool {
     match (fs::canonicalize(a), fs::canonicalize(b)) {
         (Ok(a), Ok(b)) => a == b,
@@ -585,6 +634,31 @@ mod tests {
         assert_eq!(read_run_text(&path).unwrap(), doctored, "the shorter log is kept");
         assert_eq!(fs::read_to_string(path.with_extension("part")).unwrap().lines().count(), 6);
         fs::remove_dir_all(out).unwrap();
+    }
+
+    /// `verify` passes on runs of one configuration and seed where the shorter is the longer's
+    /// head, and names the pair when a log is doctored.
+    #[test]
+    fn verify_finds_a_doctored_log() {
+        let root = dir("verify");
+        let config = RunConfig { task: "object-permanence".into(), t: Some(40), ..RunConfig::default() };
+        let bar = ProgressBar::hidden();
+        for (exp, n) in [("e1", 5), ("e2", 3)] {
+            let d = root.join(exp).join("g/a");
+            fs::create_dir_all(&d).unwrap();
+            fs::write(d.join("config.json"), serde_json::to_string(&config).unwrap()).unwrap();
+            let job = Job { condition: "g/a".into(), config: config.clone(), seed: 2 };
+            run_job(&job, &root.join(exp), n, 0, &bar).unwrap();
+        }
+        let v = verify(&root).unwrap();
+        assert_eq!((v.runs, v.pairs, v.failures.len()), (2, 1, 0), "{v:?}");
+        let short = run_path(&root.join("e2"), "g/a", 2);
+        let text = read_run_text(&short).unwrap().replacen("\"goal\":false", "\"goal\":true", 1);
+        write_gzip(&short, text.as_bytes()).unwrap();
+        let v = verify(&root).unwrap();
+        assert_eq!(v.failures.len(), 1, "{v:?}");
+        assert!(v.failures[0].contains("differ at episode 1"), "{}", v.failures[0]);
+        fs::remove_dir_all(root).unwrap();
     }
 
     /// Shards of one grid started at once write and read the same manifests: none may see

@@ -133,6 +133,41 @@ fn exact_p(u: usize, n1: usize, n2: usize) -> f64 {
     (2.0 * lower.min(upper)).min(1.0)
 }
 
+/// The `q` quantile of `x` (0 <= q <= 1) by linear interpolation between order statistics
+/// (numpy's default); NaN for no values.
+pub fn quantile(x: &[f64], q: f64) -> f64 {
+    if x.is_empty() {
+        return f64::NAN;
+    }
+    let mut v = x.to_vec();
+    v.sort_by(f64::total_cmp);
+    let h = (v.len() - 1) as f64 * q;
+    let (lo, frac) = (h.floor() as usize, h - h.floor());
+    if lo + 1 < v.len() {
+        v[lo] + frac * (v[lo + 1] - v[lo])
+    } else {
+        v[lo]
+    }
+}
+
+/// Two-sided Fisher's exact test of the 2x2 table [[a, b], [c, d]] (successes and failures of
+/// two samples): the probability, with the margins fixed, of every table no more likely than
+/// this one (scipy's rule, with its relative tolerance for ties of probability).
+pub fn fisher_exact(a: usize, b: usize, c: usize, d: usize) -> f64 {
+    let (row1, col1, n) = (a + b, a + c, a + b + c + d);
+    let ln_choose = |n: usize, k: usize| ln_factorial(n) - ln_factorial(k) - ln_factorial(n - k);
+    let ln_p = |x: usize| ln_choose(col1, x) + ln_choose(n - col1, row1 - x) - ln_choose(n, row1);
+    let lo = row1.saturating_sub(n - col1);
+    let hi = row1.min(col1);
+    let observed = ln_p(a);
+    let p: f64 = (lo..=hi).map(ln_p).filter(|&l| l <= observed + 1e-7).map(f64::exp).sum();
+    p.min(1.0)
+}
+
+fn ln_factorial(n: usize) -> f64 {
+    (2..=n).map(|k| (k as f64).ln()).sum()
+}
+
 /// Trailing moving mean over `w` values (the first ones average what there is).
 pub fn moving_mean(x: &[f64], w: usize) -> Vec<f64> {
     let mut out = Vec::with_capacity(x.len());
@@ -176,6 +211,21 @@ mod tests {
         let r = spearman(&[1.0, 1.0, 2.0], &[1.0, 2.0, 3.0]);
         assert!((r - 0.75f64.sqrt()).abs() < 1e-12, "{r}");
         assert!(spearman(&[1.0, 1.0], &[1.0, 2.0]).is_nan());
+    }
+
+    #[test]
+    fn quantiles_and_fisher_match_numpy_and_scipy() {
+        // numpy.quantile([1, 2, 3, 4], 0.95) = 3.85; one value is its own quantile.
+        assert!((quantile(&[4.0, 1.0, 3.0, 2.0], 0.95) - 3.85).abs() < 1e-12);
+        assert_eq!(quantile(&[7.0], 0.95), 7.0);
+        assert!(quantile(&[], 0.5).is_nan());
+        // scipy.stats.fisher_exact([[8, 2], [1, 5]]).pvalue = 0.034965034965034975 (and below)
+        assert!((fisher_exact(8, 2, 1, 5) - 0.034965034965034975).abs() < 1e-12);
+        // [[3, 1], [1, 3]]: 0.48571428571428565; equal tables: 1.
+        assert!((fisher_exact(3, 1, 1, 3) - 0.4857142857142857).abs() < 1e-12);
+        assert_eq!(fisher_exact(5, 5, 5, 5), 1.0);
+        // [[18, 2], [4, 6]]: 0.007234844116403337.
+        assert!((fisher_exact(18, 2, 4, 6) - 0.007234844116403337).abs() < 1e-12);
     }
 
     #[test]

@@ -160,6 +160,75 @@ fn the_committed_orderings_are_regenerated_from_the_committed_runs() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The committed comparison with the authors' runs is what `sec-experiment versus-authors` makes
+/// of the committed runs and results/authors/, and REPRODUCTION.md quotes it as it is (like the
+/// orderings, this reads the working tree).
+#[test]
+fn the_committed_comparison_with_the_authors_is_regenerated_from_the_committed_runs() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let dir = temp("versus-authors");
+    let (ok, md, err) = cli(&[
+        "versus-authors",
+        "--out",
+        root.join("results/experiments").to_str().unwrap(),
+        "--authors",
+        root.join("results/authors").to_str().unwrap(),
+        "--to",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let file = std::fs::read_to_string(dir.join("versus-authors.md")).unwrap();
+    assert_eq!(file, std::fs::read_to_string(root.join("results/versus-authors.md")).unwrap());
+    let reproduction = std::fs::read_to_string(root.join("REPRODUCTION.md")).unwrap();
+    let quoted = sec_tools::quote::quoted(&reproduction, "versus-authors").expect("REPRODUCTION.md quotes it");
+    assert_eq!(quoted.trim_end(), md.trim_end());
+    assert!(md.contains("| double-t-maze/MFEC-ae |") && md.contains("| forgetting/NSEC-rwd |"), "{md}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `verify` passes on the committed runs, and fails, naming the file, on a copy of two of them
+/// (one configuration and seed) where the shorter is doctored.
+#[test]
+fn verify_passes_on_the_committed_runs_and_fails_on_a_doctored_log() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let results = root.join("results/experiments");
+    let (ok, out, err) = cli(&["verify", "--out", results.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    assert!(out.contains("pairs of one configuration and seed agree"), "{out}");
+
+    // exp1's SEC seed 1 and its copy as experiment 3's default, the copy cut and then doctored.
+    let dir = temp("verify");
+    let from = [("exp1", "double-t-maze/SEC"), ("exp3", "value-function/SEC-default")];
+    for (exp, cond) in from {
+        let d = dir.join(exp).join(cond);
+        std::fs::create_dir_all(&d).unwrap();
+        std::fs::copy(results.join(exp).join(cond).join("config.json"), d.join("config.json")).unwrap();
+    }
+    let text =
+        sec_tools::runner::read_run_text(&sec_tools::runner::run_path(&results.join("exp1"), from[0].1, 1)).unwrap();
+    let head: String = text.split_inclusive('\n').take(300).collect();
+    std::fs::write(dir.join("exp1").join(from[0].1).join("seed-1.jsonl.gz"), gzip(&text)).unwrap();
+    let short = dir.join("exp3").join(from[1].1).join("seed-1.jsonl.gz");
+    std::fs::write(&short, gzip(&head)).unwrap();
+    let (ok, out, err) = cli(&["verify", "--out", dir.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    assert!(out.contains("2 runs") && out.contains("the 1 pairs"), "{out}");
+    let doctored = head.replacen("\"episode\":120,", "\"episode\":121,", 1);
+    assert_ne!(doctored, head);
+    std::fs::write(&short, gzip(&doctored)).unwrap();
+    let (ok, _, err) = cli(&["verify", "--out", dir.to_str().unwrap()]);
+    assert!(!ok, "a doctored log fails");
+    assert!(err.contains("differ at episode 121") && err.contains("1 of 1 pairs of runs differ"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn gzip(text: &str) -> Vec<u8> {
+    use std::io::Write;
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+    gz.write_all(text.as_bytes()).unwrap();
+    gz.finish().unwrap()
+}
+
 /// The page's committed reference curves are what `sec-experiment reference` makes of the
 /// committed runs (like the orderings, this reads the working tree).
 #[test]

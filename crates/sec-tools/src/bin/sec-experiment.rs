@@ -12,6 +12,9 @@
 //!   sec-experiment matching [--out results/experiments] [--frames 2000] [--seeds 3]
 //!                           [--quote REPRODUCTION.md]
 //!   sec-experiment reference [--out results/experiments] [--to assets/reference]
+//!   sec-experiment versus-authors [--out results/experiments] [--authors results/authors] [--to results]
+//!                                 [--quote REPRODUCTION.md]
+//!   sec-experiment verify [--out results/experiments]
 //!   sec-experiment list
 //!   sec-experiment record --config FILE.json --seed S --episodes N --events OUT.jsonl
 //!   sec-experiment trace --config FILE.json --seed S --events IN.jsonl [--trace OUT.jsonl]
@@ -37,6 +40,10 @@ const USAGE: &str = "usage:
   sec-experiment orderings [--out DIR] [--trained DIR] [--to DIR] [--quote PAGE.md]
   sec-experiment matching [--out DIR] [--frames N] [--seeds N|A..B|A,B,C] [--quote PAGE.md]
   sec-experiment reference [--out DIR] [--to DIR]   (the page's reference curves)
+  sec-experiment versus-authors [--out DIR] [--authors DIR] [--to DIR] [--quote PAGE.md]
+                                (our runs against the authors' per-run results, results/authors/)
+  sec-experiment verify [--out DIR]   (every shorter run is the head of the longer runs of its
+                                       configuration and seed)
   sec-experiment list
   sec-experiment record --config FILE.json --seed S --episodes N --events OUT.jsonl
   sec-experiment trace --config FILE.json --seed S --events IN.jsonl [--trace OUT.jsonl]
@@ -45,7 +52,8 @@ defaults: --seeds 1..20, --episodes 5000, --jobs all cores, --shard 1/1, --out r
   --reuse yes (a run whose configuration, seed and episodes equal a finished run's under --out is
   copied from it, not played again: runs are deterministic; no plays every run),
   --to OUT/EXPERIMENT for report; --quote rewrites the page's quotes of the tables made, each between
-  '<!-- KEY: COMMAND -->' and '<!-- /KEY -->' (KEY: orderings, EXPERIMENT/GROUP, perception/matching)";
+  '<!-- KEY: COMMAND -->' and '<!-- /KEY -->' (KEY: orderings, EXPERIMENT/GROUP, perception/matching,
+  versus-authors)";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -158,6 +166,44 @@ fn dispatch(args: &[String]) -> Result<(), String> {
             println!(
                 "{}",
                 sec_tools::reference::references(&dir("out", "results/experiments"), &dir("to", "assets/reference"))?
+            );
+            Ok(())
+        }
+        "versus-authors" => {
+            let (pos, o) = options(rest, &["out", "authors", "to", "quote"])?;
+            if !pos.is_empty() {
+                return Err(format!("versus-authors takes no positional argument\n{USAGE}"));
+            }
+            let dir = |k: &str, d: &str| PathBuf::from(o.get(k).copied().unwrap_or(d));
+            let md = sec_tools::authors::versus_authors(
+                &dir("out", "results/experiments"),
+                &dir("authors", "results/authors"),
+                &dir("to", "results"),
+            )?;
+            if let Some(page) = o.get("quote") {
+                sec_tools::authors::quote_into(Path::new(page), &md)?;
+            }
+            print!("{md}");
+            Ok(())
+        }
+        "verify" => {
+            let (pos, o) = options(rest, &["out"])?;
+            if !pos.is_empty() {
+                return Err(format!("verify takes no positional argument\n{USAGE}"));
+            }
+            let out = PathBuf::from(o.get("out").copied().unwrap_or("results/experiments"));
+            let v = runner::verify(&out)?;
+            for f in &v.failures {
+                eprintln!("{f}");
+            }
+            if !v.failures.is_empty() {
+                return Err(format!("{} of {} pairs of runs differ", v.failures.len(), v.pairs));
+            }
+            println!(
+                "{} runs under {}: every one of the {} pairs of one configuration and seed agrees (the shorter is the longer's head)",
+                v.runs,
+                out.display(),
+                v.pairs
             );
             Ok(())
         }

@@ -1,0 +1,370 @@
+//! The authors' own results and our runs held against them, run against run
+//! (`sec-experiment versus-authors`).
+//!
+//! `results/authors/EXPERIMENT.json` holds what the authors' notebooks store in their printed
+//! outputs (read by `scripts/authors-data.py`, each value with its repository, commit, notebook and
+//! cell): per-run totals over 5000 episodes where the notebooks print them (experiment 1 in the
+//! double T-maze, experiment 4), means elsewhere. A mean hides how many runs learned, so where there
+//! are runs the report compares distributions: the share of runs that learned (results/PROTOCOL.md:
+//! reward per episode above the reactive walk's 95th percentile), the quartiles, a Mann-Whitney U
+//! test of the per-episode totals and Fisher's exact test of the learned counts.
+
+use crate::report::{load, ConditionRuns};
+use crate::stats::{fisher_exact, mann_whitney, mean, quantile};
+use sec_playground::experiment::presets;
+use std::fmt::Write as _;
+use std::fs;
+use std::path::Path;
+
+/// The experiments the authors' notebooks hold numbers of, one file each.
+pub const EXPERIMENTS: [&str; 4] = ["exp1", "exp2", "exp3", "exp4"];
+
+/// Where the figures are, from the repository's root (`--to results`).
+const FIGURES: &str = "results/versus-authors";
+
+/// The share of the reactive walk's runs a learning run must be above (results/PROTOCOL.md).
+pub const LEARNED_QUANTILE: f64 = 0.95;
+
+/// One experiment's numbers from the authors' notebooks.
+#[derive(Clone, Debug, serde::Deserialize)]
+#[serde(rename_all = "camelCase", deny_unknown_fields)]
+pub struct AuthorsResults {
+    pub experiment: String,
+    pub source: Source,
+    /// What the numbers are, in a sentence.
+    pub note: String,
+    /// The episodes of every run the numbers sum over.
+    pub episodes: usize,
+    pub runs: Vec<AuthorsRuns>,
+    pub means: Vec<AuthorsMean>,
+}
+
+/// Where the numbers were read.
+#[derive(Clone, Debug, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Source {
+    pub repository: String,
+    pub commit: String,
+    pub notebook: String,
+}
+
+/// One model's per-run totals.
+#[derive(Clone, Debug, serde::Deserialize)]
+#[serde(rename_all = "camelCase", deny_unknown_fields)]
+pub struct AuthorsRuns {
+    /// This project's condition (`group/model` of the experiment's preset).
+    pub condition: String,
+    /// The notebook's name for it.
+    pub authors_model: String,
+    /// The notebook cell whose output printed them.
+    pub cell: usize,
+    pub totals: Vec<f64>,
+}
+
+/// One model's mean total, with what the notebook's table gives beside it.
+#[derive(Clone, Debug, serde::Deserialize)]
+#[serde(rename_all = "camelCase", deny_unknown_fields)]
+pub struct AuthorsMean {
+    pub condition: String,
+    pub authors_model: String,
+    pub cell: usize,
+    pub mean: f64,
+    #[serde(default)]
+    pub ci95: Option<[f64; 2]>,
+    /// The condition the p values test against.
+    #[serde(default)]
+    pub versus: Option<String>,
+    #[serde(default)]
+    pub p: Option<f64>,
+    #[serde(default)]
+    pub p_bonferroni: Option<f64>,
+}
+
+/// Reads `dir/EXPERIMENT.json` for each of [`EXPERIMENTS`], refusing a file whose numbers are
+/// not finite and non-negative or whose conditions its experiment's preset does not have.
+pub fn load_authors(dir: &Path) -> Result<Vec<AuthorsResults>, String> {
+    EXPERIMENTS
+        .iter()
+        .map(|e| {
+            let path = dir.join(format!("{e}.json"));
+            let text = fs::read_to_string(&path).map_err(|err| format!("{}: {err}", path.display()))?;
+            let r: AuthorsResults = serde_json::from_str(&text).map_err(|err| format!("{}: {err}", path.display()))?;
+            let bad = |what: String| Err(format!("{}: {what}", path.display()));
+            if r.experiment != *e || r.episodes == 0 {
+                return bad(format!("experiment '{}' with {} episodes", r.experiment, r.episodes));
+            }
+            let names: Vec<String> =
+                presets::experiment(e).map_err(|err| err.to_string())?.into_iter().map(|c| c.name).collect();
+            let conditions = r.runs.iter().map(|x| &x.condition).chain(r.means.iter().map(|m| &m.condition));
+            if let Some(c) = conditions.into_iter().find(|c| !names.contains(c)) {
+                return bad(format!("'{c}' is not a condition of {e}"));
+            }
+            let values = r.runs.iter().flat_map(|x| x.totals.iter()).chain(r.means.iter().map(|m| &m.mean));
+            if let Some(v) = values.into_iter().find(|v| !v.is_finite() || **v < 0.0) {
+                return bad(format!("{v} is not a finite, non-negative total"));
+            }
+            Ok(r)
+        })
+        .collect()
+}
+
+/// The bar a run must pass to count as learned: the reactive walk's 95th percentile of reward
+/// per episode over its runs in the task.
+#[derive(Clone, Copy, Debug)]
+pub struct LearnedBar {
+    pub per_episode: f64,
+    pub runs: usize,
+    pub episodes: usize,
+}
+
+impl LearnedBar {
+    /// From the reactive walk's runs of `task` in `results/exp1`, if there are any.
+    pub fn of(results: &Path, task: &str) -> Option<LearnedBar> {
+        let (_, conds) = load(&results.join("exp1")).ok()?;
+        let walk = conds.iter().find(|c| c.condition.name == format!("{task}/reactive"))?;
+        let episodes = walk.runs[0].len();
+        Some(LearnedBar {
+            per_episode: quantile(&per_episode(walk), LEARNED_QUANTILE),
+            runs: walk.runs.len(),
+            episodes,
+        })
+    }
+
+    /// How many of `per_episode` are above the bar.
+    pub fn count(&self, per_episode: &[f64]) -> usize {
+        per_episode.iter().filter(|&&v| v > self.per_episode).count()
+    }
+}
+
+/// Each run's total divided by its episodes.
+fn per_episode(c: &ConditionRuns) -> Vec<f64> {
+    let n = c.runs[0].len() as f64;
+    c.totals().into_iter().map(|t| t / n).collect()
+}
+
+fn fmt_p(p: f64) -> String {
+    if p.is_nan() {
+        "-".into()
+    } else if p < 0.001 {
+        format!("{p:.1e}")
+    } else {
+        format!("{p:.3}")
+    }
+}
+
+fn quartiles(x: &[f64]) -> String {
+    format!("{:.3} / {:.3} / {:.3}", quantile(x, 0.25), quantile(x, 0.5), quantile(x, 0.75))
+}
+
+/// Our runs of each experiment, by condition.
+struct Ours {
+    experiments: Vec<(String, Vec<ConditionRuns>)>,
+}
+
+impl Ours {
+    fn load(results: &Path) -> Ours {
+        let experiments = EXPERIMENTS
+            .iter()
+            .map(|e| (e.to_string(), load(&results.join(e)).map(|(_, c)| c).unwrap_or_default()))
+            .collect();
+        Ours { experiments }
+    }
+
+    fn find(&self, experiment: &str, condition: &str) -> Option<&ConditionRuns> {
+        let (_, conds) = self.experiments.iter().find(|(e, _)| e == experiment)?;
+        conds.iter().find(|c| c.condition.name == condition)
+    }
+}
+
+/// Writes `versus-authors.md` and a figure per experiment with per-run totals
+/// (`versus-authors/EXPERIMENT.svg|png`) into `to`, from our runs under `results` and the authors'
+/// numbers under `authors`; returns the markdown.
+pub fn versus_authors(results: &Path, authors: &Path, to: &Path) -> Result<String, String> {
+    let theirs = load_authors(authors)?;
+    let ours = Ours::load(results);
+    let figures = to.join("versus-authors");
+    fs::create_dir_all(&figures).map_err(|e| format!("{}: {e}", figures.display()))?;
+    let bar = LearnedBar::of(results, "double-t-maze");
+    let mut md = String::new();
+    match bar {
+        Some(b) => writeln!(
+            md,
+            "A run **learned** when its reward per episode is above R = {:.4}, the reactive walk's 95th \
+             percentile in the double T-maze ({} runs x {} episodes; results/PROTOCOL.md). The authors' runs \
+             are over {} episodes; ours over the episodes shown. p values are two-sided, Bonferroni-corrected \
+             over the rows of their table.\n",
+            b.per_episode, b.runs, b.episodes, theirs[0].episodes
+        ),
+        None => writeln!(md, "No reactive-walk runs of the double T-maze: \"learned\" is not computed.\n"),
+    }
+    .unwrap();
+    for t in theirs.iter().filter(|t| !t.runs.is_empty()) {
+        writeln!(
+            md,
+            "**{}**, per-run totals from `{}` (cells {}) at {}@{}:\n",
+            t.experiment,
+            t.source.notebook,
+            cells(t.runs.iter().map(|r| r.cell)),
+            t.source.repository,
+            &t.source.commit[..7]
+        )
+        .unwrap();
+        md += "| condition | runs: ours / theirs | episodes: ours / theirs | learned: ours / theirs | \
+               ours per episode: Q1 / median / Q3 | theirs per episode: Q1 / median / Q3 | \
+               Mann-Whitney p | Fisher p |\n|---|---|---|---|---|---|---|---|\n";
+        let rows = t.runs.len() as f64;
+        let mut groups = Vec::new();
+        for r in &t.runs {
+            let theirs_pe: Vec<f64> = r.totals.iter().map(|x| x / t.episodes as f64).collect();
+            let learned = |v: &[f64]| bar.map(|b| b.count(v));
+            let share = |n: Option<usize>, of: usize| n.map_or("-".to_string(), |n| format!("{n}/{of}"));
+            let Some(c) = ours.find(&t.experiment, &r.condition) else {
+                writeln!(
+                    md,
+                    "| {} | not run / {} | - / {} | - / {} | - | {} | - | - |",
+                    r.condition,
+                    r.totals.len(),
+                    t.episodes,
+                    share(learned(&theirs_pe), r.totals.len()),
+                    quartiles(&theirs_pe)
+                )
+                .unwrap();
+                continue;
+            };
+            let ours_pe = per_episode(c);
+            let (_, p_mw) = mann_whitney(&ours_pe, &theirs_pe);
+            let p_fisher = match (learned(&ours_pe), learned(&theirs_pe)) {
+                (Some(a), Some(b)) => fisher_exact(a, ours_pe.len() - a, b, theirs_pe.len() - b),
+                _ => f64::NAN,
+            };
+            writeln!(
+                md,
+                "| {} | {} / {} | {} / {} | {} / {} | {} | {} | {} | {} |",
+                r.condition,
+                ours_pe.len(),
+                theirs_pe.len(),
+                c.runs[0].len(),
+                t.episodes,
+                share(learned(&ours_pe), ours_pe.len()),
+                share(learned(&theirs_pe), theirs_pe.len()),
+                quartiles(&ours_pe),
+                quartiles(&theirs_pe),
+                fmt_p((p_mw * rows).min(1.0)),
+                fmt_p((p_fisher * rows).min(1.0)),
+            )
+            .unwrap();
+            let model = r.condition.split_once('/').map_or(r.condition.as_str(), |(_, m)| m);
+            groups.push((model.to_string(), [ours_pe, theirs_pe]));
+        }
+        let stem = figures.join(&t.experiment);
+        let mark = bar.map_or((0.0, String::new()), |b| (b.per_episode, format!("R {:.3}", b.per_episode)));
+        crate::plot::dots(
+            &stem,
+            &format!("{}: reward per episode, run by run", t.experiment),
+            "reward per episode",
+            &groups,
+            ["ours", "the authors'"],
+            (mark.0, &mark.1),
+        )?;
+        writeln!(md, "\n![{} run by run]({FIGURES}/{}.svg)\n", t.experiment, t.experiment).unwrap();
+    }
+    md += "Where the notebooks keep only means (no per-run totals), ours beside theirs, per episode:\n\n\
+           | experiment | condition | ours (runs x episodes) | theirs | ours / theirs |\n|---|---|---|---|---|\n";
+    for t in &theirs {
+        for m in t.means.iter().filter(|m| !t.runs.iter().any(|r| r.condition == m.condition)) {
+            let theirs_pe = m.mean / t.episodes as f64;
+            let cell = match ours.find(&t.experiment, &m.condition) {
+                Some(c) => {
+                    let o = mean(&per_episode(c));
+                    format!("{o:.3} ({} x {}) | {theirs_pe:.3} | {:.2}", c.runs.len(), c.runs[0].len(), o / theirs_pe)
+                }
+                None => format!("not run | {theirs_pe:.3} | -"),
+            };
+            writeln!(md, "| {} | {} | {cell} |", t.experiment, m.condition).unwrap();
+        }
+    }
+    // The file sits beside its figures' folder; the returned text links them from the repository's
+    // root, where REPRODUCTION.md quotes it.
+    let file = md.replace(&format!("]({FIGURES}/"), "](versus-authors/");
+    fs::write(to.join("versus-authors.md"), file).map_err(|e| format!("{}: {e}", to.display()))?;
+    Ok(md)
+}
+
+/// `13` or `13, 15`: the distinct cells, in order.
+fn cells(it: impl Iterator<Item = usize>) -> String {
+    let mut v: Vec<usize> = it.collect();
+    v.dedup();
+    v.iter().map(usize::to_string).collect::<Vec<_>>().join(", ")
+}
+
+/// Quotes the report into `page` between its markers (`<!-- versus-authors: ... -->`).
+pub fn quote_into(page: &Path, md: &str) -> Result<(), String> {
+    match crate::quote::quote_into(page, "versus-authors", md)? {
+        true => Ok(()),
+        false => Err(format!(
+            "{}: no quote of 'versus-authors' (a line '<!-- versus-authors: COMMAND -->' and '<!-- /versus-authors -->')",
+            page.display()
+        )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn committed() -> Vec<AuthorsResults> {
+        load_authors(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../results/authors")).unwrap()
+    }
+
+    /// The committed numbers agree with the paper's means that the presets (and docs/ALGORITHM.md)
+    /// quote: every per-run list averages to the preset's total, every stored mean equals it.
+    #[test]
+    fn the_authors_numbers_agree_with_the_paper_means_the_presets_quote() {
+        let mut checked = 0;
+        for t in committed() {
+            assert_eq!(t.source.repository, "IsmaelTito/SEC");
+            assert_eq!(t.source.commit.len(), 40);
+            let conditions = presets::experiment(&t.experiment).unwrap();
+            let paper = |name: &str| conditions.iter().find(|c| c.name == name).and_then(|c| c.paper_total);
+            for r in &t.runs {
+                let total = paper(&r.condition).unwrap_or_else(|| panic!("{}: no paper total", r.condition));
+                assert!((mean(&r.totals) - total).abs() < 0.01, "{}: {} vs {total}", r.condition, mean(&r.totals));
+                checked += 1;
+            }
+            for m in &t.means {
+                if let Some(total) = paper(&m.condition) {
+                    assert!((m.mean - total).abs() < 0.01, "{}: {} vs {total}", m.condition, m.mean);
+                    checked += 1;
+                }
+            }
+        }
+        // 12 per-run lists; 24 + 8 + 4 + 3 means with a paper total.
+        assert_eq!(checked, 12 + 24 + 8 + 4 + 3);
+        // The run counts the authors reported: 20 runs of SEC, NSEC and MFEC-ae, 12 of MFEC-rp,
+        // 10 of DQN and ERLAM.
+        let exp1 = &committed()[0];
+        let runs: Vec<usize> = exp1.runs.iter().map(|r| r.totals.len()).collect();
+        assert_eq!(runs, [20, 12, 20, 20, 10, 10]);
+    }
+
+    #[test]
+    fn a_file_with_a_foreign_condition_or_a_negative_total_is_refused() {
+        let dir = std::env::temp_dir().join(format!("sec-authors-{}", std::process::id()));
+        let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../results/authors");
+        for (from, to, expect) in [
+            ("\"double-t-maze/SEC\"", "\"double-t-maze/SEK\"", "'double-t-maze/SEK' is not a condition of exp1"),
+            ("2391.732", "-2391.732", "-2391.732 is not a finite, non-negative total"),
+        ] {
+            fs::create_dir_all(&dir).unwrap();
+            for e in EXPERIMENTS {
+                fs::copy(src.join(format!("{e}.json")), dir.join(format!("{e}.json"))).unwrap();
+            }
+            let text = fs::read_to_string(dir.join("exp1.json")).unwrap();
+            assert!(text.contains(from));
+            fs::write(dir.join("exp1.json"), text.replacen(from, to, 1)).unwrap();
+            let e = load_authors(&dir).unwrap_err();
+            assert!(e.contains(expect), "{e}");
+        }
+        fs::remove_dir_all(&dir).unwrap();
+    }
+}
