@@ -33,7 +33,7 @@ criterion_group!(benches, retrieval);
 /// render, the encoder, retrieval over a full 500 x 50 LTM and the arbitration (issue 4 target:
 /// >= 1,000 decisions/s on one core).
 fn full_decision(c: &mut Criterion) {
-    use sec_playground::agent::{Agent, AgentConfig};
+    use sec_playground::agent::{Sec, SecConfig};
     use sec_playground::arena::{Action, Env, EnvConfig, Task};
     use sec_playground::encoder::{bundled, Scratch, IMAGE};
     let mut rng = ChaCha8Rng::seed_from_u64(2);
@@ -42,7 +42,7 @@ fn full_decision(c: &mut Criterion) {
     let mut env = Env::new(EnvConfig { task, t: Some(0) }, 1).unwrap();
     let encoder = bundled::autoencoder("double-t-maze").unwrap();
     let (mut scratch, mut image) = (Scratch::default(), vec![0.0f32; IMAGE]);
-    let mut agent = Agent::new(AgentConfig::default(), &mut rng).unwrap();
+    let mut agent = Sec::new(SecConfig::default(), &mut rng).unwrap();
     // Fill the LTM with sequences of real embeddings from a random walk.
     let mut action = Action::NOOP;
     while agent.memory.len() < 500 {

@@ -17,4 +17,5 @@ pub mod util;
 pub mod web;
 
 pub use arena::{Action, Env, EnvConfig, Task};
+pub use dispatch::kernel_path;
 pub use error::{ConfigError, Error, FileError};

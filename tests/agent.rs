@@ -3,7 +3,7 @@
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use sec_playground::agent::{Agent, AgentConfig, Layer};
+use sec_playground::agent::{Layer, Sec, SecConfig};
 use sec_playground::encoder::EMBEDDING;
 
 fn emb(v: f32) -> [f32; EMBEDDING] {
@@ -11,9 +11,9 @@ fn emb(v: f32) -> [f32; EMBEDDING] {
 }
 
 /// An agent whose LTM holds `k` sequences of couplets all equal to `emb(0.5)`.
-fn agent_with(cfg: AgentConfig, k: usize, rng: &mut ChaCha8Rng) -> Agent {
+fn agent_with(cfg: SecConfig, k: usize, rng: &mut ChaCha8Rng) -> Sec {
     let n = cfg.memory.n;
-    let mut a = Agent::new(cfg, rng).unwrap();
+    let mut a = Sec::new(cfg, rng).unwrap();
     for _ in 0..k {
         for _ in 0..n {
             a.decide(&emb(0.5), 100.0, rng);
@@ -25,8 +25,8 @@ fn agent_with(cfg: AgentConfig, k: usize, rng: &mut ChaCha8Rng) -> Agent {
     a
 }
 
-fn small() -> AgentConfig {
-    let mut c = AgentConfig::default();
+fn small() -> SecConfig {
+    let mut c = SecConfig::default();
     c.memory.n = 4;
     c
 }
@@ -53,7 +53,7 @@ fn the_contextual_layer_acts_from_five_sequences_with_the_gate_open() {
 #[test]
 fn the_gate_can_be_turned_off() {
     let mut rng = ChaCha8Rng::seed_from_u64(2);
-    let mut a = agent_with(AgentConfig { gate: None, ..small() }, 5, &mut rng);
+    let mut a = agent_with(SecConfig { gate: None, ..small() }, 5, &mut rng);
     assert_eq!(a.decide(&emb(0.5), 100.0, &mut rng).layer, Layer::Contextual);
 }
 
@@ -61,7 +61,7 @@ fn the_gate_can_be_turned_off() {
 fn by_default_the_goal_couplet_is_not_stored_and_with_d4_it_is() {
     for store_last in [false, true] {
         let mut rng = ChaCha8Rng::seed_from_u64(3);
-        let mut a = Agent::new(AgentConfig { store_last_couplet: store_last, ..small() }, &mut rng).unwrap();
+        let mut a = Sec::new(SecConfig { store_last_couplet: store_last, ..small() }, &mut rng).unwrap();
         for v in [0.25, 0.5, 0.75, 1.0, 1.25] {
             a.decide(&emb(v), 100.0, &mut rng);
         }
@@ -85,7 +85,7 @@ fn by_default_the_goal_couplet_is_not_stored_and_with_d4_it_is() {
 fn the_stm_rolls_across_episodes_unless_reset() {
     for reset in [false, true] {
         let mut rng = ChaCha8Rng::seed_from_u64(4);
-        let mut a = Agent::new(AgentConfig { reset_stm_on_episode: reset, ..small() }, &mut rng).unwrap();
+        let mut a = Sec::new(SecConfig { reset_stm_on_episode: reset, ..small() }, &mut rng).unwrap();
         for v in [0.25, 0.5] {
             a.decide(&emb(v), 100.0, &mut rng);
         }
@@ -103,16 +103,16 @@ fn the_stm_rolls_across_episodes_unless_reset() {
 
 #[test]
 fn presets_and_validation() {
-    let p = AgentConfig::paper();
+    let p = SecConfig::paper();
     assert_eq!((p.memory.theta_abs, p.memory.theta_prop, p.memory.alpha), (0.995, 0.98, 0.1));
-    let c = AgentConfig::code();
+    let c = SecConfig::code();
     assert_eq!((c.memory.theta_abs, c.memory.theta_prop, c.memory.alpha, c.memory.beta), (0.98, 0.995, 0.01, 0.05));
     assert_eq!((c.memory.n, c.memory.m, c.min_sequences, c.gate), (50, 500, 5, Some(0.01)));
     let mut rng = ChaCha8Rng::seed_from_u64(5);
-    let e = |c: AgentConfig| Agent::new(c, &mut ChaCha8Rng::seed_from_u64(5)).unwrap_err().to_string();
-    let mut bad = AgentConfig::default();
+    let e = |c: SecConfig| Sec::new(c, &mut ChaCha8Rng::seed_from_u64(5)).unwrap_err().to_string();
+    let mut bad = SecConfig::default();
     bad.memory.m = 3;
     assert_eq!(e(bad), "minSequences: 5 is out of range 0..=3 (the LTM capacity m)");
-    assert_eq!(e(AgentConfig { gate: Some(0.0), ..AgentConfig::default() }), "gate: 0 is out of range (0, 100]");
-    assert!(Agent::new(AgentConfig::default(), &mut rng).is_ok());
+    assert_eq!(e(SecConfig { gate: Some(0.0), ..SecConfig::default() }), "gate: 0 is out of range (0, 100]");
+    assert!(Sec::new(SecConfig::default(), &mut rng).is_ok());
 }

@@ -1,11 +1,11 @@
 //! The trace command's core: recorded events through the contextual layer, internals out.
 
-use sec_playground::agent::AgentConfig;
+use sec_playground::agent::SecConfig;
 use sec_playground::encoder::PerceptionKind;
 use sec_playground::experiment::trace::{parse_event, trace, Event, TraceLine};
 use sec_playground::experiment::{Run, RunConfig};
 
-fn run_trace(cfg: &AgentConfig, seed: u64, input: &str) -> Result<Vec<TraceLine>, String> {
+fn run_trace(cfg: &SecConfig, seed: u64, input: &str) -> Result<Vec<TraceLine>, String> {
     let mut out = Vec::new();
     trace(cfg, None, seed, input.as_bytes(), &mut out).map_err(|e| e.to_string())?;
     Ok(String::from_utf8(out).unwrap().lines().map(|l| serde_json::from_str(l).unwrap()).collect())
@@ -17,10 +17,8 @@ fn decision(x: f32) -> String {
 
 #[test]
 fn a_hand_made_stream_shows_selection_and_the_sequential_bias() {
-    let cfg = AgentConfig {
-        memory: sec_playground::memory::MemoryConfig { n: 3, ..Default::default() },
-        ..Default::default()
-    };
+    let cfg =
+        SecConfig { memory: sec_playground::memory::MemoryConfig { n: 3, ..Default::default() }, ..Default::default() };
     // Episode 1: states 1, 2, 3, then the goal. The STM then holds [start, 1, 2] (D4: the
     // couplet of 3 is not stored).
     let mut lines = vec![decision(1.0), decision(2.0), decision(3.0), r#"{"event":"goal","reward":2.5}"#.into()];
@@ -77,7 +75,7 @@ fn recorded_events_trace_to_the_runs_own_decisions() {
 
 #[test]
 fn bad_events_are_refused_with_their_line() {
-    let cfg = AgentConfig::default();
+    let cfg = SecConfig::default();
     let two = format!("{}\n{}", decision(1.0), r#"{"event":"decision","embedding":[1,2,3]}"#);
     assert_eq!(run_trace(&cfg, 1, &two).unwrap_err(), "line 2: embedding: has 3 numbers, not 20");
     let e = run_trace(&cfg, 1, r#"{"event":"jump"}"#).unwrap_err();
@@ -94,7 +92,7 @@ fn a_trace_refuses_events_of_another_perception() {
     let events =
         format!("{}\n{}", r#"{"event":"perception","perception":"trained","embeddingScale":0.2}"#, decision(1.0));
     let mut out = Vec::new();
-    let cfg = AgentConfig::default();
+    let cfg = SecConfig::default();
     let e = trace(&cfg, Some(PerceptionKind::Untrained), 1, events.as_bytes(), &mut out).unwrap_err().to_string();
     assert_eq!(e, "line 1: perception: the events were recorded with the Trained encoder, the config says Untrained");
     assert_eq!(trace(&cfg, Some(PerceptionKind::Trained), 1, events.as_bytes(), &mut out).unwrap(), 1);

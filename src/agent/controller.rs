@@ -2,7 +2,7 @@
 //! loop alone and talks to agents only through them, so a new agent (DQN, ERLAM) is its own
 //! module implementing `Controller` plus one arm where runs build their agent.
 
-use super::{Agent, Decision};
+use super::{Decision, Sec};
 use crate::encoder::EMBEDDING;
 use rand_chacha::ChaCha8Rng;
 use std::io::{Read, Write};
@@ -148,11 +148,11 @@ pub trait Controller: Send {
     }
 
     /// The SEC agent, for what only SEC has (live parameters, memory files, the page's views).
-    fn sec(&self) -> Option<&Agent> {
+    fn sec(&self) -> Option<&Sec> {
         None
     }
 
-    fn sec_mut(&mut self) -> Option<&mut Agent> {
+    fn sec_mut(&mut self) -> Option<&mut Sec> {
         None
     }
 }

@@ -6,7 +6,7 @@
 use crate::agent::controller::{Controller, EpisodeEnd, Input, Observation, Step};
 use crate::agent::dqn::{DqnConfig, ErlamConfig};
 use crate::agent::mfec::{Embedding, Mfec, MfecConfig, RandomProjection};
-use crate::agent::{Agent, AgentConfig, Decision, Layer, Reactive};
+use crate::agent::{Decision, Layer, Reactive, Sec, SecConfig};
 use crate::arena::{Action, ConfigError, Env, EnvConfig, StartHeading, StepOutcome, Task};
 use crate::encoder::perception::check_scale;
 use crate::encoder::{Autoencoder, Perception, PerceptionKind, ReconstructionGate, Scratch, EMBEDDING, IMAGE};
@@ -38,7 +38,7 @@ pub struct RunConfig {
     /// Which agent runs: SEC (NSEC is SEC without `sequentialBias`), MFEC or the reactive walk.
     pub kind: AgentKind,
     /// SEC's parameters (used when `kind` is sec).
-    pub agent: AgentConfig,
+    pub agent: SecConfig,
     /// MFEC's parameters (used when `kind` is mfec).
     pub mfec: MfecConfig,
     /// DQN's parameters (used when `kind` is dqn or erlam; the agents run natively,
@@ -67,7 +67,7 @@ impl Default for RunConfig {
             t: None,
             decision_period: 4,
             kind: AgentKind::Sec,
-            agent: AgentConfig::default(),
+            agent: SecConfig::default(),
             mfec: MfecConfig::default(),
             dqn: DqnConfig::default(),
             erlam: ErlamConfig::default(),
@@ -156,7 +156,7 @@ fn controller(
         return made;
     }
     Ok(match cfg.kind {
-        AgentKind::Sec => Box::new(Agent::new(cfg.agent.clone(), rng)?),
+        AgentKind::Sec => Box::new(Sec::new(cfg.agent.clone(), rng)?),
         AgentKind::Mfec => {
             let mfec = Mfec::new(cfg.mfec.clone(), rng)?;
             match cfg.mfec.embedding {
@@ -277,7 +277,7 @@ impl Run {
     }
 
     /// The SEC agent, if the run holds one.
-    pub fn agent(&self) -> Option<&Agent> {
+    pub fn agent(&self) -> Option<&Sec> {
         self.controller.sec()
     }
 

@@ -153,7 +153,7 @@ pub fn experiment(name: &str) -> Result<Vec<Condition>, ConfigError> {
         }
         "presets" => {
             out.push(condition("presets/SEC-code".into(), sec("double-t-maze"), Some(11604.88)));
-            let paper = RunConfig { agent: crate::agent::AgentConfig::paper(), ..sec("double-t-maze") };
+            let paper = RunConfig { agent: crate::agent::SecConfig::paper(), ..sec("double-t-maze") };
             out.push(condition("presets/SEC-paper".into(), paper, None));
         }
         "heading" => {

@@ -5,7 +5,7 @@
 
 use super::{AgentKind, RunConfig};
 use crate::agent::mfec::Embedding;
-use crate::agent::AgentConfig;
+use crate::agent::SecConfig;
 use crate::arena::{ConfigError, StartHeading, DEFAULT_T, MAX_T, TASK_NAMES};
 use crate::encoder::perception::SCALE_RANGE;
 use crate::encoder::PerceptionKind;
@@ -312,8 +312,8 @@ pub fn from_settings(settings: &Settings) -> (RunConfig, u64, Vec<ConfigError>) 
 /// text: D2, D3 and the trained encoder, D20): only the keys they set.
 pub fn preset(name: &str) -> Result<Settings, ConfigError> {
     let (agent, perception) = match name {
-        "code" => (AgentConfig::code(), PerceptionKind::Untrained),
-        "paper" => (AgentConfig::paper(), PerceptionKind::Trained),
+        "code" => (SecConfig::code(), PerceptionKind::Untrained),
+        "paper" => (SecConfig::paper(), PerceptionKind::Trained),
         _ => return Err(ConfigError::new("preset", format!("'{name}' is not one of code, paper"))),
     };
     let cfg = RunConfig { agent, perception, ..RunConfig::default() };

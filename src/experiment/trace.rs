@@ -12,7 +12,7 @@
 //! selected couplets with their G, Q and p (null when nothing was selected) and the entropy as
 //! the authors log it (stale when nothing was selected).
 
-use crate::agent::{Agent, AgentConfig, Layer};
+use crate::agent::{Layer, Sec, SecConfig};
 use crate::encoder::{PerceptionKind, EMBEDDING};
 use crate::error::{Error, FileError};
 use crate::seed::Stream;
@@ -120,7 +120,7 @@ pub fn parse_event(text: &str, line: usize) -> Result<Event, FileError> {
 }
 
 /// The internals of `agent` after decision number `decision`.
-pub fn trace_line(agent: &Agent, decision: u64, action: u8, layer: Layer) -> TraceLine {
+pub fn trace_line(agent: &Sec, decision: u64, action: u8, layer: Layer) -> TraceLine {
     let memory = &agent.memory;
     let n = memory.config().n;
     let t = memory
@@ -155,14 +155,14 @@ pub fn trace_line(agent: &Agent, decision: u64, action: u8, layer: Layer) -> Tra
 /// [`TraceLine`] per decision to `output`; `perception`, when given, must be the one the events
 /// name (if they name one). Returns the number of decisions.
 pub fn trace(
-    cfg: &AgentConfig,
+    cfg: &SecConfig,
     perception: Option<PerceptionKind>,
     seed: u64,
     input: impl BufRead,
     mut output: impl Write,
 ) -> Result<u64, TraceError> {
     let mut rng = agent_rng(seed);
-    let mut agent = Agent::new(cfg.clone(), &mut rng).map_err(|e| TraceError::Input(e.into()))?;
+    let mut agent = Sec::new(cfg.clone(), &mut rng).map_err(|e| TraceError::Input(e.into()))?;
     let mut decisions = 0;
     for (i, text) in input.lines().enumerate() {
         let text = text?;

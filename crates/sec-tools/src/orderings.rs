@@ -1,6 +1,7 @@
 //! Every ordering the paper reports, checked against the committed runs of two result trees side
-//! by side (the code preset's and the trained-encoder runs), with the paper's numbers: the table
-//! REPRODUCTION.md opens with.
+//! by side (the code preset's and the trained-encoder runs) and against the authors' own runs
+//! (`results/authors/`: their per-run totals where the notebooks keep them, else their means),
+//! with the paper's numbers: the table REPRODUCTION.md opens with.
 //!
 //! A tree's experiment is read from its runs (`seed-*.jsonl.gz`) when it has them, else from its
 //! `summary.csv` (the trained-encoder runs of an earlier round, whose runs were not kept): there
@@ -160,6 +161,10 @@ fn verdict(arms: &[Arm], a: &str, b: &str, claim: Claim, family: usize) -> Verdi
         Claim::LowerEntropy => x.entropy_late_mean / y.entropy_late_mean,
         _ => x.per_episode / y.per_episode,
     };
+    if ratio.is_nan() {
+        // The authors' notebooks store no entropies.
+        return Verdict { text: "no data".into(), ratio: None, p: None };
+    }
     let p = p_value(x, y, arms, claim).map(|p| (p * family as f64).min(1.0));
     let paper_way = match claim {
         Claim::LowerEntropy => ratio < 1.0,
@@ -238,6 +243,49 @@ impl Tree {
         Tree { exp }
     }
 
+    /// The authors' runs (`results/authors/`): each model with per-run totals as an arm of its
+    /// runs, the others as their means (a p only where the notebook's test was against the
+    /// group's first condition, as the trained tree's summaries); an empty tree if there are none.
+    fn authors(dir: &Path) -> Tree {
+        let Ok(files) = crate::authors::load_authors(dir) else { return Tree { exp: Vec::new() } };
+        let exp = files
+            .into_iter()
+            .map(|f| {
+                let e = f.episodes as f64;
+                let arm = |name: &str, runs: usize, per_episode: f64, totals: Option<Vec<f64>>| Arm {
+                    name: name.to_string(),
+                    runs,
+                    episodes: f.episodes,
+                    per_episode,
+                    totals,
+                    rewards: None,
+                    entropy_late: None,
+                    entropy_late_mean: f64::NAN,
+                    p_vs_reference: None,
+                };
+                let mut arms: Vec<Arm> = f
+                    .runs
+                    .iter()
+                    .map(|r| arm(&r.condition, r.totals.len(), mean(&r.totals) / e, Some(r.totals.clone())))
+                    .collect();
+                for m in f.means.iter().filter(|m| !f.runs.iter().any(|r| r.condition == m.condition)) {
+                    arms.push(arm(&m.condition, 0, m.mean / e, None));
+                }
+                let group = |name: &str| name.split_once('/').map(|(g, _)| g.to_string());
+                for m in &f.means {
+                    let first = arms.iter().find(|a| group(&a.name) == group(&m.condition)).map(|a| a.name.clone());
+                    if m.versus.is_some() && m.versus == first {
+                        if let Some(a) = arms.iter_mut().find(|a| a.name == m.condition && a.totals.is_none()) {
+                            a.p_vs_reference = m.p;
+                        }
+                    }
+                }
+                (f.experiment, arms)
+            })
+            .collect();
+        Tree { exp }
+    }
+
     fn arms(&self, exp: &str) -> &[Arm] {
         self.exp.iter().find(|(e, _)| e == exp).map_or(&[], |(_, a)| a)
     }
@@ -260,15 +308,15 @@ impl Tree {
     }
 }
 
-/// Writes `orderings.md` and `orderings.csv` into `out` from the trees `code` and `trained`;
-/// returns the markdown.
-pub fn orderings(code: &Path, trained: &Path, out: &Path) -> Result<String, String> {
-    let trees = [Tree::load(code), Tree::load(trained)];
-    let mut rows: Vec<[String; 5]> = Vec::new();
+/// Writes `orderings.md` and `orderings.csv` into `out` from the trees `code` and `trained` and
+/// the authors' numbers under `authors`; returns the markdown.
+pub fn orderings(code: &Path, trained: &Path, authors: &Path, out: &Path) -> Result<String, String> {
+    let trees = [Tree::load(code), Tree::load(trained), Tree::authors(authors)];
+    let mut rows: Vec<[String; 6]> = Vec::new();
     let mut csv = String::from("family,ordering,paper,tree,verdict,ratio,p_corrected\n");
-    let mut add = |family: &str, ordering: String, paper: String, verdicts: [(Verdict, &str); 2]| {
+    let mut add = |family: &str, ordering: String, paper: String, verdicts: [(Verdict, &str); 3]| {
         for (i, (v, _)) in verdicts.iter().enumerate() {
-            let tree = if i == 0 { "code" } else { "trained" };
+            let tree = ["code", "trained", "authors"][i];
             writeln!(
                 csv,
                 "{family},\"{ordering}\",{paper},{tree},{},{},{}",
@@ -278,8 +326,11 @@ pub fn orderings(code: &Path, trained: &Path, out: &Path) -> Result<String, Stri
             )
             .unwrap();
         }
-        let [(a, wa), (b, wb)] = verdicts;
-        rows.push([family.to_string(), ordering, paper, cell(&a, wa), cell(&b, wb)]);
+        let [(a, wa), (b, wb), (mut c, wc)] = verdicts;
+        if c.text == "not run" {
+            c.text = "not stored".into();
+        }
+        rows.push([family.to_string(), ordering, paper, cell(&a, wa), cell(&b, wb), cell(&c, wc)]);
     };
     for task in ["double-t-maze", "cylinder", "detour", "object-permanence"] {
         let pair = |tree: &Tree, other: &str, claim| {
@@ -291,7 +342,11 @@ pub fn orderings(code: &Path, trained: &Path, out: &Path) -> Result<String, Stri
                 &format!("exp1 {task}"),
                 format!("SEC > {other}"),
                 paper(other),
-                [(pair(&trees[0], other, Claim::More), "×"), (pair(&trees[1], other, Claim::More), "×")],
+                [
+                    (pair(&trees[0], other, Claim::More), "×"),
+                    (pair(&trees[1], other, Claim::More), "×"),
+                    (pair(&trees[2], other, Claim::More), "×"),
+                ],
             );
         }
         // The deep baselines: their own family of two, SEC cut to their runs' length.
@@ -299,7 +354,9 @@ pub fn orderings(code: &Path, trained: &Path, out: &Path) -> Result<String, Stri
             let arms = tree.arms("exp1");
             let (sec, dqn) = (format!("{task}/SEC"), format!("{task}/{other}"));
             let Some(baseline) = find(arms, &dqn) else { return verdict(&[], &sec, &dqn, Claim::More, 2) };
-            let Some(cut) = find(arms, &sec).and_then(|s| s.cut(baseline.episodes)) else {
+            // The authors' totals have no episodes to cut, but SEC's are as long as DQN's there.
+            let same_length = || find(arms, &sec).filter(|s| s.episodes == baseline.episodes).cloned();
+            let Some(cut) = find(arms, &sec).and_then(|s| s.cut(baseline.episodes)).or_else(same_length) else {
                 return verdict(&[], &sec, &dqn, Claim::More, 2);
             };
             verdict(&[cut, baseline.clone()], &sec, &dqn, Claim::More, 2)
@@ -309,14 +366,18 @@ pub fn orderings(code: &Path, trained: &Path, out: &Path) -> Result<String, Stri
                 &format!("exp1 {task}"),
                 format!("SEC > {other} (over {other}'s episodes)"),
                 paper(other),
-                [(deep(&trees[0], other), "×"), (deep(&trees[1], other), "×")],
+                [(deep(&trees[0], other), "×"), (deep(&trees[1], other), "×"), (deep(&trees[2], other), "×")],
             );
         }
         add(
             &format!("exp1 {task}"),
             "entropy SEC < NSEC (last 10 %)".into(),
             "lower".into(),
-            [(pair(&trees[0], "NSEC", Claim::LowerEntropy), "×"), (pair(&trees[1], "NSEC", Claim::LowerEntropy), "×")],
+            [
+                (pair(&trees[0], "NSEC", Claim::LowerEntropy), "×"),
+                (pair(&trees[1], "NSEC", Claim::LowerEntropy), "×"),
+                (pair(&trees[2], "NSEC", Claim::LowerEntropy), "×"),
+            ],
         );
     }
     let exp2 = |tree: &Tree, a: &str, b: &str, family| verdict(tree.arms("exp2"), a, b, Claim::More, family);
@@ -324,7 +385,11 @@ pub fn orderings(code: &Path, trained: &Path, out: &Path) -> Result<String, Stri
         "exp2",
         "SEC m=125 > NSEC m=1000".into(),
         paper_ratio("exp2", "m125/SEC", "m1000/NSEC"),
-        [(exp2(&trees[0], "m125/SEC", "m1000/NSEC", 5), "×"), (exp2(&trees[1], "m125/SEC", "m1000/NSEC", 5), "×")],
+        [
+            (exp2(&trees[0], "m125/SEC", "m1000/NSEC", 5), "×"),
+            (exp2(&trees[1], "m125/SEC", "m1000/NSEC", 5), "×"),
+            (exp2(&trees[2], "m125/SEC", "m1000/NSEC", 5), "×"),
+        ],
     );
     for m in [125, 250, 500, 1000] {
         let (s, n) = (format!("m{m}/SEC"), format!("m{m}/NSEC"));
@@ -332,7 +397,7 @@ pub fn orderings(code: &Path, trained: &Path, out: &Path) -> Result<String, Stri
             "exp2",
             format!("SEC > NSEC at m={m}"),
             paper_ratio("exp2", &s, &n),
-            [(exp2(&trees[0], &s, &n, 5), "×"), (exp2(&trees[1], &s, &n, 5), "×")],
+            [(exp2(&trees[0], &s, &n, 5), "×"), (exp2(&trees[1], &s, &n, 5), "×"), (exp2(&trees[2], &s, &n, 5), "×")],
         );
     }
     let falling = |tree: &Tree| {
@@ -357,7 +422,7 @@ pub fn orderings(code: &Path, trained: &Path, out: &Path) -> Result<String, Stri
         "exp2",
         "SEC/NSEC at equal memory falls as m grows (125 / 250 / 500 / 1000)".into(),
         "2.42 / 2.00 / 1.95 / 1.64".into(),
-        [falling(&trees[0]), falling(&trees[1])],
+        [falling(&trees[0]), falling(&trees[1]), falling(&trees[2])],
     );
     for v in ["noGi", "noDist", "noRR", "soloGi", "soloDist", "soloRR"] {
         let name = format!("value-function/SEC-{v}");
@@ -366,7 +431,12 @@ pub fn orderings(code: &Path, trained: &Path, out: &Path) -> Result<String, Stri
             "noGi" | "noDist" | "noRR" => "n.s.",
             _ => "-",
         };
-        add("exp3", format!("SEC-{v} = SEC-default"), paper.into(), [(check(&trees[0]), "×"), (check(&trees[1]), "×")]);
+        add(
+            "exp3",
+            format!("SEC-{v} = SEC-default"),
+            paper.into(),
+            [(check(&trees[0]), "×"), (check(&trees[1]), "×"), (check(&trees[2]), "×")],
+        );
     }
     for model in ["SEC", "NSEC"] {
         for f in ["fifo", "rwd", "prior"] {
@@ -376,15 +446,15 @@ pub fn orderings(code: &Path, trained: &Path, out: &Path) -> Result<String, Stri
                 "exp4",
                 format!("{model}-{f} >= {model}-none"),
                 paper_ratio("exp4", &a, &b),
-                [(check(&trees[0]), "×"), (check(&trees[1]), "×")],
+                [(check(&trees[0]), "×"), (check(&trees[1]), "×"), (check(&trees[2]), "×")],
             );
         }
     }
     let mut md = String::from(
-        "| experiment | ordering (the paper's) | paper: ratio | untrained encoder, the code preset | trained encoder |\n|---|---|---|---|---|\n",
+        "| experiment | ordering (the paper's) | paper: ratio | untrained encoder, the code preset | trained encoder | the authors' runs |\n|---|---|---|---|---|---|\n",
     );
     for r in &rows {
-        writeln!(md, "| {} | {} | {} | {} | {} |", r[0], r[1], r[2], r[3], r[4]).unwrap();
+        writeln!(md, "| {} | {} | {} | {} | {} | {} |", r[0], r[1], r[2], r[3], r[4], r[5]).unwrap();
     }
     let mut scales = String::from("\nRuns x episodes per condition:");
     for (e, prefix) in [("exp1", "double-t-maze/"), ("exp1", "detour/"), ("exp2", ""), ("exp3", ""), ("exp4", "")] {
@@ -394,7 +464,9 @@ pub fn orderings(code: &Path, trained: &Path, out: &Path) -> Result<String, Stri
     }
     scales.pop();
     md += &scales;
-    md += ".\n";
+    md += ". The authors' runs: their per-run totals over 5000 episodes where their notebooks keep them \
+           (experiment 1 in the double T-maze, experiment 4), else their means, tested only where the \
+           notebook tested against the same condition (results/authors/).\n";
     fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     fs::write(out.join("orderings.md"), &md).map_err(|e| format!("{}: {e}", out.display()))?;
     fs::write(out.join("orderings.csv"), csv).map_err(|e| format!("{}: {e}", out.display()))?;

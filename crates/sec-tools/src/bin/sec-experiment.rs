@@ -8,7 +8,7 @@
 //!   sec-experiment report EXPERIMENT [--out results/experiments] [--to OUT/EXPERIMENT]
 //!                         [--quote REPRODUCTION.md]
 //!   sec-experiment orderings [--out results/experiments] [--trained results/experiments-trained]
-//!                            [--to results] [--quote REPRODUCTION.md]
+//!                            [--authors results/authors] [--to results] [--quote REPRODUCTION.md]
 //!   sec-experiment matching [--out results/experiments] [--frames 2000] [--seeds 3]
 //!                           [--quote REPRODUCTION.md]
 //!   sec-experiment reference [--out results/experiments] [--to assets/reference]
@@ -37,7 +37,7 @@ const USAGE: &str = "usage:
                      [--only GROUP/MODEL,GROUP/,...] [--checkpoint-every N] [--reuse yes|no]
   sec-experiment run --config FILE.json --name GROUP/MODEL [the same options]
   sec-experiment report EXPERIMENT [--out DIR] [--to DIR] [--quote PAGE.md]
-  sec-experiment orderings [--out DIR] [--trained DIR] [--to DIR] [--quote PAGE.md]
+  sec-experiment orderings [--out DIR] [--trained DIR] [--authors DIR] [--to DIR] [--quote PAGE.md]
   sec-experiment matching [--out DIR] [--frames N] [--seeds N|A..B|A,B,C] [--quote PAGE.md]
   sec-experiment reference [--out DIR] [--to DIR]   (the page's reference curves)
   sec-experiment versus-authors [--out DIR] [--authors DIR] [--to DIR] [--quote PAGE.md]
@@ -120,7 +120,7 @@ fn dispatch(args: &[String]) -> Result<(), String> {
         "run" => run(rest),
         "report" => report(rest),
         "orderings" => {
-            let (pos, o) = options(rest, &["out", "trained", "to", "quote"])?;
+            let (pos, o) = options(rest, &["out", "trained", "authors", "to", "quote"])?;
             if !pos.is_empty() {
                 return Err(format!("orderings takes no positional argument\n{USAGE}"));
             }
@@ -128,6 +128,7 @@ fn dispatch(args: &[String]) -> Result<(), String> {
             let md = sec_tools::orderings::orderings(
                 &dir("out", "results/experiments"),
                 &dir("trained", "results/experiments-trained"),
+                &dir("authors", "results/authors"),
                 &dir("to", "results"),
             )?;
             if let Some(page) = o.get("quote") {
