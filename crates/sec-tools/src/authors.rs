@@ -297,17 +297,6 @@ fn cells(it: impl Iterator<Item = usize>) -> String {
     v.iter().map(usize::to_string).collect::<Vec<_>>().join(", ")
 }
 
-/// Quotes the report into `page` between its markers (`<!-- versus-authors: ... -->`).
-pub fn quote_into(page: &Path, md: &str) -> Result<(), String> {
-    match crate::quote::quote_into(page, "versus-authors", md)? {
-        true => Ok(()),
-        false => Err(format!(
-            "{}: no quote of 'versus-authors' (a line '<!-- versus-authors: COMMAND -->' and '<!-- /versus-authors -->')",
-            page.display()
-        )),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -472,14 +472,3 @@ pub fn orderings(code: &Path, trained: &Path, authors: &Path, out: &Path) -> Res
     fs::write(out.join("orderings.csv"), csv).map_err(|e| format!("{}: {e}", out.display()))?;
     Ok(md)
 }
-
-/// Quotes the table into `page` between its markers (`<!-- orderings: ... -->`, crate::quote).
-pub fn quote_into(page: &Path, md: &str) -> Result<(), String> {
-    match crate::quote::quote_into(page, "orderings", md)? {
-        true => Ok(()),
-        false => Err(format!(
-            "{}: no quote of 'orderings' (a line '<!-- orderings: COMMAND -->' and '<!-- /orderings -->')",
-            page.display()
-        )),
-    }
-}

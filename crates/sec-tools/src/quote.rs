@@ -48,6 +48,17 @@ pub fn quote_into(path: &Path, key: &str, md: &str) -> Result<bool, String> {
     Ok(true)
 }
 
+/// `quote_into`, where the page must have the quote: an error naming the markers it lacks.
+pub fn quote_required(path: &Path, key: &str, md: &str) -> Result<(), String> {
+    match quote_into(path, key, md)? {
+        true => Ok(()),
+        false => Err(format!(
+            "{}: no quote of '{key}' (a line '<!-- {key}: COMMAND -->' and '<!-- /{key} -->')",
+            path.display()
+        )),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -63,6 +74,8 @@ mod tests {
         std::fs::write(&path, page).unwrap();
         assert!(quote_into(&path, "a/b", "new\nlines").unwrap());
         assert!(!quote_into(&path, "e", "x").unwrap());
+        let e = quote_required(&path, "e", "x").unwrap_err();
+        assert!(e.contains("no quote of 'e'"), "{e}");
         let text = std::fs::read_to_string(&path).unwrap();
         assert_eq!(text, page.replace("old\n", "new\nlines\n"));
         assert!(quote_into(&path, "a/b", "| t |\n").unwrap());

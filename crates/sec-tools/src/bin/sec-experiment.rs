@@ -132,7 +132,7 @@ fn dispatch(args: &[String]) -> Result<(), String> {
                 &dir("to", "results"),
             )?;
             if let Some(page) = o.get("quote") {
-                sec_tools::orderings::quote_into(Path::new(page), &md)?;
+                sec_tools::quote::quote_required(Path::new(page), "orderings", &md)?;
             }
             print!("{md}");
             Ok(())
@@ -182,7 +182,7 @@ fn dispatch(args: &[String]) -> Result<(), String> {
                 &dir("to", "results"),
             )?;
             if let Some(page) = o.get("quote") {
-                sec_tools::authors::quote_into(Path::new(page), &md)?;
+                sec_tools::quote::quote_required(Path::new(page), "versus-authors", &md)?;
             }
             print!("{md}");
             Ok(())
