@@ -45,7 +45,7 @@ fn full_decision(c: &mut Criterion) {
     let mut agent = Sec::new(SecConfig::default(), &mut rng).unwrap();
     // Fill the LTM with sequences of real embeddings from a random walk.
     let mut action = Action::NOOP;
-    while agent.memory.len() < 500 {
+    while agent.memory().len() < 500 {
         env.advance(action, 4).unwrap();
         env.observation().to_rgb_f32(&mut image);
         let mut e = [0.0; EMBEDDING];

@@ -11,6 +11,7 @@ pub mod experiment;
 pub mod memory;
 pub mod render;
 pub mod seed;
+pub mod session;
 pub mod util;
 
 #[cfg(target_arch = "wasm32")]

@@ -21,7 +21,7 @@ fn agent_with(cfg: SecConfig, k: usize, rng: &mut ChaCha8Rng) -> Sec {
         a.goal(1.0, rng);
         a.episode_end();
     }
-    assert_eq!(a.memory.len(), k);
+    assert_eq!(a.memory().len(), k);
     a
 }
 
@@ -66,7 +66,7 @@ fn by_default_the_goal_couplet_is_not_stored_and_with_d4_it_is() {
             a.decide(&emb(v), 100.0, &mut rng);
         }
         a.goal(2.0, &mut rng);
-        let newest: Vec<f32> = (0..4).map(|j| a.memory.ltm_embedding(0, j)[0]).collect();
+        let newest: Vec<f32> = (0..4).map(|j| a.memory().ltm_embedding(0, j)[0]).collect();
         if store_last {
             assert_eq!(newest, [0.5, 0.75, 1.0, 1.25]);
         } else {
@@ -76,7 +76,7 @@ fn by_default_the_goal_couplet_is_not_stored_and_with_d4_it_is() {
         // Either way the next decision does not push 1.25 a second time.
         a.episode_end();
         a.decide(&emb(1.5), 100.0, &mut rng);
-        let stm: Vec<f32> = a.memory.stm().map(|c| c.embedding[0]).collect();
+        let stm: Vec<f32> = a.memory().stm().map(|c| c.embedding[0]).collect();
         assert_eq!(stm, [0.5, 0.75, 1.0, 1.25]);
     }
 }
@@ -91,7 +91,7 @@ fn the_stm_rolls_across_episodes_unless_reset() {
         }
         a.episode_end();
         a.decide(&emb(0.75), 100.0, &mut rng);
-        let stm: Vec<f32> = a.memory.stm().map(|c| c.embedding[0]).collect();
+        let stm: Vec<f32> = a.memory().stm().map(|c| c.embedding[0]).collect();
         if reset {
             assert_eq!(stm, [0.0; 4]);
         } else {

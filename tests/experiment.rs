@@ -151,7 +151,7 @@ fn live_changes_apply_to_the_running_agent_and_others_ask_for_a_new_run() {
     for _ in 0..12 {
         run.episode();
     }
-    let ltm = run.agent().unwrap().memory.len();
+    let ltm = run.inspect().memory.unwrap().len();
     assert!(ltm >= 4, "object permanence stores sequences early: {ltm}");
     // alpha, the thresholds and a smaller m apply now; m forgets the oldest sequences.
     let mut live = cfg.clone();
@@ -159,10 +159,10 @@ fn live_changes_apply_to_the_running_agent_and_others_ask_for_a_new_run() {
     live.agent.memory.theta_abs = 0.9;
     live.agent.memory.m = 2;
     live.agent.min_sequences = 2;
-    let newest = run.agent().unwrap().memory.rewards()[ltm - 2..].to_vec();
+    let newest = run.inspect().memory.unwrap().rewards()[ltm - 2..].to_vec();
     assert_eq!(run.reconfigure(live.clone()), Ok(true));
     assert_eq!(run.config(), &live);
-    let mem = &run.agent().unwrap().memory;
+    let mem = run.inspect().memory.unwrap();
     assert_eq!((mem.len(), mem.config().alpha, mem.rewards()), (2, 0.3, &newest[..]));
     // n, the task or the agent need a new run: nothing changes.
     let changes: [fn(&mut RunConfig); 3] =

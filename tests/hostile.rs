@@ -85,5 +85,5 @@ fn filling_a_forgetting_ltm_for_the_benchmarks_returns() {
     cfg.agent.memory.m = 20;
     let mut run = Run::new(cfg, 1).unwrap();
     sec_playground::experiment::fixtures::fill_ltm(&mut run, 50);
-    assert!(run.agent().unwrap().memory.len() >= 19);
+    assert!(run.inspect().memory.unwrap().len() >= 19);
 }

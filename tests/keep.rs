@@ -34,7 +34,7 @@ fn drive_episode(run: &mut Run, record: bool) -> EpisodeMetrics {
 }
 
 fn sec_ltm(run: &Run) -> usize {
-    run.agent().map(|a| a.memory.len()).unwrap()
+    run.inspect().memory.unwrap().len()
 }
 
 #[test]
@@ -51,9 +51,9 @@ fn a_recorded_rewarded_drive_is_stored_like_any_sequence() {
     assert_eq!(m.ltm, before + 1);
     assert_eq!(sec_ltm(&run), before + 1);
     // The stored sequence ends with the person's last actions (forward, towards the goal).
-    let agent = run.agent().unwrap();
-    let n = agent.memory.config().n;
-    assert_eq!(agent.memory.ltm_action(before, n - 1), 3);
+    let memory = run.inspect().memory.unwrap();
+    let n = memory.config().n;
+    assert_eq!(memory.ltm_action(before, n - 1), 3);
     // The agent takes over again.
     run.set_driver(None).unwrap();
     let next = run.episode();
@@ -111,7 +111,7 @@ fn a_saved_memory_loads_into_a_new_run_and_saves_back_identically() {
     assert_eq!(b.load_memory(&file).unwrap(), sec_ltm(&a));
     assert_eq!(sec_ltm(&b), sec_ltm(&a));
     assert_eq!(b.save_memory().unwrap(), file);
-    let (ma, mb) = (&a.agent().unwrap().memory, &b.agent().unwrap().memory);
+    let (ma, mb) = (a.inspect().memory.unwrap(), b.inspect().memory.unwrap());
     assert_eq!(ma.rewards(), mb.rewards());
     assert!(mb.bias().iter().all(|&t| t == 1.0), "T restarts at 1");
     // The loaded memory is used: the run goes on and keeps its sequences.

@@ -190,10 +190,10 @@ fn value_function_names_are_one_spelling_everywhere() {
 
 #[test]
 fn every_setting_has_a_group_and_names_real_agents() {
-    use sec_playground::experiment::settings::AGENTS;
+    use sec_playground::experiment::settings::page_agents;
     for p in params() {
         assert!(["run", "perception", "memory", "retrieval"].contains(&p.group), "{}: group {}", p.key, p.group);
-        assert!(p.agents.iter().all(|a| AGENTS.contains(a)), "{}: {:?}", p.key, p.agents);
+        assert!(p.agents.iter().all(|a| page_agents().contains(a)), "{}: {:?}", p.key, p.agents);
     }
     let sec_only: Vec<&str> = params().iter().filter(|p| p.agents == ["sec"]).map(|p| p.key).collect();
     assert!(sec_only.contains(&"alpha") && sec_only.contains(&"m") && !sec_only.contains(&"task"));

@@ -354,3 +354,10 @@ fn a_deeply_nested_yaml_file_is_refused_and_the_module_keeps_working() {
     let mut run = SecRun::new(js(r#"{"task": "object-permanence"}"#), v(2)).unwrap();
     run.run_decisions(v(5)).unwrap();
 }
+
+#[wasm_bindgen_test]
+fn the_agent_table_crosses_to_js_as_the_core_declares_it() {
+    let table: serde_json::Value = serde_wasm_bindgen::from_value(sec_playground::web::agents().unwrap()).unwrap();
+    assert_eq!(table, serde_json::to_value(sec_playground::agent::AGENTS).unwrap());
+    assert!(table.as_array().unwrap().iter().any(|a| a["key"] == "sec" && a["hasMemory"] == true));
+}

@@ -40,10 +40,12 @@ function item(a, text) {
 const finished = (arm) => (arm.runs.size ? Math.min(...[...arm.runs.values()].map((r) => r.length)) : 0);
 
 export class Compare {
-  constructor(root, { current, onError, wasm }) {
+  constructor(root, { current, agentInfo, onError, wasm }) {
     this.root = root;
     this.$ = (id) => root.querySelector(`#${id}`);
     this.current = current;
+    /** The agent table's row of a key. */
+    this.agentInfo = agentInfo;
     this.onError = onError;
     this.wasm = wasm;
     this.arms = [];
@@ -134,7 +136,9 @@ export class Compare {
     const s = this.current();
     if (!s) return;
     const { seed, ...settings } = s;
-    const label = `${settings.agent === 'sec' ? (settings.bias === '1' ? 'SEC' : 'NSEC') : settings.agent} `
+    const info = this.agentInfo(settings.agent);
+    const name = info?.unbiasedLabel && settings.bias === '0' ? info.unbiasedLabel : info?.label ?? settings.agent;
+    const label = `${name} `
       + `α=${settings.alpha} m=${settings.m} ${settings.task}`;
     this.add(label, settings);
     if (!this.title) this.title = 'Your configurations';

@@ -122,16 +122,16 @@ export function buildControls(root, params, onChange) {
     hide(keys) {
       for (const k of keys) root.querySelector(`.param[data-key="${k}"]`)?.setAttribute('hidden', '');
     },
-    /** Disables, with a note, the knobs that `agent` does not read. */
+    /** Disables, with a note, the knobs that `agent` (the agent table's row) does not read. */
     agent(agent) {
       for (const p of params) {
-        const ignored = p.agents?.length > 0 && !p.agents.includes(agent);
+        const ignored = p.agents?.length > 0 && !p.agents.includes(agent.key);
         const row = root.querySelector(`.param[data-key="${p.key}"]`);
         row.classList.toggle('ignored', ignored);
         for (const el of row.querySelectorAll('input, select')) el.disabled = ignored;
         const note = row.querySelector('.unused');
         note.hidden = !ignored;
-        note.textContent = ignored ? `Not used by ${AGENT_NAMES[agent] ?? agent}.` : '';
+        note.textContent = ignored ? `Not used by ${agent.label}.` : '';
       }
     },
   };
@@ -139,7 +139,6 @@ export function buildControls(root, params, onChange) {
 
 /** The control groups' headings. */
 const GROUPS = { run: 'Run: task, agent, episode', perception: 'Perception', memory: 'Memory', retrieval: 'Retrieval and the bias T' };
-const AGENT_NAMES = { sec: 'SEC', 'mfec-ae': 'MFEC', 'mfec-rp': 'MFEC on a random projection', reactive: 'the reactive walk' };
 
 /**
  * Wires the run bar and the keyboard shortcuts to `actions`; the shortcuts listen on `target`

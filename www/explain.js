@@ -4,8 +4,10 @@
 const ACTION_NAMES = ['none', 'right', 'left', 'forward', 'forward right', 'forward left', 'back', 'back right', 'back left'];
 
 /**
- * One line on who acted and why: for SEC the first rule of the arbitration that kept its memory
- * from acting (too few sequences, nothing passed the thresholds, the reconstruction gate).
+ * One line on who acted and why: for an agent with a sequential memory (the agent table's
+ * `hasMemory`: SEC) the first rule of the arbitration that kept its memory from acting (too few
+ * sequences, nothing passed the thresholds, the reconstruction gate); for the others the table's
+ * `explores` line. `agent` is the table's row of the running agent.
  */
 export function whyLayer(view, agent) {
   if (!view || view.layer == null) return 'No decision yet.';
@@ -13,11 +15,10 @@ export function whyLayer(view, agent) {
   if (view.layer === 'C') {
     return `Memory acts: ${view.selected} stored couplet${view.selected === 1 ? '' : 's'} passed the thresholds and voted.`;
   }
-  if (agent === 'reactive') return 'The reactive walk alone: straight runs and turns, no memory.';
-  if (agent !== 'sec') return 'MFEC explores with the reactive walk (its warm-up, or an ε step).';
+  if (!agent?.hasMemory) return agent?.explores ?? 'Reactive walk.';
   if (view.ltm < view.minSequences) {
     const more = view.minSequences - view.ltm;
-    return `Reactive walk: memory holds ${view.ltm} of the ${view.minSequences} sequences SEC needs before it acts `
+    return `Reactive walk: memory holds ${view.ltm} of the ${view.minSequences} sequences ${agent.label} needs before it acts `
       + `from memory (${more} more; a sequence is stored at every goal).`;
   }
   if (!view.selected) return 'Reactive walk: no stored couplet passed the thresholds θ_abs and θ_prop for this view.';

@@ -47,6 +47,8 @@ export class Playground {
     this.worker = null;
     this.fatal = false;
     this.params = [];
+    /** The core's agent table (`agents()`), from the worker. */
+    this.agents = [];
     this.settings = null;
     this.controls = null;
     this.playing = false;
@@ -64,6 +66,7 @@ export class Playground {
     this.charts = new Charts(this.$('charts'));
     this.compare = new Compare(this.$('compare'), {
       current: () => this.settings,
+      agentInfo: (key) => this.agentInfo(key),
       onError: (m) => this.showError(m),
       wasm: WASM,
     });
@@ -252,12 +255,17 @@ export class Playground {
     this.listeners.push(() => target.removeEventListener(type, f));
   }
 
+  /** The agent table's row of `key` (the running agent's by default). */
+  agentInfo(key = this.settings?.agent) {
+    return this.agents?.find((a) => a.key === key);
+  }
+
   /** After an episode a person drove with record on: what it did to SEC's memory. */
   afterDrive(m) {
     const need = (this.lastView?.minSequences ?? 5) - m.ltm;
     this.notice(m.goal
       ? `Your episode reached the goal and is stored: the LTM holds ${m.ltm} sequence${m.ltm === 1 ? '' : 's'}. `
-        + (need > 0 ? `SEC acts from memory once it holds ${m.ltm + need}: ${need} more to go.` : 'SEC can act from memory now.')
+        + (need > 0 ? `${this.agentInfo()?.label ?? 'The agent'} acts from memory once it holds ${m.ltm + need}: ${need} more to go.` : `${this.agentInfo()?.label ?? 'The agent'} can act from memory now.`)
       : 'Your episode did not reach the goal, so nothing was stored.');
   }
 
@@ -335,6 +343,7 @@ export class Playground {
 Playground.prototype.handlers = {
   ready(msg) {
     this.params = msg.params;
+    this.agents = msg.agents;
     this.build = msg.build;
     this.controls ??= buildControls(this.$('controls'), this.params, (key, value) => {
       if (this.settings?.[key] !== value) this.send({ type: 'set', changes: { [key]: value } });
@@ -349,7 +358,7 @@ Playground.prototype.handlers = {
     const first = this.settings === null;
     this.settings = msg.settings;
     this.controls.set(this.settings);
-    this.controls.agent(this.settings.agent);
+    this.controls.agent(this.agentInfo());
     this.writeHash();
     if (msg.errors.length) {
       this.showError(`${msg.errors.join('; ')}. Using the default for ${msg.errors.length === 1 ? 'it' : 'them'}.`);
@@ -369,7 +378,7 @@ Playground.prototype.handlers = {
       });
       this.charts.mark(what);
       this.notice(ignored.length
-        ? `Set ${what}; this agent (${this.settings.agent}) does not use ${ignored.map((k) => this.label(k)).join(', ')}.`
+        ? `Set ${what}; this agent (${this.agentInfo()?.label ?? this.settings.agent}) does not use ${ignored.map((k) => this.label(k)).join(', ')}.`
         : `Applied live: ${what}`);
     }
     if (first || msg.fresh) this.setPlaying(this.wantPlay);
@@ -383,7 +392,7 @@ Playground.prototype.handlers = {
     this.episodes += list.length;
     for (const m of list) {
       this.log.push(m);
-      if (m.human && this.settings?.agent === 'sec' && this.$('record').checked) this.afterDrive(m);
+      if (m.human && this.agentInfo()?.canBeDriven && this.$('record').checked) this.afterDrive(m);
     }
   },
   view(msg) {
@@ -406,8 +415,8 @@ Playground.prototype.handlers = {
     $('entropy').textContent = `${v.entropy.toFixed(3)} bits`;
     $('entropy-meter').value = v.entropy;
     $('layer').textContent = LAYERS[v.layer] ?? '–';
-    $('why').textContent = whyLayer(v, this.settings?.agent);
-    $('gate-mse').textContent = this.settings?.agent === 'reactive' ? '–'
+    $('why').textContent = whyLayer(v, this.agentInfo());
+    $('gate-mse').textContent = this.agentInfo()?.reads === 'nothing' ? '–'
       : `${v.gateMse >= 100 ? 'not measured yet' : v.gateMse.toFixed(4)}${v.gate != null ? ` (gate ${+v.gate.toPrecision(4)})` : ''}`;
     if (msg.explain) {
       this.lastExplanation = msg.explain;

@@ -24,7 +24,7 @@ if (params.get('task')) prefetchModel(params.get('task'));
 const glue = await import(GLUE[build]);
 
 export default glue.default;
-export const { SecRun, parameters, parseSettings, applySettings, presetSettings, panicForTest, registerModel, hasModel,
+export const { SecRun, agents, parameters, parseSettings, applySettings, presetSettings, panicForTest, registerModel, hasModel,
   taskNames, ArenaEnv, taskDescription, frameSize } = glue;
 
 /** Starts downloading `task`'s model now (before the wasm is ready); `ensureModel` uses it. An

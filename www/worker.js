@@ -6,10 +6,10 @@
 //               {type: 'speed', value}, {type: 'step', what: 'decision' | 'episode'},
 //               {type: 'reset'}, {type: 'views', camera, heat, hz, explain}, {type: 'drive', action, record},
 //               {type: 'saveMemory'}, {type: 'loadMemory', bytes}, {type: 'crash'} (a test hook)
-// Messages out: {type: 'ready', params, defaults, build}, {type: 'started', settings, errors, mode},
+// Messages out: {type: 'ready', params, agents, defaults, build}, {type: 'started', settings, errors, mode},
 //               {type: 'episodes', list}, {type: 'view', ...}, {type: 'state', playing},
 //               {type: 'memory', bytes}, {type: 'loaded', sequences}, {type: 'error', message, fatal}
-import init, { build, ensureModel, SecRun, parameters, parseSettings, applySettings, presetSettings, panicForTest } from './wasm.js';
+import init, { build, ensureModel, SecRun, agents, parameters, parseSettings, applySettings, presetSettings, panicForTest } from './wasm.js';
 import { AdaptiveBatch, SLICE_MS, serveMessages } from './slices.js';
 
 /** Most view posts per second while watching; the page asks for fewer at max speed. */
@@ -216,6 +216,6 @@ serveMessages(handlers, (e) => (e instanceof WebAssembly.RuntimeError ? trapped(
 init()
   .then(() => {
     const parsed = parseSettings({});
-    post({ type: 'ready', params: parameters(), defaults: parsed.settings, build });
+    post({ type: 'ready', params: parameters(), agents: agents(), defaults: parsed.settings, build });
   })
   .catch((e) => fail(`The simulation could not load: ${e?.message ?? e}`, true));

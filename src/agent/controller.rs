@@ -2,8 +2,14 @@
 //! loop alone and talks to agents only through them, so a new agent (DQN, ERLAM) is its own
 //! module implementing `Controller` plus one arm where runs build their agent.
 
-use super::{Decision, Sec};
+use super::dqn::{DqnConfig, ErlamConfig};
+use super::mfec::MfecConfig;
+use super::{Decision, SecConfig};
+use crate::arena::ConfigError;
 use crate::encoder::EMBEDDING;
+use crate::error::Error;
+use crate::memory::file::Identity;
+use crate::memory::Memory;
 use rand_chacha::ChaCha8Rng;
 use std::io::{Read, Write};
 
@@ -147,12 +153,60 @@ pub trait Controller: Send {
         Err(NO_CHECKPOINT.into())
     }
 
-    /// The SEC agent, for what only SEC has (live parameters, memory files, the page's views).
-    fn sec(&self) -> Option<&Sec> {
-        None
+    /// Applies a live change of the agents' parameters (the page's sliders) from the next
+    /// decision; the run has checked that nothing else changed (`RunConfig::needs_restart`). An
+    /// agent reads its own section and ignores the others; one without live parameters keeps
+    /// this default. On an error nothing changes.
+    fn reconfigure(&mut self, _settings: &AgentSettings) -> Result<(), ConfigError> {
+        Ok(())
     }
 
-    fn sec_mut(&mut self) -> Option<&mut Sec> {
-        None
+    /// What views and explanations may read of it (the page, Python's `Run.view`).
+    fn inspect(&self) -> AgentView<'_> {
+        AgentView::default()
     }
+
+    /// Whether it records the event trace (`experiment::trace`) that replays its decisions.
+    fn traces(&self) -> bool {
+        false
+    }
+
+    /// Its memory as a file (`memory::file`), for an agent that keeps one.
+    fn save_memory(&self, _id: &Identity) -> Result<Vec<u8>, ConfigError> {
+        Err(ConfigError::new("agent", NO_MEMORY_FILE))
+    }
+
+    /// Replaces its memory with a file's, returning the entries loaded; a refused file leaves
+    /// the memory as it was.
+    fn load_memory(&mut self, _bytes: &[u8], _id: &Identity) -> Result<usize, Error> {
+        Err(ConfigError::new("agent", NO_MEMORY_FILE).into())
+    }
+}
+
+/// What an agent without memory files answers `save_memory` and `load_memory`.
+pub const NO_MEMORY_FILE: &str = "only SEC keeps a memory file (this run's agent does not)";
+
+/// The agents' parameter sections of a run's configuration, handed to a running controller by a
+/// live change (`Controller::reconfigure`).
+#[derive(Clone, Copy, Debug)]
+pub struct AgentSettings<'a> {
+    /// SEC's (and NSEC's).
+    pub sec: &'a SecConfig,
+    pub mfec: &'a MfecConfig,
+    pub dqn: &'a DqnConfig,
+    pub erlam: &'a ErlamConfig,
+}
+
+/// What an agent shows of itself, read-only: the page's views and explanation panel and Python
+/// read agents through this alone. An agent shows what it has and leaves the rest `None`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct AgentView<'a> {
+    /// Its sequential memory (SEC): STM, LTM, the last retrieval's couplets, Q and p.
+    pub memory: Option<&'a Memory>,
+    /// The embedding of the last decision's frame, as it entered (or will enter) the memory.
+    pub last_embedding: Option<&'a [f32; EMBEDDING]>,
+    /// The memory acts only once the LTM holds this many sequences.
+    pub min_sequences: Option<usize>,
+    /// The reconstruction gate's threshold, when it has a gate that is on.
+    pub gate: Option<f32>,
 }

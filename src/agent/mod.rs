@@ -7,9 +7,11 @@ pub mod dqn;
 pub mod mfec;
 pub mod reactive;
 mod sec;
+pub mod table;
 
 pub use reactive::Reactive;
 pub use sec::{Sec, SecConfig};
+pub use table::{AgentInfo, AgentKind, AGENTS};
 
 /// Which layer's action was taken.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]

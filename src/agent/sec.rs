@@ -3,10 +3,12 @@
 //! only when it selected something, the LTM holds enough sequences and the reconstruction gate is
 //! open.
 
-use super::controller::{Controller, EpisodeEnd, Input, MemoryUse, Observation, Step};
+use super::controller::{AgentSettings, AgentView, Controller, EpisodeEnd, Input, MemoryUse, Observation, Step};
 use super::{Decision, Layer, Reactive};
 use crate::arena::ConfigError;
 use crate::encoder::EMBEDDING;
+use crate::error::Error;
+use crate::memory::file::Identity;
 use crate::memory::{Couplet, Memory, MemoryConfig};
 use rand_chacha::ChaCha8Rng;
 
@@ -74,7 +76,7 @@ impl SecConfig {
 #[derive(Clone, Debug)]
 pub struct Sec {
     cfg: SecConfig,
-    pub memory: Memory,
+    memory: Memory,
     reactive: Reactive,
     /// The last decision, pushed into the STM at the next one (zeros and [0, 0] at first).
     previous: Couplet,
@@ -97,6 +99,12 @@ impl Sec {
 
     pub fn config(&self) -> &SecConfig {
         &self.cfg
+    }
+
+    /// The contextual layer's memory, read-only: it changes only through the agent's decisions,
+    /// goals, live parameters and memory files.
+    pub fn memory(&self) -> &Memory {
+        &self.memory
     }
 
     /// The last decision's couplet: the frame's embedding and the action taken (it enters the
@@ -274,11 +282,28 @@ impl Controller for Sec {
         Ok(())
     }
 
-    fn sec(&self) -> Option<&Sec> {
-        Some(self)
+    fn reconfigure(&mut self, settings: &AgentSettings) -> Result<(), ConfigError> {
+        Sec::reconfigure(self, settings.sec.clone())
     }
 
-    fn sec_mut(&mut self) -> Option<&mut Sec> {
-        Some(self)
+    fn inspect(&self) -> AgentView<'_> {
+        AgentView {
+            memory: Some(&self.memory),
+            last_embedding: Some(&self.previous.embedding),
+            min_sequences: Some(self.cfg.min_sequences),
+            gate: self.cfg.gate,
+        }
+    }
+
+    fn traces(&self) -> bool {
+        true
+    }
+
+    fn save_memory(&self, id: &Identity) -> Result<Vec<u8>, ConfigError> {
+        Ok(self.memory.to_file(id))
+    }
+
+    fn load_memory(&mut self, bytes: &[u8], id: &Identity) -> Result<usize, Error> {
+        Ok(self.memory.load_file(bytes, id)?)
     }
 }

@@ -222,7 +222,7 @@ mod tests {
         let expected = full(&mut whole, 24);
         let mut first = Run::new(cfg.clone(), 2).unwrap();
         let mut got = full(&mut first, 18);
-        assert!(first.agent().unwrap().memory.len() >= 5, "the contextual layer acts before the cut");
+        assert!(first.inspect().memory.unwrap().len() >= 5, "the contextual layer acts before the cut");
         let mut bytes = Vec::new();
         first.save_checkpoint(&mut bytes).unwrap();
         drop(first);

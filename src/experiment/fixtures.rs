@@ -14,15 +14,16 @@ use rand_chacha::ChaCha8Rng;
 /// decisions over a full LTM only; the env, the STM position and the run's own draws stay.
 pub fn fill_ltm(run: &mut Run, rows: usize) {
     use rand::Rng;
-    let Some(agent) = run.controller.sec_mut() else { return };
+    let Some(memory) = run.inspect().memory else { return };
+    let mut memory = memory.clone();
     let mut rng = ChaCha8Rng::seed_from_u64(0xBE7C);
     let mut env = run.env.clone();
     let (mut image, mut scratch) = (vec![0.0; IMAGE], Scratch::default());
     let mut action = Action::NOOP;
     // Counted in stores, not in rows: with forgetting on, a full LTM stays one row short.
-    let target = rows.min(agent.memory.config().m);
+    let target = rows.min(memory.config().m);
     let mut stores = 0;
-    while stores < target && agent.memory.len() < target {
+    while stores < target && memory.len() < target {
         if env.is_over() {
             env.reset(None);
         }
@@ -31,12 +32,15 @@ pub fn fill_ltm(run: &mut Run, rows: usize) {
         let mut e = [0.0; EMBEDDING];
         run.perception.embed(&image, &mut scratch, &mut e);
         action = Action::new(rng.gen_range(0..9)).expect("actions are 0..9");
-        agent.memory.push(crate::memory::Couplet { embedding: e, action: action.index() as u8 });
+        memory.push(crate::memory::Couplet { embedding: e, action: action.index() as u8 });
         if rng.gen_bool(0.2) {
-            agent.memory.store(rng.gen_range(0.5..3.0), &mut rng);
+            memory.store(rng.gen_range(0.5..3.0), &mut rng);
             stores += 1;
         }
     }
+    // Through the agent's own door: a memory file, as the page loads one.
+    let file = memory.to_file(&run.identity());
+    run.load_memory(&file).expect("a memory of the run's own configuration loads");
 }
 
 /// The short runs whose JSON lines the golden files hold: `tests/golden/run.txt` with the

@@ -3,10 +3,11 @@
 //! step at a time with a decision every 4, and the per-episode metrics the paper's tables count,
 //! one JSON line per episode.
 
-use crate::agent::controller::{Controller, EpisodeEnd, Input, Observation, Step};
+use crate::agent::controller::{AgentSettings, AgentView, Controller, EpisodeEnd, Input, Observation, Step};
 use crate::agent::dqn::{DqnConfig, ErlamConfig};
-use crate::agent::mfec::{Embedding, Mfec, MfecConfig, RandomProjection};
-use crate::agent::{Decision, Layer, Reactive, Sec, SecConfig};
+use crate::agent::mfec::MfecConfig;
+pub use crate::agent::AgentKind;
+use crate::agent::{AgentInfo, Decision, Layer, SecConfig};
 use crate::arena::{Action, ConfigError, Env, EnvConfig, StartHeading, StepOutcome, Task};
 use crate::encoder::perception::check_scale;
 use crate::encoder::{Autoencoder, Perception, PerceptionKind, ReconstructionGate, Scratch, EMBEDDING, IMAGE};
@@ -105,6 +106,27 @@ impl RunConfig {
         self.erlam.validate()
     }
 
+    /// A configuration from JSON text (an object; missing fields take the defaults), validated:
+    /// the one parser of the page, Python and the CLI. A refused value is an error naming its
+    /// field path (`agent.memory.tau`), or `config` for the text as a whole.
+    pub fn from_json(text: &str) -> Result<RunConfig, ConfigError> {
+        // serde reads a struct from a JSON array too; a RunConfig is an object only.
+        if !text.trim_start().starts_with('{') {
+            return Err(ConfigError::new(
+                "config",
+                format!("{} is not an object (a RunConfig)", crate::util::shown(text)),
+            ));
+        }
+        let mut de = serde_json::Deserializer::from_str(text);
+        let cfg: RunConfig = serde_path_to_error::deserialize(&mut de).map_err(|e| {
+            let path = e.path().to_string();
+            ConfigError::new(if path == "." { "config".to_string() } else { path }, e.inner().to_string())
+        })?;
+        de.end().map_err(|e| ConfigError::new("config", e.to_string()))?;
+        cfg.validate()?;
+        Ok(cfg)
+    }
+
     /// The embedding scale the run uses, if it overrides the perception's own.
     pub fn scale_override(&self) -> Option<f32> {
         self.embedding_scale.or(self.raw_embeddings.then_some(1.0))
@@ -115,6 +137,11 @@ impl RunConfig {
         Ok(Task::preset(&self.task)?.with_start_heading(self.start_heading))
     }
 
+    /// The agents' sections, as a live change hands them to the running agent.
+    pub fn agent_settings(&self) -> AgentSettings<'_> {
+        AgentSettings { sec: &self.agent, mfec: &self.mfec, dqn: &self.dqn, erlam: &self.erlam }
+    }
+
     /// Whether going from `self` to `next` needs a new run: everything but SEC's parameters
     /// (and among them the STM length n) is fixed for a run.
     pub fn needs_restart(&self, next: &RunConfig) -> bool {
@@ -123,28 +150,14 @@ impl RunConfig {
     }
 }
 
-/// The agents a run can hold.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum AgentKind {
-    Sec,
-    Mfec,
-    /// The reactive layer alone.
-    Reactive,
-    /// The authors' DQN: a Nature CNN on the camera image, trained with burn (native only).
-    Dqn,
-    /// DQN with ERLAM's associative memory graph over the trained autoencoder's embeddings.
-    Erlam,
-}
-
 /// Builds the agents the core does not hold itself (DQN, trained with burn in `crates/sec-dqn`,
 /// which the wasm build leaves out), given the run's perception (ERLAM embeds with it): `None`
 /// for a kind it does not know either.
 pub type AgentFactory =
     fn(&RunConfig, &Perception, u64, &mut ChaCha8Rng) -> Option<Result<Box<dyn Controller>, ConfigError>>;
 
-/// The run's agent, drawing its initial state from the agent stream `rng`: the one place that
-/// knows every agent kind (those of `extra` aside).
+/// The run's agent, drawing its initial state from the agent stream `rng`: the agent table's
+/// row builds it, or `extra` for the agents a native crate holds.
 fn controller(
     cfg: &RunConfig,
     perception: &Perception,
@@ -155,25 +168,17 @@ fn controller(
     if let Some(made) = extra.and_then(|f| f(cfg, perception, seed, rng)) {
         return made;
     }
-    Ok(match cfg.kind {
-        AgentKind::Sec => Box::new(Sec::new(cfg.agent.clone(), rng)?),
-        AgentKind::Mfec => {
-            let mfec = Mfec::new(cfg.mfec.clone(), rng)?;
-            match cfg.mfec.embedding {
-                Embedding::Autoencoder => Box::new(mfec),
-                Embedding::RandomProjection => {
-                    Box::new(mfec.with_projection(RandomProjection::new(&mut seed::rng(seed, Stream::Projection))))
-                }
-            }
-        }
-        AgentKind::Reactive => Box::new(Reactive::new(rng)),
-        AgentKind::Dqn | AgentKind::Erlam => {
-            return Err(ConfigError::new(
-                "kind",
-                "dqn and erlam are trained with burn and run only natively, through sec-experiment (not in this build)",
-            ))
-        }
-    })
+    let row = AgentInfo::of(cfg.kind, cfg.mfec.embedding);
+    match row.build {
+        Some(build) => build(cfg, perception, seed, rng),
+        None => Err(ConfigError::new(
+            "kind",
+            format!(
+                "{} is trained with burn and runs only natively, through sec-experiment (not in this build)",
+                row.key
+            ),
+        )),
+    }
 }
 
 /// A run in progress.
@@ -265,9 +270,7 @@ impl Run {
         if self.cfg.needs_restart(&cfg) {
             return Ok(false);
         }
-        if let Some(agent) = self.controller.sec_mut() {
-            agent.reconfigure(cfg.agent.clone())?;
-        }
+        self.controller.reconfigure(&cfg.agent_settings())?;
         self.cfg = cfg;
         Ok(true)
     }
@@ -276,9 +279,9 @@ impl Run {
         self.controller.as_ref()
     }
 
-    /// The SEC agent, if the run holds one.
-    pub fn agent(&self) -> Option<&Sec> {
-        self.controller.sec()
+    /// What the agent shows of itself (its memory, its last embedding), read-only.
+    pub fn inspect(&self) -> AgentView<'_> {
+        self.controller.inspect()
     }
 
     pub fn env(&self) -> &Env {
@@ -336,24 +339,16 @@ impl Run {
         memory::file::Identity { task: self.cfg.task.clone(), model: self.perception.embedder().fingerprint() }
     }
 
-    /// SEC's memory (STM and LTM) as a file (`memory::file`).
+    /// The agent's memory (SEC's STM and LTM) as a file (`memory::file`).
     pub fn save_memory(&self) -> Result<Vec<u8>, ConfigError> {
-        match self.controller.sec() {
-            Some(agent) => Ok(agent.memory.to_file(&self.identity())),
-            None => Err(ConfigError::new("agent", "only SEC has a memory to save (this run's agent is not SEC)")),
-        }
+        self.controller.save_memory(&self.identity())
     }
 
-    /// Replaces SEC's memory with a file's; a corrupt, foreign or mismatched file is refused and
-    /// the memory is left as it was. Returns the number of sequences loaded.
+    /// Replaces the agent's memory with a file's; a corrupt, foreign or mismatched file is
+    /// refused and the memory is left as it was. Returns the number of sequences loaded.
     pub fn load_memory(&mut self, bytes: &[u8]) -> Result<usize, Error> {
         let id = self.identity();
-        match self.controller.sec_mut() {
-            Some(agent) => Ok(agent.memory.load_file(bytes, &id)?),
-            None => {
-                Err(ConfigError::new("agent", "only SEC can load a memory file (this run's agent is not SEC)").into())
-            }
-        }
+        self.controller.load_memory(bytes, &id)
     }
 
     /// Starts recording SEC's events (embeddings with the gate's MSE, goals, episode ends): fed
@@ -371,9 +366,9 @@ impl Run {
         self.events.as_mut().map(std::mem::take).unwrap_or_default()
     }
 
-    /// The SEC run's event log, if recording.
+    /// The event log, if recording and the agent's decisions replay from it.
     fn sec_events(&mut self) -> Option<&mut Vec<trace::Event>> {
-        self.events.as_mut().filter(|_| self.controller.sec().is_some())
+        self.events.as_mut().filter(|_| self.controller.traces())
     }
 
     /// The decision at the current frame (its image is already in `self.image`): the embedding

@@ -3,9 +3,10 @@
 //! `RunConfig` and a seed. The page builds its controls from `params()`, so the ranges shown are
 //! the ranges checked here.
 
-use super::{AgentKind, RunConfig};
+use super::RunConfig;
 use crate::agent::mfec::Embedding;
-use crate::agent::SecConfig;
+use crate::agent::table::Reads;
+use crate::agent::{AgentInfo, SecConfig};
 use crate::arena::{ConfigError, StartHeading, DEFAULT_T, MAX_T, TASK_NAMES};
 use crate::encoder::perception::SCALE_RANGE;
 use crate::encoder::PerceptionKind;
@@ -48,20 +49,30 @@ pub struct Param {
     pub live: bool,
     /// The page's group of controls: run, perception, memory or retrieval.
     pub group: &'static str,
-    /// The agents (`AGENTS` names) that use it; empty: every agent.
-    pub agents: &'static [&'static str],
+    /// The page's agents (`page_agents()` keys) that use it; empty: every agent.
+    pub agents: Vec<&'static str>,
 }
 
-/// The agents that read SEC's parameters.
-const SEC_ONLY: &[&str] = &["sec"];
-/// The agents whose states come from the perception.
-const EMBEDDERS: &[&str] = &["sec", "mfec-ae"];
+/// The page's agents with a sequential memory: SEC's parameters are theirs.
+fn sec_only() -> Vec<&'static str> {
+    AgentInfo::keys_where(|a| a.has_memory && !a.native_only)
+}
+
+/// The page's agents whose states come from the perception.
+fn embedders() -> Vec<&'static str> {
+    AgentInfo::keys_where(|a| a.reads == Reads::Embedding && !a.native_only)
+}
+
+/// The agents the page offers (the table's, less the native-only ones).
+pub fn page_agents() -> Vec<&'static str> {
+    AgentInfo::keys_where(|a| !a.native_only)
+}
 
 impl Param {
     fn group(self, group: &'static str) -> Param {
         Param { group, ..self }
     }
-    fn agents(self, agents: &'static [&'static str]) -> Param {
+    fn agents(self, agents: Vec<&'static str>) -> Param {
         Param { agents, ..self }
     }
 }
@@ -83,21 +94,18 @@ fn number(key: &'static str, symbol: &'static str, help: &'static str, r: (f64, 
         kind: Kind::Number { min: r.0, max: r.1, min_open: open, step, auto: false },
         live: true,
         group: "retrieval",
-        agents: SEC_ONLY,
+        agents: sec_only(),
     }
 }
 
 fn choice(key: &'static str, symbol: &'static str, help: &'static str, options: &[&str], live: bool) -> Param {
     let kind = Kind::Choice { options: options.iter().map(|s| s.to_string()).collect() };
-    Param { key, symbol, help, kind, live, group: "run", agents: &[] }
+    Param { key, symbol, help, kind, live, group: "run", agents: Vec::new() }
 }
 
 fn integer(key: &'static str, symbol: &'static str, help: &'static str, r: (u64, u64), live: bool) -> Param {
-    Param { key, symbol, help, kind: Kind::Integer { min: r.0, max: r.1 }, live, group: "run", agents: &[] }
+    Param { key, symbol, help, kind: Kind::Integer { min: r.0, max: r.1 }, live, group: "run", agents: Vec::new() }
 }
-
-/// The agent choices of the page.
-pub const AGENTS: [&str; 4] = ["sec", "mfec-ae", "mfec-rp", "reactive"];
 
 fn names<T>(table: &[(&'static str, T)]) -> Vec<&'static str> {
     table.iter().map(|(n, _)| *n).collect()
@@ -109,23 +117,14 @@ fn name_of<T: PartialEq>(table: &[(&'static str, T)], value: T) -> String {
 }
 
 fn agent_name(cfg: &RunConfig) -> &'static str {
-    match (cfg.kind, cfg.mfec.embedding) {
-        (AgentKind::Sec, _) => "sec",
-        (AgentKind::Reactive, _) => "reactive",
-        (AgentKind::Dqn, _) => "dqn",
-        (AgentKind::Erlam, _) => "erlam",
-        (AgentKind::Mfec, Embedding::Autoencoder) => "mfec-ae",
-        (AgentKind::Mfec, Embedding::RandomProjection) => "mfec-rp",
-    }
+    AgentInfo::of(cfg.kind, cfg.mfec.embedding).key
 }
 
-fn set_agent(cfg: &mut RunConfig, name: &str) {
-    cfg.kind = match name {
-        "sec" => AgentKind::Sec,
-        "reactive" => AgentKind::Reactive,
-        _ => AgentKind::Mfec,
-    };
-    cfg.mfec.embedding = if name == "mfec-rp" { Embedding::RandomProjection } else { Embedding::Autoencoder };
+/// Runs the agent of the table's row `key` (one of the page's).
+fn set_agent(cfg: &mut RunConfig, key: &str) {
+    let row = AgentInfo::find(key).expect("the page's choices are the table's keys");
+    cfg.kind = row.kind;
+    cfg.mfec.embedding = row.embedding.unwrap_or(Embedding::Autoencoder);
 }
 
 /// Every setting, each declared once, in the order the page shows them.
@@ -138,17 +137,17 @@ fn table() -> Vec<Setting> {
             set: |c, _, v| c.task = TASK_NAMES[v as usize].to_string(),
         },
         Setting {
-            param: choice("agent", "agent", "SEC, MFEC on the autoencoder's or a random projection's embedding, or the reactive walk alone (a new run).", &AGENTS, false),
+            param: choice("agent", "agent", "SEC, MFEC on the autoencoder's or a random projection's embedding, or the reactive walk alone (a new run).", &page_agents(), false),
             get: |c, _| agent_name(c).to_string(),
-            set: |c, _, v| set_agent(c, AGENTS[v as usize]),
+            set: |c, _, v| set_agent(c, page_agents()[v as usize]),
         },
         Setting {
-            param: choice("perception", "encoder", "Which encoder embeds the camera image: untrained random weights (what the authors' code ran) or the trained one (the paper's text); the trained one always runs the gate (a new run).", &names(&PerceptionKind::ALL), false).group("perception").agents(EMBEDDERS),
+            param: choice("perception", "encoder", "Which encoder embeds the camera image: untrained random weights (what the authors' code ran) or the trained one (the paper's text); the trained one always runs the gate (a new run).", &names(&PerceptionKind::ALL), false).group("perception").agents(embedders()),
             get: |c, _| name_of(&PerceptionKind::ALL, c.perception),
             set: |c, _, v| c.perception = PerceptionKind::ALL[v as usize].1,
         },
         Setting {
-            param: Param { key: "embeddingScale", symbol: "scale", help: "Multiplies every embedding, so it sets how alike two views must be to pass θ_abs; auto: 1 untrained, the calibrated scale trained (a new run).", kind: Kind::Number { min: SCALE_RANGE.0 as f64, max: SCALE_RANGE.1 as f64, min_open: true, step: 0.01, auto: true }, live: false, group: "perception", agents: EMBEDDERS },
+            param: Param { key: "embeddingScale", symbol: "scale", help: "Multiplies every embedding, so it sets how alike two views must be to pass θ_abs; auto: 1 untrained, the calibrated scale trained (a new run).", kind: Kind::Number { min: SCALE_RANGE.0 as f64, max: SCALE_RANGE.1 as f64, min_open: true, step: 0.01, auto: true }, live: false, group: "perception", agents: embedders() },
             get: |c, _| c.scale_override().map_or("auto".to_string(), |s| s.to_string()),
             set: |c, _, v| {
                 c.embedding_scale = (!v.is_nan()).then_some(v as f32);
@@ -156,7 +155,7 @@ fn table() -> Vec<Setting> {
             },
         },
         Setting {
-            param: Param { key: "bias", symbol: "T", help: "Sequential bias: on is SEC, off is NSEC (T restarts at 1).", kind: Kind::Switch, live: true, group: "retrieval", agents: SEC_ONLY },
+            param: Param { key: "bias", symbol: "T", help: "Sequential bias: on is SEC, off is NSEC (T restarts at 1).", kind: Kind::Switch, live: true, group: "retrieval", agents: sec_only() },
             get: |c, _| (c.agent.memory.sequential_bias as u8).to_string(),
             set: |c, _, v| c.agent.memory.sequential_bias = v == 1.0,
         },
@@ -186,22 +185,22 @@ fn table() -> Vec<Setting> {
             set: |c, _, v| c.agent.memory.theta_prop = v,
         },
         Setting {
-            param: integer("n", "n", "STM length: couplets per stored sequence (a new run).", (N_RANGE.0 as u64, N_RANGE.1 as u64), false).group("memory").agents(SEC_ONLY),
+            param: integer("n", "n", "STM length: couplets per stored sequence (a new run).", (N_RANGE.0 as u64, N_RANGE.1 as u64), false).group("memory").agents(sec_only()),
             get: |c, _| c.agent.memory.n.to_string(),
             set: |c, _, v| c.agent.memory.n = v as usize,
         },
         Setting {
-            param: integer("m", "m", "LTM capacity in sequences; a smaller m forgets the oldest now.", (M_RANGE.0 as u64, M_RANGE.1 as u64), true).group("memory").agents(SEC_ONLY),
+            param: integer("m", "m", "LTM capacity in sequences; a smaller m forgets the oldest now.", (M_RANGE.0 as u64, M_RANGE.1 as u64), true).group("memory").agents(sec_only()),
             get: |c, _| c.agent.memory.m.to_string(),
             set: |c, _, v| c.agent.memory.m = v as usize,
         },
         Setting {
-            param: choice("forgetting", "forget", "What a full LTM does: nothing, drop the oldest, the lowest reward, the 10% lowest, or one drawn by low reward.", &names(&Forgetting::ALL), true).group("memory").agents(SEC_ONLY),
+            param: choice("forgetting", "forget", "What a full LTM does: nothing, drop the oldest, the lowest reward, the 10% lowest, or one drawn by low reward.", &names(&Forgetting::ALL), true).group("memory").agents(sec_only()),
             get: |c, _| name_of(&Forgetting::ALL, c.agent.memory.forgetting),
             set: |c, _, v| c.agent.memory.forgetting = Forgetting::ALL[v as usize].1,
         },
         Setting {
-            param: choice("value", "value", "How a couplet's similarity g, relative reward rr and distance d make its value.", &names(&ValueFn::ALL), true).agents(SEC_ONLY).group("retrieval"),
+            param: choice("value", "value", "How a couplet's similarity g, relative reward rr and distance d make its value.", &names(&ValueFn::ALL), true).agents(sec_only()).group("retrieval"),
             get: |c, _| name_of(&ValueFn::ALL, c.agent.memory.value_function),
             set: |c, _, v| c.agent.memory.value_function = ValueFn::ALL[v as usize].1,
         },

@@ -121,7 +121,7 @@ pub fn parse_event(text: &str, line: usize) -> Result<Event, FileError> {
 
 /// The internals of `agent` after decision number `decision`.
 pub fn trace_line(agent: &Sec, decision: u64, action: u8, layer: Layer) -> TraceLine {
-    let memory = &agent.memory;
+    let memory = agent.memory();
     let n = memory.config().n;
     let t = memory
         .bias()

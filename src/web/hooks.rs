@@ -72,6 +72,6 @@ impl SecRun {
     /// `experiment::fixtures::fill_ltm`), so decisions can be timed over a full memory.
     #[wasm_bindgen(js_name = benchFillMemory)]
     pub fn bench_fill_memory(&mut self, rows: u32) {
-        crate::experiment::fixtures::fill_ltm(&mut self.run, rows as usize);
+        crate::experiment::fixtures::fill_ltm(self.session.run_mut(), rows as usize);
     }
 }

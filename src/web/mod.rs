@@ -12,7 +12,7 @@ mod args;
 #[cfg(feature = "test-hooks")]
 mod hooks;
 mod run;
-pub use run::{apply_settings, has_model, parameters, parse_settings, preset_settings, register_model, SecRun};
+pub use run::{agents, apply_settings, has_model, parameters, parse_settings, preset_settings, register_model, SecRun};
 
 /// Error messages are cut to this many characters (a value in a message is already cut to 40).
 const MAX_MESSAGE: usize = 400;

@@ -7,15 +7,13 @@
 use super::{args, js_err, seed_from_js};
 use crate::encoder::{reconstruction_to_rgba, Scratch, EMBEDDING, IMAGE};
 use crate::experiment::settings::{self, Settings};
-use crate::experiment::{Driver, EpisodeMetrics, Run, RunConfig};
-use crate::memory::{ValueFn, ACTIONS};
+use crate::experiment::{Driver, EpisodeMetrics, RunConfig};
+use crate::memory::ACTIONS;
 use crate::render::Trail;
+use crate::session::{MemoryMap, Session, MAX_BATCH};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use wasm_bindgen::prelude::*;
-
-/// Most decisions one `runDecisions` call may run (keeps a time slice bounded).
-const MAX_BATCH: u32 = 100_000;
 
 #[wasm_bindgen(typescript_custom_section)]
 const TS_TYPES: &str = r#"
@@ -25,8 +23,9 @@ export interface RunConfig {
   /** Episode limit in env steps (null: the task's, 1000). */
   t?: number | null;
   decisionPeriod?: number;
-  /** "dqn" and "erlam" run only natively (sec-experiment): the page refuses them by name. */
-  kind?: "sec" | "mfec" | "reactive" | "dqn" | "erlam";
+  /** The agent's kind: the `kind` the agent table lists ("dqn" and "erlam" run only natively,
+   *  through sec-experiment: the page refuses them by name). */
+  kind?: string;
   agent?: {
     memory?: {
       n?: number; m?: number; thetaAbs?: number; thetaProp?: number;
@@ -77,6 +76,22 @@ export interface Param {
     | { type: "choice"; options: string[] }
     | { type: "switch" };
 }
+/** One agent of the core's table (`agents()`): the page reads agents through it alone. */
+export interface AgentInfo {
+  /** Its name everywhere: the `agent` setting, the CLI, Python. */
+  key: string; label: string;
+  /** Its label with the sequential bias off (SEC: NSEC), for an agent that has one. */
+  unbiasedLabel: string | null;
+  about: string;
+  /** Why its decision was not its memory's, unless its views explain that (SEC). */
+  explores: string | null;
+  /** The RunConfig section of its parameters. */
+  section: string | null;
+  reads: "embedding" | "image" | "nothing";
+  hasMemory: boolean; hasGate: boolean; nativeOnly: boolean; canBeDriven: boolean;
+  /** The RunConfig `kind` and `mfec.embedding` that run it. */
+  kind: string; mfecEmbedding: "autoencoder" | "random-projection" | null;
+}
 /** Settings (URL hash keys to values) with the run they describe. */
 export interface ParsedSettings {
   config: RunConfig; seed: number; settings: Record<string, string>; errors: string[];
@@ -107,70 +122,16 @@ export interface Explanation {
 
 #[derive(Serialize)]
 #[serde(rename_all = "camelCase")]
-struct DecisionView {
-    action: Option<u8>,
-    layer: Option<crate::agent::Layer>,
-    /// Couplets the contextual layer selected at the last decision.
-    selected: usize,
-    entropy: f64,
-    p: Option<[f64; ACTIONS]>,
-    gate_mse: f32,
-    ltm: usize,
-    capacity: usize,
-    episode: f64,
-    step: u32,
-    episode_reward: f64,
-    x: f32,
-    z: f32,
-    heading: f32,
-    decisions: f64,
-    min_sequences: usize,
-    gate: Option<f32>,
-    embedding: Option<Vec<f32>>,
-}
-
-#[derive(Serialize)]
-#[serde(rename_all = "camelCase")]
-struct ExplainedCouplet {
-    sequence: u32,
-    position: u32,
-    g: f64,
-    t: f64,
-    rr: f64,
-    d: f64,
-    action: u8,
-    value: f64,
-}
-
-#[derive(Serialize)]
-#[serde(rename_all = "camelCase")]
-struct Explanation {
-    couplets: Vec<ExplainedCouplet>,
-    q: [f64; ACTIONS],
-    p: [f64; ACTIONS],
-    tau: f64,
-    value_function: &'static str,
-    theta_abs: f64,
-    theta_prop: f64,
-    sequential_bias: bool,
-}
-
-#[derive(Serialize)]
-#[serde(rename_all = "camelCase")]
 struct StepResult {
     decided: bool,
     finished: Option<EpisodeMetrics>,
 }
 
-/// A run of SEC (or a baseline) in a task, stepped by the page's worker.
+/// A run of SEC (or a baseline) in a task, stepped by the page's worker: an adapter over the
+/// core's `Session`.
 #[wasm_bindgen]
 pub struct SecRun {
-    pub(super) run: Run,
-    seed: u64,
-    last: Option<crate::agent::Decision>,
-    /// Decisions since the run started.
-    decisions: u64,
-    trail: Trail,
+    pub(super) session: Session,
     image: Vec<f32>,
     scratch: Scratch,
     rec: Vec<f32>,
@@ -179,25 +140,18 @@ pub struct SecRun {
     marks: Vec<u32>,
 }
 
+/// Serialises for JS as JSON would (maps as objects, no `undefined`).
+fn to_js<T: Serialize>(value: &T) -> Result<JsValue, JsError> {
+    Ok(value.serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
+}
+
 fn config_from_js(config: JsValue) -> Result<RunConfig, JsError> {
     if config.is_undefined() || config.is_null() {
         return Ok(RunConfig::default());
     }
-    // Through JSON text (`args::json`: read in full, NaN refused) and a JSON value:
-    // serde-wasm-bindgen reads only the fields a struct names, so a misspelt key would pass
-    // silently; serde_json's value sees every key.
-    let text = args::json(&config, "config")?;
-    let value: serde_json::Value = serde_json::from_str(&text).map_err(|e| js_err(format!("config: {e}")))?;
-    if !value.is_object() {
-        return Err(js_err(format!("config: {} is not an object (a RunConfig)", crate::util::shown(&text))));
-    }
-    let cfg: RunConfig = serde_path_to_error::deserialize(value).map_err(|e| {
-        let path = e.path().to_string();
-        let what = if path == "." { "config".to_string() } else { path };
-        js_err(format!("{what}: {}", e.inner()))
-    })?;
-    cfg.validate().map_err(js_err)?;
-    Ok(cfg)
+    // Through JSON text (`args::json`: read in full, NaN refused) to the core's one parser, which
+    // sees every key, so a misspelt one is refused by name.
+    RunConfig::from_json(&args::json(&config, "config")?).map_err(js_err)
 }
 
 #[wasm_bindgen]
@@ -210,49 +164,26 @@ impl SecRun {
     ) -> Result<SecRun, JsError> {
         let cfg = config_from_js(config)?;
         let seed = seed_from_js(&seed)?;
-        Self::build(cfg, seed)
-    }
-
-    fn build(cfg: RunConfig, seed: u64) -> Result<SecRun, JsError> {
-        let run = Run::new(cfg, seed).map_err(js_err)?;
         Ok(SecRun {
-            seed,
-            last: None,
-            decisions: 0,
-            trail: Trail::new(run.env().world().agent.pos),
+            session: Session::new(cfg, seed).map_err(js_err)?,
             image: vec![0.0; IMAGE],
             scratch: Scratch::default(),
             rec: Vec::new(),
             rec_rgba: vec![0; IMAGE / 3 * 4],
             heat: Vec::new(),
             marks: Vec::new(),
-            run,
         })
-    }
-
-    fn tick(&mut self) -> crate::experiment::Tick {
-        let t = self.run.tick();
-        if t.decision.is_some() {
-            self.last = t.decision;
-            self.decisions += 1;
-        }
-        let at = self.run.env().world().agent.pos;
-        match t.finished {
-            Some(_) => self.trail.restart(at),
-            None => self.trail.push(at),
-        }
-        t
     }
 
     /// The configuration in force (a `RunConfig` with every field).
     #[wasm_bindgen(unchecked_return_type = "RunConfig")]
     pub fn config(&self) -> Result<JsValue, JsError> {
-        Ok(self.run.config().serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
+        to_js(self.session.config())
     }
 
     #[wasm_bindgen(getter)]
     pub fn seed(&self) -> f64 {
-        self.seed as f64
+        self.session.seed() as f64
     }
 
     /// Applies a new configuration. SEC's parameters (thresholds, alpha, beta, tau, m, the value
@@ -264,11 +195,7 @@ impl SecRun {
         #[wasm_bindgen(unchecked_param_type = "RunConfig")] config: JsValue,
     ) -> Result<String, JsError> {
         let cfg = config_from_js(config)?;
-        if self.run.reconfigure(cfg.clone()).map_err(js_err)? {
-            return Ok("live".into());
-        }
-        *self = Self::build(cfg, self.seed)?;
-        Ok("restart".into())
+        Ok(self.session.configure(cfg).map_err(js_err)?.as_str().into())
     }
 
     /// Restarts the run from scratch, with `seed` or the run's own.
@@ -277,9 +204,7 @@ impl SecRun {
         #[wasm_bindgen(unchecked_optional_param_type = "number")] seed: Option<JsValue>,
     ) -> Result<(), JsError> {
         let seed = args::optional(seed, "seed", 0, crate::seed::MAX_SEED)?;
-        let seed = seed.unwrap_or(self.seed);
-        *self = Self::build(self.run.config().clone(), seed)?;
-        Ok(())
+        self.session.reset(seed).map_err(js_err)
     }
 
     /// Runs `decisions` decisions (1..=100000); returns the episodes they finished
@@ -290,77 +215,27 @@ impl SecRun {
         #[wasm_bindgen(unchecked_param_type = "number")] decisions: JsValue,
     ) -> Result<JsValue, JsError> {
         let decisions = args::whole(&decisions, "decisions", 1, MAX_BATCH as u64)? as u32;
-        let mut done = Vec::new();
-        let mut left = decisions;
-        while left > 0 {
-            let t = self.tick();
-            left -= t.decision.is_some() as u32;
-            done.extend(t.finished);
-        }
-        Ok(done.serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
+        to_js(&self.session.run_decisions(decisions).map_err(js_err)?)
     }
 
     /// Plays to the next decision: `{decided, finished}` (`finished` is the episode it ended, if
     /// any).
     #[wasm_bindgen(js_name = stepDecision)]
     pub fn step_decision(&mut self) -> Result<JsValue, JsError> {
-        let t = loop {
-            let t = self.tick();
-            if t.decision.is_some() || t.finished.is_some() {
-                break t;
-            }
-        };
-        let out = StepResult { decided: t.decision.is_some(), finished: t.finished };
-        Ok(out.serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
+        let t = self.session.step_decision();
+        to_js(&StepResult { decided: t.decision.is_some(), finished: t.finished })
     }
 
     /// Plays the current episode to its end; returns its `EpisodeMetrics`.
     #[wasm_bindgen(js_name = stepEpisode, unchecked_return_type = "EpisodeMetrics")]
     pub fn step_episode(&mut self) -> Result<JsValue, JsError> {
-        let m = loop {
-            if let Some(m) = self.tick().finished {
-                break m;
-            }
-        };
-        Ok(m.serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
+        to_js(&self.session.step_episode())
     }
 
     /// The last decision and the run's state (`DecisionView`).
     #[wasm_bindgen(unchecked_return_type = "DecisionView")]
     pub fn view(&mut self) -> Result<JsValue, JsError> {
-        let gate_mse = self.run.gate_mse();
-        let controller = self.run.controller();
-        let (entropy, memory) = (controller.entropy(), controller.memory_use());
-        let (p, selected) = match controller.sec() {
-            Some(a) => {
-                let m = &a.memory;
-                ((m.entropy() > 0.0 || !m.selected().is_empty()).then(|| *m.p()), m.selected().len())
-            }
-            None => (None, 0),
-        };
-        let a = &self.run.env().world().agent;
-        let cur = self.run.current();
-        let out = DecisionView {
-            action: self.last.map(|d| d.action),
-            layer: self.last.map(|d| d.layer),
-            selected,
-            entropy,
-            p,
-            gate_mse,
-            ltm: memory.used,
-            capacity: memory.capacity,
-            episode: self.run.env().episode() as f64,
-            step: self.run.env().steps(),
-            episode_reward: cur.map_or(0.0, |c| c.reward),
-            x: a.pos.x,
-            z: a.pos.y,
-            heading: a.heading,
-            decisions: self.decisions as f64,
-            min_sequences: self.run.config().agent.min_sequences,
-            gate: self.run.config().agent.gate,
-            embedding: self.run.agent().map(|a| a.last_couplet().embedding.to_vec()),
-        };
-        Ok(out.serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
+        to_js(&self.session.view())
     }
 
     /// The last decision's contextual layer term by term (`Explanation`): every selected couplet
@@ -368,55 +243,22 @@ impl SecRun {
     /// without SEC or a decision where nothing was selected.
     #[wasm_bindgen(unchecked_return_type = "Explanation")]
     pub fn explain(&self) -> Result<JsValue, JsError> {
-        let (couplets, q, p, cfg) = match self.run.agent() {
-            Some(a) if !a.memory.selected().is_empty() => {
-                let m = &a.memory;
-                let couplets = m
-                    .selected()
-                    .iter()
-                    .map(|s| ExplainedCouplet {
-                        sequence: s.row,
-                        position: s.col,
-                        g: s.g,
-                        t: s.t,
-                        rr: s.rr,
-                        d: s.d,
-                        action: s.action,
-                        value: s.value,
-                    })
-                    .collect();
-                (couplets, *m.q(), *m.p(), m.config().clone())
-            }
-            Some(a) => (Vec::new(), [0.0; ACTIONS], [0.0; ACTIONS], a.memory.config().clone()),
-            None => (Vec::new(), [0.0; ACTIONS], [0.0; ACTIONS], self.run.config().agent.memory.clone()),
-        };
-        let value_function =
-            ValueFn::ALL.iter().find(|(_, v)| *v == cfg.value_function).map_or("default", |(name, _)| name);
-        let out = Explanation {
-            couplets,
-            q,
-            p,
-            tau: cfg.tau,
-            value_function,
-            theta_abs: cfg.theta_abs,
-            theta_prop: cfg.theta_prop,
-            sequential_bias: cfg.sequential_bias,
-        };
-        Ok(out.serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
+        to_js(&self.session.explain())
     }
 
     /// The agent's 84x84 camera as RGBA bytes (a view: copy before the next call).
     pub fn observation(&mut self) -> js_sys::Uint8Array {
-        let rgba = &self.run.observation().rgba;
+        let rgba = &self.session.run_mut().observation().rgba;
         // SAFETY: the view is into wasm memory and is documented as valid until the next call.
         unsafe { js_sys::Uint8Array::view(rgba) }
     }
 
     /// The autoencoder's reconstruction of the current camera image, RGBA (a view).
     pub fn reconstruction(&mut self) -> js_sys::Uint8Array {
-        self.run.observation().to_rgb_f32(&mut self.image);
+        let run = self.session.run_mut();
+        run.observation().to_rgb_f32(&mut self.image);
         let mut e = [0.0; EMBEDDING];
-        let ae = self.run.encoder();
+        let ae = run.encoder();
         ae.encode(&self.image, &mut self.scratch, &mut e);
         ae.decode(&e, &mut self.scratch, &mut self.rec);
         reconstruction_to_rgba(&self.rec, &mut self.rec_rgba);
@@ -431,7 +273,7 @@ impl SecRun {
         #[wasm_bindgen(unchecked_param_type = "number")] size: JsValue,
     ) -> Result<js_sys::Uint8Array, JsError> {
         let size = args::whole(&size, "size", *Trail::SIZES.start() as u64, *Trail::SIZES.end() as u64)? as u32;
-        let rgba = self.trail.render(self.run.env().world(), size).map_err(js_err)?;
+        let rgba = self.session.top_down(size).map_err(js_err)?;
         // SAFETY: as `observation`.
         Ok(unsafe { js_sys::Uint8Array::view(rgba) })
     }
@@ -443,21 +285,8 @@ impl SecRun {
         &mut self,
         #[wasm_bindgen(unchecked_param_type = "string")] which: JsValue,
     ) -> Result<js_sys::Float32Array, JsError> {
-        let which = args::string(&which, "which")?;
-        let which = which.as_str();
-        self.heat.clear();
-        if let Some(a) = self.run.agent() {
-            let m = &a.memory;
-            let cells = m.len() * m.config().n;
-            match which {
-                "g" => {
-                    let g = m.biased_similarity();
-                    self.heat.extend((0..cells).map(|i| g.get(i).copied().unwrap_or(0.0) as f32));
-                }
-                "t" => self.heat.extend(m.bias().iter().map(|&t| t as f32)),
-                _ => return Err(JsError::new(&format!("which: '{which}' is not one of g, t"))),
-            }
-        }
+        let which: MemoryMap = args::string(&which, "which")?.parse().map_err(js_err)?;
+        self.session.memory_map(which, &mut self.heat);
         // SAFETY: as `observation`.
         Ok(unsafe { js_sys::Float32Array::view(&self.heat) })
     }
@@ -465,11 +294,7 @@ impl SecRun {
     /// Flat indices (row * n + column) of the couplets selected at the last decision (a view).
     #[wasm_bindgen(js_name = selectedCouplets)]
     pub fn selected_couplets(&mut self) -> js_sys::Uint32Array {
-        self.marks.clear();
-        if let Some(a) = self.run.agent() {
-            let n = a.memory.config().n as u32;
-            self.marks.extend(a.memory.selected().iter().map(|s| s.row * n + s.col));
-        }
+        self.session.selected_couplets(&mut self.marks);
         // SAFETY: as `observation`.
         unsafe { js_sys::Uint32Array::view(&self.marks) }
     }
@@ -486,13 +311,13 @@ impl SecRun {
     ) -> Result<(), JsError> {
         let action = args::optional_whole(&action, "action", 0, ACTIONS as u64 - 1)?;
         let driver = action.map(|a| Driver { action: a as u8, record });
-        self.run.set_driver(driver).map_err(js_err)
+        self.session.set_driver(driver).map_err(js_err)
     }
 
     /// SEC's memory (STM and LTM) as a versioned file (`memory::file`): bytes to download.
     #[wasm_bindgen(js_name = saveMemory)]
     pub fn save_memory(&self) -> Result<Vec<u8>, JsError> {
-        self.run.save_memory().map_err(js_err)
+        self.session.save_memory().map_err(js_err)
     }
 
     /// Replaces SEC's memory with a saved file's; returns the sequences loaded. A corrupt,
@@ -500,13 +325,13 @@ impl SecRun {
     /// Error naming what is wrong, and the memory is left as it was.
     #[wasm_bindgen(js_name = loadMemory)]
     pub fn load_memory(&mut self, bytes: &[u8]) -> Result<u32, JsError> {
-        self.run.load_memory(bytes).map(|n| n as u32).map_err(js_err)
+        self.session.load_memory(bytes).map(|n| n as u32).map_err(js_err)
     }
 
     /// STM length n: the heat map's row length.
     #[wasm_bindgen(getter, js_name = stmLength)]
     pub fn stm_length(&self) -> u32 {
-        self.run.config().agent.memory.n as u32
+        self.session.config().agent.memory.n as u32
     }
 }
 
@@ -538,14 +363,19 @@ struct ParsedSettings {
 
 fn parsed(config: RunConfig, seed: u64, errors: Vec<String>) -> Result<JsValue, JsError> {
     let settings = settings::to_settings(&config, seed);
-    let out = ParsedSettings { config, seed: seed as f64, settings, errors };
-    Ok(out.serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
+    to_js(&ParsedSettings { config, seed: seed as f64, settings, errors })
 }
 
 /// The page's settings (`Param[]`): key, symbol, help, kind with range or options, live or not.
 #[wasm_bindgen(unchecked_return_type = "Param[]")]
 pub fn parameters() -> Result<JsValue, JsError> {
-    Ok(settings::params().serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
+    to_js(&settings::params())
+}
+
+/// The agent table (`AgentInfo[]`): every agent, its label and what it can do.
+#[wasm_bindgen(unchecked_return_type = "AgentInfo[]")]
+pub fn agents() -> Result<JsValue, JsError> {
+    to_js(&crate::agent::AGENTS)
 }
 
 /// Settings as the URL hash holds them (`{alpha: "0.01", ...}`) to `{config, seed, settings,
@@ -590,5 +420,5 @@ pub fn has_model(#[wasm_bindgen(unchecked_param_type = "string")] task: JsValue)
 #[wasm_bindgen(js_name = presetSettings, unchecked_return_type = "Record<string, string>")]
 pub fn preset_settings(#[wasm_bindgen(unchecked_param_type = "string")] name: JsValue) -> Result<JsValue, JsError> {
     let name = args::string(&name, "name")?;
-    Ok(settings::preset(&name).map_err(js_err)?.serialize(&serde_wasm_bindgen::Serializer::json_compatible())?)
+    to_js(&settings::preset(&name).map_err(js_err)?)
 }

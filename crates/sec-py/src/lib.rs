@@ -13,9 +13,10 @@ use rayon::prelude::*;
 use sec_playground::arena::yaml::load_task;
 use sec_playground::arena::{Action, Env, EnvConfig, Task, FRAMES_PER_STEP, FRAME_DT, TASK_NAMES};
 use sec_playground::encoder::{Perception, PerceptionKind, Scratch, EMBEDDING, IMAGE};
-use sec_playground::experiment::{Run, RunConfig};
+use sec_playground::experiment::RunConfig;
 use sec_playground::render::{Frame, Trail};
 use sec_playground::seed::MAX_SEED;
+use sec_playground::session::Session;
 use std::sync::Mutex;
 
 const SIDE: usize = 84;
@@ -262,11 +263,22 @@ impl PyVecEnv {
 }
 
 /// A run of SEC (NSEC, MFEC, the reactive walk) with the RunConfig of the CLI and the page, as
-/// JSON text; `sec_playground.Run` takes a dict.
+/// JSON text (`sec_playground.Run` takes a dict): an adapter over the core's `Session`, so its
+/// views and explanations are the page's.
 #[pyclass(module = "sec_playground._core", name = "Run")]
 struct PyRun {
     /// A class shared with Python must be `Sync`; a run's agent is only `Send`.
-    run: Mutex<Run>,
+    session: Mutex<Session>,
+}
+
+impl PyRun {
+    fn session(&self) -> std::sync::MutexGuard<'_, Session> {
+        self.session.lock().expect("a run's episode does not panic")
+    }
+}
+
+fn json<T: serde::Serialize>(value: &T) -> String {
+    serde_json::to_string(value).expect("views and metrics serialise")
 }
 
 #[pymethods]
@@ -274,27 +286,40 @@ impl PyRun {
     #[new]
     fn new(config: &str, seed: u64) -> PyResult<Self> {
         check_seed(seed)?;
-        let value: serde_json::Value = serde_json::from_str(config).map_err(|e| value_error(format!("config: {e}")))?;
-        if !value.is_object() {
-            return Err(value_error("config: not a dict (a RunConfig)"));
-        }
-        let cfg: RunConfig = serde_path_to_error::deserialize(value).map_err(|e| {
-            let path = e.path().to_string();
-            let what = if path == "." { "config".to_string() } else { path };
-            value_error(format!("{what}: {}", e.inner()))
-        })?;
-        Ok(PyRun { run: Mutex::new(Run::new(cfg, seed).map_err(value_error)?) })
+        Ok(PyRun { session: Mutex::new(Session::from_json(config, seed).map_err(value_error)?) })
     }
 
     /// Plays one episode (the GIL released) and returns its metrics as a JSON line.
     fn episode(&self, py: Python<'_>) -> String {
-        py.detach(|| self.run.lock().expect("a run's episode does not panic").episode().to_json())
+        py.detach(|| self.session().step_episode().to_json())
+    }
+
+    /// Runs `decisions` decisions (the GIL released); the episodes they finished, as JSON lines.
+    fn decisions(&self, py: Python<'_>, decisions: u32) -> PyResult<Vec<String>> {
+        py.detach(|| self.session().run_decisions(decisions))
+            .map(|done| done.iter().map(|m| m.to_json()).collect())
+            .map_err(value_error)
+    }
+
+    /// Applies a configuration (JSON): "live" or "restart" (see `Session::configure`).
+    fn configure(&self, config: &str) -> PyResult<&'static str> {
+        let cfg = RunConfig::from_json(config).map_err(value_error)?;
+        Ok(self.session().configure(cfg).map_err(value_error)?.as_str())
+    }
+
+    /// The last decision and the run's state (the page's `DecisionView`), as JSON.
+    fn view(&self) -> String {
+        json(&self.session().view())
+    }
+
+    /// The last decision's contextual layer term by term (the page's `Explanation`), as JSON.
+    fn explain(&self) -> String {
+        json(&self.session().explain())
     }
 
     /// The configuration, every field filled in, as JSON.
     fn config(&self) -> String {
-        serde_json::to_string(self.run.lock().expect("a run's episode does not panic").config())
-            .expect("configurations serialise")
+        json(self.session().config())
     }
 }
 
@@ -356,5 +381,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fingerprint, m)?)?;
     m.add("TASKS", TASK_NAMES.to_vec())?;
     m.add("MAX_SEED", MAX_SEED)?;
+    m.add("AGENTS_JSON", serde_json::to_string(sec_playground::agent::AGENTS).expect("the agent table serialises"))?;
     Ok(())
 }

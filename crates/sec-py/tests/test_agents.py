@@ -55,3 +55,62 @@ def test_the_bundled_encoder_gives_the_golden_embedding(golden):
         Encoder("double-t-maze", perception="pretrained")
     with pytest.raises(ValueError, match="frame"):
         Encoder("double-t-maze").encode(np.zeros((84, 84, 4), np.uint8))
+
+
+def test_a_run_shows_and_explains_its_decisions_as_the_page_does():
+    run = Run({"task": "object-permanence"}, seed=2)
+    view = run.view()
+    assert view["action"] is None and view["decisions"] == 0
+    assert set(view) == {
+        "action", "layer", "selected", "entropy", "p", "gateMse", "ltm", "capacity", "episode", "step",
+        "episodeReward", "x", "z", "heading", "decisions", "minSequences", "gate", "embedding",
+    }
+    # Golden seed 2: the contextual layer acts from the 16th episode.
+    explained = None
+    for _ in range(40):
+        run.decisions(500)
+        e = run.explain()
+        if e["couplets"]:
+            explained = e
+            break
+    assert explained is not None, "memory selected couplets within 20000 decisions"
+    q = [0.0] * 9
+    for c in explained["couplets"]:
+        q[c["action"]] += c["value"]
+    assert q == pytest.approx(explained["q"], rel=1e-12)
+    assert sum(explained["p"]) == pytest.approx(1.0)
+    view = run.view()
+    assert view["selected"] == len(explained["couplets"]) and len(view["embedding"]) == 20
+    assert view["decisions"] >= 500 and view["ltm"] >= 1
+    assert run.configure({"task": "object-permanence", "agent": {"memory": {"tau": 0.5}}}) == "live"
+    assert run.explain()["tau"] == 0.5
+    assert run.configure({"task": "object-permanence", "agent": {"memory": {"n": 30}}}) == "restart"
+    assert run.view()["decisions"] == 0
+    with pytest.raises(ValueError, match="tau"):
+        run.configure({"agent": {"memory": {"tau": -1}}})
+    assert run.config["agent"]["memory"]["n"] == 30
+    for n in (0, 100_001, 1.5, True):
+        with pytest.raises(ValueError, match="n:"):
+            run.decisions(n)
+    mfec = Run({"task": "object-permanence", "kind": "mfec"}, seed=1)
+    mfec.decisions(10)
+    assert mfec.view()["embedding"] is None and mfec.explain()["couplets"] == []
+
+
+def test_the_agent_table_runs_every_agent_the_page_offers():
+    from sec_playground import agents
+
+    table = agents()
+    keys = [a["key"] for a in table]
+    assert len(set(keys)) == len(keys) and any(a["nativeOnly"] for a in table)
+    for a in table:
+        config = {"task": "object-permanence", "kind": a["kind"]}
+        if a["mfecEmbedding"]:
+            config["mfec"] = {"embedding": a["mfecEmbedding"]}
+        if a["nativeOnly"]:
+            with pytest.raises(ValueError, match="kind"):
+                Run(config, seed=1)
+            continue
+        run = Run(config, seed=1)
+        run.decisions(5)
+        assert (run.view()["embedding"] is not None) == a["hasMemory"], a["key"]

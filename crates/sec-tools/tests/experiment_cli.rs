@@ -330,3 +330,16 @@ fn every_figure_the_docs_and_reports_show_exists() {
     assert!(figures > 20, "only {figures} figures found: is the link pattern still right?");
     assert!(missing.is_empty(), "figures linked but not there: {missing:#?}");
 }
+
+#[test]
+fn the_cli_lists_the_core_agent_table() {
+    let (ok, out, err) = cli(&["agents"]);
+    assert!(ok, "{err}");
+    let rows: Vec<Vec<&str>> = out.lines().skip(1).map(|l| l.split('\t').collect()).collect();
+    assert_eq!(rows.len(), sec_playground::agent::AGENTS.len());
+    for (row, a) in rows.iter().zip(sec_playground::agent::AGENTS) {
+        assert_eq!((row[0], row[5]), (a.key, a.label));
+        assert_eq!(row[4].contains("native-only"), a.native_only, "{row:?}");
+    }
+    assert!(!cli(&["agents", "x"]).0, "agents takes no argument");
+}

@@ -11,11 +11,23 @@ Everything runs in Rust (the same core as the browser playground and the native 
 a run is a pure function of its configuration and seed, on every platform.
 """
 
+import json as _json
+
+from ._core import AGENTS_JSON as _AGENTS_JSON
 from ._core import MAX_SEED, TASKS, Encoder, fingerprint
 from .envs import ENV_IDS, ArenaEnv, ArenaVectorEnv
 from .run import Run
 
-__all__ = ["ArenaEnv", "ArenaVectorEnv", "Encoder", "Run", "TASKS", "ENV_IDS", "MAX_SEED", "fingerprint"]
+__all__ = ["ArenaEnv", "ArenaVectorEnv", "Encoder", "Run", "TASKS", "ENV_IDS", "MAX_SEED", "agents", "fingerprint"]
+
+
+def agents() -> list:
+    """The core's agent table, as the page and the CLI read it: one dict per agent with its key
+    (the page's `agent` setting), label, about, explores, section (the RunConfig section of its
+    parameters), reads ("embedding", "image" or "nothing"), hasMemory, hasGate, nativeOnly
+    (runs only through sec-experiment), canBeDriven, and the RunConfig `kind` and
+    `mfecEmbedding` (`mfec.embedding`) that run it."""
+    return _json.loads(_AGENTS_JSON)
 
 
 def _register():

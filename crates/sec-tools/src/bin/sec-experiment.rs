@@ -16,6 +16,7 @@
 //!                                 [--quote REPRODUCTION.md]
 //!   sec-experiment verify [--out results/experiments]
 //!   sec-experiment list
+//!   sec-experiment agents
 //!   sec-experiment record --config FILE.json --seed S --episodes N --events OUT.jsonl
 //!   sec-experiment trace --config FILE.json --seed S --events IN.jsonl [--trace OUT.jsonl]
 //!
@@ -45,6 +46,7 @@ const USAGE: &str = "usage:
   sec-experiment verify [--out DIR]   (every shorter run is the head of the longer runs of its
                                        configuration and seed)
   sec-experiment list
+  sec-experiment agents   (the agent table: key, RunConfig kind and section, what each can do)
   sec-experiment record --config FILE.json --seed S --episodes N --events OUT.jsonl
   sec-experiment trace --config FILE.json --seed S --events IN.jsonl [--trace OUT.jsonl]
 defaults: --seeds 1..20, --episodes 5000, --jobs all cores, --shard 1/1, --out results/experiments,
@@ -102,15 +104,39 @@ fn number<T: std::str::FromStr + PartialOrd + std::fmt::Display>(
 fn read_config(path: &str) -> Result<RunConfig, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("--config {path}: {e}"))?;
     // The field is named as well as the line and column (`agent.memory.tau: invalid type ...`).
-    let cfg: RunConfig =
-        serde_path_to_error::deserialize(&mut serde_json::Deserializer::from_str(&text)).map_err(|e| {
-            let field = e.path().to_string();
-            let field = if field == "." { "config".to_string() } else { field };
-            format!("--config {path}: {field}: {}", e.inner())
-        })?;
-    // Building a run validates every parameter, naming it.
+    let cfg = RunConfig::from_json(&text).map_err(|e| format!("--config {path}: {e}"))?;
+    // Building a run checks what only a run can (the task's model; DQN's settings).
     Run::with_agents(cfg.clone(), 0, Some(sec_dqn::factory)).map_err(|e| format!("--config {path}: {e}"))?;
     Ok(cfg)
+}
+
+/// The core's agent table as text, one agent per line.
+fn agent_table() -> String {
+    let mut out = String::from("key\tkind\tsection\treads\tcan\tlabel\n");
+    for a in sec_playground::agent::AGENTS {
+        let kind = serde_json::to_value(a.kind).expect("kinds serialise");
+        let reads = serde_json::to_value(a.reads).expect("reads serialise");
+        let can: Vec<&str> = [
+            (a.has_memory, "memory"),
+            (a.has_gate, "gate"),
+            (a.can_be_driven, "driven"),
+            (a.native_only, "native-only"),
+        ]
+        .iter()
+        .filter(|(on, _)| *on)
+        .map(|(_, name)| *name)
+        .collect();
+        let can = if can.is_empty() { "-".to_string() } else { can.join(",") };
+        out += &format!(
+            "{}\t{}\t{}\t{}\t{can}\t{}\n",
+            a.key,
+            kind.as_str().unwrap_or_default(),
+            a.section.unwrap_or("-"),
+            reads.as_str().unwrap_or_default(),
+            a.label
+        );
+    }
+    out
 }
 
 fn dispatch(args: &[String]) -> Result<(), String> {
@@ -135,6 +161,13 @@ fn dispatch(args: &[String]) -> Result<(), String> {
                 sec_tools::quote::quote_required(Path::new(page), "orderings", &md)?;
             }
             print!("{md}");
+            Ok(())
+        }
+        "agents" => {
+            if !rest.is_empty() {
+                return Err(format!("agents takes no argument\n{USAGE}"));
+            }
+            print!("{}", agent_table());
             Ok(())
         }
         "list" => {

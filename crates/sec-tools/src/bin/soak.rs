@@ -38,7 +38,7 @@ fn main() {
         done += t.decision.is_some() as u64;
         episodes += t.finished.is_some() as u64;
         if done % 50_000 == 0 && t.decision.is_some() {
-            let ltm = run.agent().map_or(0, |a| a.memory.len());
+            let ltm = run.inspect().memory.map_or(0, |m| m.len());
             let rss = rss_kib() as f64 / 1024.0;
             println!("| {done} | {episodes} | {ltm} | {rss:.1} | {:.0} |", t0.elapsed().as_secs_f64());
         }

@@ -1,0 +1,151 @@
+//! What a front end shows of a run after a decision: the page's views and "explain this
+//! decision", Python's `Run.view()` and `Run.explain()`. Built from the agent's `AgentView`, so
+//! every front end shows the same numbers under the same names.
+
+use crate::agent::{Decision, Layer};
+use crate::experiment::Run;
+use crate::memory::{ValueFn, ACTIONS};
+use serde::Serialize;
+
+/// The last decision and the state the views show.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct DecisionView {
+    /// The action taken at the last decision (none before the first).
+    pub action: Option<u8>,
+    /// The layer that chose it.
+    pub layer: Option<Layer>,
+    /// Couplets the contextual layer selected at the last decision.
+    pub selected: usize,
+    /// The entropy (bits) the last decision logs.
+    pub entropy: f64,
+    /// The memory's policy p = Q / sum Q, while it has one (an agent with a memory that selected
+    /// something, or whose entropy is still that of an earlier selection).
+    pub p: Option<[f64; ACTIONS]>,
+    /// The reconstruction error of the current frame.
+    pub gate_mse: f32,
+    /// Entries in the agent's memory, and the most it keeps.
+    pub ltm: usize,
+    pub capacity: usize,
+    /// The episode in progress and its env step.
+    pub episode: u64,
+    pub step: u32,
+    /// R_ep so far.
+    pub episode_reward: f64,
+    /// The body's position on the floor and its heading (radians).
+    pub x: f32,
+    pub z: f32,
+    pub heading: f32,
+    /// Decisions since the run started (a rate is its change over time).
+    pub decisions: u64,
+    /// The memory acts only once the LTM holds this many sequences (0 for an agent without).
+    pub min_sequences: usize,
+    /// The reconstruction gate's threshold (none: no gate).
+    pub gate: Option<f32>,
+    /// The embedding of the last decision's frame (none for an agent that keeps none).
+    pub embedding: Option<Vec<f32>>,
+}
+
+/// One couplet the last retrieval selected, term by term.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct ExplainedCouplet {
+    /// Its LTM sequence and STM position.
+    pub sequence: u32,
+    pub position: u32,
+    /// G = similarity x T, T, relative reward, distance.
+    pub g: f64,
+    pub t: f64,
+    pub rr: f64,
+    pub d: f64,
+    /// The action it votes for, and its value.
+    pub action: u8,
+    pub value: f64,
+}
+
+/// The last decision's contextual layer term by term (no couplets when it selected nothing).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct Explanation {
+    pub couplets: Vec<ExplainedCouplet>,
+    /// Q per action (the sum of its couplets' values) and p = Q / sum Q.
+    pub q: [f64; ACTIONS],
+    pub p: [f64; ACTIONS],
+    /// The parameters the terms were computed with.
+    pub tau: f64,
+    pub value_function: &'static str,
+    pub theta_abs: f64,
+    pub theta_prop: f64,
+    pub sequential_bias: bool,
+}
+
+/// The view of `run` after `last` (the last decision, if any) and `decisions` decisions.
+pub fn decision_view(run: &mut Run, last: Option<Decision>, decisions: u64) -> DecisionView {
+    let gate_mse = run.gate_mse();
+    let (entropy, memory_use) = (run.controller().entropy(), run.controller().memory_use());
+    let agent = run.inspect();
+    let (p, selected) = match agent.memory {
+        Some(m) => ((m.entropy() > 0.0 || !m.selected().is_empty()).then(|| *m.p()), m.selected().len()),
+        None => (None, 0),
+    };
+    let body = &run.env().world().agent;
+    DecisionView {
+        action: last.map(|d| d.action),
+        layer: last.map(|d| d.layer),
+        selected,
+        entropy,
+        p,
+        gate_mse,
+        ltm: memory_use.used,
+        capacity: memory_use.capacity,
+        episode: run.env().episode(),
+        step: run.env().steps(),
+        episode_reward: run.current().map_or(0.0, |c| c.reward),
+        x: body.pos.x,
+        z: body.pos.y,
+        heading: body.heading,
+        decisions,
+        min_sequences: agent.min_sequences.unwrap_or(0),
+        gate: agent.gate,
+        embedding: agent.last_embedding.map(|e| e.to_vec()),
+    }
+}
+
+/// The last decision of `run` explained; the parameters are the agent's memory's, or the
+/// configuration's for an agent without one.
+pub fn explain(run: &Run) -> Explanation {
+    let memory = run.inspect().memory;
+    let cfg = memory.map_or(&run.config().agent.memory, |m| m.config());
+    let (couplets, q, p) = match memory {
+        Some(m) if !m.selected().is_empty() => {
+            let couplets = m
+                .selected()
+                .iter()
+                .map(|s| ExplainedCouplet {
+                    sequence: s.row,
+                    position: s.col,
+                    g: s.g,
+                    t: s.t,
+                    rr: s.rr,
+                    d: s.d,
+                    action: s.action,
+                    value: s.value,
+                })
+                .collect();
+            (couplets, *m.q(), *m.p())
+        }
+        _ => (Vec::new(), [0.0; ACTIONS], [0.0; ACTIONS]),
+    };
+    let value_function =
+        ValueFn::ALL.iter().find(|(_, v)| *v == cfg.value_function).map_or("default", |(name, _)| name);
+    Explanation {
+        couplets,
+        q,
+        p,
+        tau: cfg.tau,
+        value_function,
+        theta_abs: cfg.theta_abs,
+        theta_prop: cfg.theta_prop,
+        sequential_bias: cfg.sequential_bias,
+    }
+}
