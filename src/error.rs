@@ -13,13 +13,16 @@ pub struct ConfigError {
     pub line: Option<usize>,
     /// The parameter or field, e.g. `items[2].sizes[0].x` or `seed`.
     pub field: String,
+    /// What is wrong, with the allowed range.
     pub message: String,
 }
 
 impl ConfigError {
+    /// An error about `field`.
     pub fn new(field: impl Into<String>, message: impl Into<String>) -> Self {
         ConfigError { line: None, field: field.into(), message: message.into() }
     }
+    /// An error about `field` at 1-based `line` of a file.
     pub fn at(line: usize, field: impl Into<String>, message: impl Into<String>) -> Self {
         ConfigError { line: Some(line), field: field.into(), message: message.into() }
     }
@@ -50,6 +53,7 @@ pub struct FileError {
     pub line: Option<usize>,
     /// What in it is wrong: a field (`arenas.0.t`, `n`), or the kind of file when it is the whole.
     pub field: String,
+    /// What is wrong.
     pub message: String,
 }
 
@@ -81,7 +85,9 @@ impl std::error::Error for FileError {}
 /// A configuration or a file error.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Error {
+    /// A value out of range.
     Config(ConfigError),
+    /// A file refused.
     File(FileError),
 }
 

@@ -1,6 +1,10 @@
-//! SEC Playground core: the Animal-AI v1 arenas and their first-person camera, and SEC's
-//! perceptual layer (the paper's autoencoder), built for the browser (wasm32) and natively from
-//! the same code, deterministically.
+//! SEC Playground core: Sequential Episodic Control (Freire, Amil & Verschure) and its baselines
+//! in the Animal-AI v1 arenas, seen through the agent's first-person camera: the arenas, the
+//! camera, the autoencoders, SEC's memory, the agents, runs and sessions, built for the browser
+//! (wasm32) and natively from the same code, deterministically. docs/ARCHITECTURE.md has the
+//! layers and where each concept lives; every public item is documented (`missing_docs`).
+
+#![warn(missing_docs)]
 
 pub mod agent;
 pub mod arena;

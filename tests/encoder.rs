@@ -272,7 +272,7 @@ fn every_bundled_model_reconstructs_its_held_out_frames() {
 /// known task, and take the place of the task's model; a refused file changes nothing.
 #[test]
 fn registered_models_are_checked_and_used() {
-    let (_, bytes) = bundled::FILES.iter().find(|(t, _)| *t == "detour").unwrap();
+    let bytes = sec_playground::arena::TaskInfo::find("detour").unwrap().model;
     let mut w = Weights::from_bytes(bytes).unwrap();
     w.task = "maze".into();
     let e = bundled::register(&w.to_bytes(DType::F16)).unwrap_err().to_string();

@@ -361,3 +361,10 @@ fn the_agent_table_crosses_to_js_as_the_core_declares_it() {
     assert_eq!(table, serde_json::to_value(sec_playground::agent::AGENTS).unwrap());
     assert!(table.as_array().unwrap().iter().any(|a| a["key"] == "sec" && a["hasMemory"] == true));
 }
+
+#[wasm_bindgen_test]
+fn the_task_table_crosses_to_js_as_the_core_declares_it() {
+    let table: serde_json::Value = serde_wasm_bindgen::from_value(sec_playground::web::tasks().unwrap()).unwrap();
+    assert_eq!(table, serde_json::to_value(sec_playground::arena::TASKS).unwrap());
+    assert_eq!(table.as_array().unwrap().len(), TASK_NAMES.len());
+}

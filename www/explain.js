@@ -22,6 +22,10 @@ export function whyLayer(view, agent) {
       + `from memory (${more} more; a sequence is stored at every goal).`;
   }
   if (!view.selected) return 'Reactive walk: no stored couplet passed the thresholds θ_abs and θ_prop for this view.';
+  if (view.gate != null && view.gateMse == null) {
+    return 'Reactive walk: the reconstruction gate has not measured a view yet (it does every 16 steps), '
+      + 'so memory is not trusted.';
+  }
   if (view.gate != null && view.gateMse >= view.gate) {
     return `Reactive walk: reconstruction error ${view.gateMse.toFixed(4)} is above the gate's ${+view.gate.toPrecision(4)}, `
       + 'so this view is unfamiliar and memory is not trusted.';

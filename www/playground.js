@@ -127,7 +127,7 @@ export class Playground {
     const kind = this.$('heat-kind').value;
     drawHeatScale(this.$('heat-scale'), this.$('heat-lo'), this.$('heat-hi'), kind);
     this.send({
-      type: 'views', camera: watching, heat: watching ? kind : null,
+      type: 'views', camera: watching, top: this.$('arena').width, heat: watching ? kind : null,
       hz: fast ? MAX_SPEED_VIEW_HZ : 30, explain: watching && !this.wantPlay,
     });
   }
@@ -403,9 +403,9 @@ Playground.prototype.handlers = {
         this.firstFrame = performance.now();
         performance.mark('sec-playground:first-frame');
       }
-      drawRgba($('camera'), new Uint8Array(msg.camera), 84, 84);
-      drawRgba($('reconstruction'), new Uint8Array(msg.reconstruction), 84, 84);
-      drawRgba($('arena'), new Uint8Array(msg.top), 252, 252);
+      drawRgba($('camera'), new Uint8Array(msg.camera), msg.side, msg.side);
+      drawRgba($('reconstruction'), new Uint8Array(msg.reconstruction), msg.side, msg.side);
+      drawRgba($('arena'), new Uint8Array(msg.top), $('arena').width, $('arena').width);
     }
     if (msg.heat) drawHeat($('heat'), new Float32Array(msg.heat), msg.n, new Uint32Array(msg.selected), $('heat-kind').value);
     const v = msg.view;
@@ -417,7 +417,7 @@ Playground.prototype.handlers = {
     $('layer').textContent = LAYERS[v.layer] ?? '–';
     $('why').textContent = whyLayer(v, this.agentInfo());
     $('gate-mse').textContent = this.agentInfo()?.reads === 'nothing' ? '–'
-      : `${v.gateMse >= 100 ? 'not measured yet' : v.gateMse.toFixed(4)}${v.gate != null ? ` (gate ${+v.gate.toPrecision(4)})` : ''}`;
+      : `${v.gateMse == null ? 'not measured yet' : v.gateMse.toFixed(4)}${v.gate != null ? ` (gate ${+v.gate.toPrecision(4)})` : ''}`;
     if (msg.explain) {
       this.lastExplanation = msg.explain;
       drawExplanation($('explain'), msg.explain);

@@ -4,12 +4,12 @@
 //
 // Messages in:  {type: 'start', settings}, {type: 'set', changes}, {type: 'play'}, {type: 'pause'},
 //               {type: 'speed', value}, {type: 'step', what: 'decision' | 'episode'},
-//               {type: 'reset'}, {type: 'views', camera, heat, hz, explain}, {type: 'drive', action, record},
+//               {type: 'reset'}, {type: 'views', camera, top, heat, hz, explain}, {type: 'drive', action, record},
 //               {type: 'saveMemory'}, {type: 'loadMemory', bytes}, {type: 'crash'} (a test hook)
 // Messages out: {type: 'ready', params, agents, defaults, build}, {type: 'started', settings, errors, mode},
 //               {type: 'episodes', list}, {type: 'view', ...}, {type: 'state', playing},
 //               {type: 'memory', bytes}, {type: 'loaded', sequences}, {type: 'error', message, fatal}
-import init, { build, ensureModel, SecRun, agents, parameters, parseSettings, applySettings, presetSettings, panicForTest } from './wasm.js';
+import init, { build, ensureModel, SecRun, agents, frameSize, parameters, parseSettings, applySettings, presetSettings, panicForTest } from './wasm.js';
 import { AdaptiveBatch, SLICE_MS, serveMessages } from './slices.js';
 
 /** Most view posts per second while watching; the page asks for fewer at max speed. */
@@ -19,7 +19,7 @@ let run = null;
 let settings = null;
 let playing = false;
 let speed = Infinity; // decisions per second; Infinity is "max"
-let want = { camera: true, heat: 'g', hz: VIEW_HZ, explain: false };
+let want = { camera: true, top: 252, heat: 'g', hz: VIEW_HZ, explain: false };
 // Decisions per call at max speed; each call aims at a quarter of the slice.
 const batch = new AdaptiveBatch(8, 10000, 1 / 4);
 let lastView = 0;
@@ -47,7 +47,8 @@ function postView(force = false) {
   if (want.camera) {
     msg.camera = copy(run.observation());
     msg.reconstruction = copy(run.reconstruction());
-    msg.top = copy(run.topDown(252));
+    msg.top = copy(run.topDown(want.top));
+    msg.side = frameSize();
     transfer.push(msg.camera, msg.reconstruction, msg.top);
   }
   if (want.heat) {
@@ -199,9 +200,10 @@ const handlers = {
     if (!panicForTest) throw new Error('crash: a test hook, in the test flavour only (?wasm=hooks)');
     panicForTest();
   },
-  views({ camera, heat, hz, explain }) {
+  views({ camera, top, heat, hz, explain }) {
     want = {
       camera: !!camera,
+      top: Number.isInteger(top) ? top : want.top,
       heat: heat === 't' || heat === 'g' ? heat : null,
       hz: Math.min(VIEW_HZ, Math.max(1, Number(hz) || VIEW_HZ)),
       explain: !!explain,

@@ -192,8 +192,11 @@ pub const NO_MEMORY_FILE: &str = "only SEC keeps a memory file (this run's agent
 pub struct AgentSettings<'a> {
     /// SEC's (and NSEC's).
     pub sec: &'a SecConfig,
+    /// MFEC's.
     pub mfec: &'a MfecConfig,
+    /// DQN's (and ERLAM's network).
     pub dqn: &'a DqnConfig,
+    /// ERLAM's associative memory.
     pub erlam: &'a ErlamConfig,
 }
 

@@ -11,7 +11,9 @@ use crate::arena::ConfigError;
 pub struct DqnConfig {
     /// RMSprop's learning rate.
     pub learning_rate: f64,
+    /// Discount factor.
     pub gamma: f64,
+    /// Transitions per training batch.
     pub batch_size: usize,
     /// Transitions the replay buffer keeps (the authors ran 25,000 and a 5,000 variant).
     pub replay_size: usize,
@@ -19,7 +21,9 @@ pub struct DqnConfig {
     pub random_decisions: u64,
     /// Decisions over which epsilon falls linearly from `epsilon_start` to `epsilon_end`.
     pub epsilon_decisions: u64,
+    /// Exploration rate at the start of the decay.
     pub epsilon_start: f64,
+    /// Exploration rate after the decay.
     pub epsilon_end: f64,
     /// A training step every this many decisions.
     pub train_every: u64,
@@ -53,6 +57,7 @@ fn range(field: &str, value: impl std::fmt::Display, allowed: &str) -> Result<()
 }
 
 impl DqnConfig {
+    /// Every field in its range, the error naming it.
     pub fn validate(&self) -> Result<(), ConfigError> {
         let unit = |v: f64| v.is_finite() && (0.0..=1.0).contains(&v);
         if !(self.learning_rate.is_finite() && self.learning_rate > 0.0 && self.learning_rate <= 1.0) {
@@ -143,6 +148,7 @@ impl Default for ErlamConfig {
 }
 
 impl ErlamConfig {
+    /// Every field in its range, the error naming it.
     pub fn validate(&self) -> Result<(), ConfigError> {
         let bad = |field: &str, value: String, allowed: &str| {
             Err(ConfigError::new(format!("erlam.{field}"), format!("{value} is out of range {allowed}")))

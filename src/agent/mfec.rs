@@ -50,11 +50,13 @@ pub enum Bookkeeping {
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "camelCase", default, deny_unknown_fields)]
 pub struct MfecConfig {
+    /// Where the state vectors come from.
     pub embedding: Embedding,
     /// Neighbours averaged for an unseen state.
     pub k: usize,
     /// Entries per action buffer (FC 100,000; HEAD 25,000; memory-matched runs m * 50 / 9).
     pub capacity: usize,
+    /// Discount factor of the returns stored.
     pub gamma: f64,
     /// Probability of a reactive step once the warm-up is over.
     pub epsilon: f64,
@@ -64,6 +66,7 @@ pub struct MfecConfig {
     pub warmup_rewarded_episodes: u64,
     /// Deviation from D13: every frame's reward reaches the transition of the decision it follows.
     pub sum_rewards: bool,
+    /// When returns are written into the buffers.
     pub bookkeeping: Bookkeeping,
 }
 
@@ -84,6 +87,7 @@ impl Default for MfecConfig {
 }
 
 impl MfecConfig {
+    /// Every field in its range, the error naming it.
     pub fn validate(&self) -> Result<(), ConfigError> {
         let range = |p: &str, v: String, r: &str| Err(ConfigError::new(p, format!("{v} is out of range {r}")));
         if !(1..=1000).contains(&self.k) {
@@ -220,6 +224,7 @@ pub struct Mfec {
 }
 
 impl Mfec {
+    /// An agent of `cfg`, its reactive walk drawn from `rng`; an invalid `cfg` is refused.
     pub fn new(cfg: MfecConfig, rng: &mut ChaCha8Rng) -> Result<Self, ConfigError> {
         cfg.validate()?;
         // Each buffer starts with one entry: the zero state, valued -10.
@@ -253,6 +258,7 @@ impl Mfec {
         Mfec { projection: Some(projection), ..self }
     }
 
+    /// Its parameters.
     pub fn config(&self) -> &MfecConfig {
         &self.cfg
     }
@@ -272,6 +278,7 @@ impl Mfec {
         self.buffers.iter().map(Buffer::len).sum()
     }
 
+    /// Whether no buffer holds an entry.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
@@ -444,6 +451,7 @@ pub struct RandomProjection {
 }
 
 impl RandomProjection {
+    /// A projection drawn from `rng`.
     pub fn new(rng: &mut ChaCha8Rng) -> Self {
         let sd = 1.0 / (IMAGE as f64).sqrt();
         let w = (0..EMBEDDING * IMAGE)

@@ -17,8 +17,10 @@ pub use table::{AgentInfo, AgentKind, AGENTS};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Layer {
     #[serde(rename = "R")]
+    /// The reactive walk.
     Reactive,
     #[serde(rename = "C")]
+    /// The contextual layer: memory.
     Contextual,
     /// A person at the controls (the page's "drive it yourself").
     #[serde(rename = "H")]
@@ -28,7 +30,9 @@ pub enum Layer {
 /// One decision's outcome.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Decision {
+    /// The action taken, 0..=8 (`arena::Action`'s index).
     pub action: u8,
+    /// The layer that chose it.
     pub layer: Layer,
     /// Whether the contextual layer selected couplets (so its entropy is fresh).
     pub selected: bool,

@@ -10,7 +10,9 @@ use rand_chacha::ChaCha8Rng;
 
 /// The walk's actions as indices: forward (1, 0), and the two turns in place (0, 1) and (0, 2).
 pub const FORWARD: u8 = Action::FORWARD.index() as u8;
+/// The walk's turn one way (right).
 pub const TURN_1: u8 = Action::RIGHT.index() as u8;
+/// The walk's turn the other way (left).
 pub const TURN_2: u8 = Action::LEFT.index() as u8;
 
 /// The walk's state: a counter through `straight` forward steps then `turns` turns.

@@ -16,6 +16,7 @@ use rand_chacha::ChaCha8Rng;
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "camelCase", default, deny_unknown_fields)]
 pub struct SecConfig {
+    /// The STM and LTM's parameters.
     pub memory: MemoryConfig,
     /// The contextual layer may act once the LTM holds at least this many sequences (code: 5).
     pub min_sequences: usize,
@@ -55,6 +56,7 @@ impl SecConfig {
         c
     }
 
+    /// Every field in its range, the error naming it.
     pub fn validate(&self) -> Result<(), ConfigError> {
         self.memory.validate()?;
         if self.min_sequences > self.memory.m {
@@ -86,6 +88,7 @@ pub struct Sec {
 }
 
 impl Sec {
+    /// An agent of `cfg` with an empty memory, its reactive walk drawn from `rng`.
     pub fn new(cfg: SecConfig, rng: &mut ChaCha8Rng) -> Result<Self, ConfigError> {
         cfg.validate()?;
         Ok(Sec {
@@ -97,6 +100,7 @@ impl Sec {
         })
     }
 
+    /// Its parameters.
     pub fn config(&self) -> &SecConfig {
         &self.cfg
     }

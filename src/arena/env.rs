@@ -13,13 +13,20 @@ use rand_chacha::ChaCha8Rng;
 pub struct Action(u8);
 
 impl Action {
+    /// Stand still.
     pub const NOOP: Action = Action(0);
+    /// Move forward.
     pub const FORWARD: Action = Action(3);
+    /// Move back.
     pub const BACKWARD: Action = Action(6);
+    /// Turn right.
     pub const RIGHT: Action = Action(1);
+    /// Turn left.
     pub const LEFT: Action = Action(2);
+    /// Actions there are: 3 movements x 3 rotations.
     pub const COUNT: usize = 9;
 
+    /// The action of index 0..=8; another index is refused by name.
     pub fn new(index: u32) -> Result<Action, ConfigError> {
         if (index as usize) < Self::COUNT {
             Ok(Action(index as u8))
@@ -27,12 +34,14 @@ impl Action {
             Err(ConfigError::new("action", format!("{index} is out of range 0..={}", Self::COUNT - 1)))
         }
     }
+    /// The action of Animal-AI's two branches (movement, rotation), each 0..=2.
     pub fn from_branches(a0: u8, a1: u8) -> Result<Action, ConfigError> {
         if a0 > 2 || a1 > 2 {
             return Err(ConfigError::new("action", format!("branches ({a0}, {a1}) are out of range 0..=2")));
         }
         Ok(Action(3 * a0 + a1))
     }
+    /// Its index, 0..=8.
     pub const fn index(self) -> usize {
         self.0 as usize
     }
@@ -45,15 +54,18 @@ impl Action {
 /// What the environment is: the task, and an optional override of its episode limit.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnvConfig {
+    /// The task whose layouts the episodes cycle through.
     pub task: Task,
     /// Episode limit in env steps; `None` keeps each layout's own `t`.
     pub t: Option<u32>,
 }
 
 impl EnvConfig {
+    /// The task with its own episode limits.
     pub fn new(task: Task) -> Self {
         EnvConfig { task, t: None }
     }
+    /// Every field in its range, the error naming it.
     pub fn validate(&self) -> Result<(), ConfigError> {
         if let Some(t) = self.t {
             if t > MAX_T {
@@ -88,10 +100,15 @@ pub struct StepOutcome {
 /// What `step` returns, in Gymnasium's order.
 #[derive(Debug)]
 pub struct Step<'a> {
+    /// The camera image after the step.
     pub observation: &'a Frame,
+    /// The step's reward.
     pub reward: f64,
+    /// The episode ended by a goal or a death zone.
     pub terminated: bool,
+    /// The episode ended by the time limit.
     pub truncated: bool,
+    /// What else happened (goal touched, position, heading).
     pub info: StepOutcome,
 }
 
@@ -230,6 +247,7 @@ impl Env {
     pub fn t(&self) -> u32 {
         self.config.t.unwrap_or(self.config.task.layouts[self.layout].t)
     }
+    /// The arena's current state.
     pub fn world(&self) -> &World {
         &self.world
     }
@@ -239,6 +257,7 @@ impl Env {
         self.frame_fresh = false;
         &mut self.world
     }
+    /// Its configuration.
     pub fn config(&self) -> &EnvConfig {
         &self.config
     }
@@ -254,6 +273,7 @@ impl Env {
     pub fn layout_name(&self) -> &str {
         &self.config.task.layouts[self.layout].name
     }
+    /// Whether the episode has ended (a reset starts the next).
     pub fn is_over(&self) -> bool {
         self.over
     }

@@ -17,7 +17,7 @@ pub use env::{Action, Env, EnvConfig, Step, StepOutcome};
 pub use physics::{
     AGENT_RADIUS, DRAG_FACTOR, FRAMES_PER_STEP, FRAME_DT, FRICTION_DV, GRAVITY, IMPULSE_DV, TURN_DEGREES,
 };
-pub use tasks::{facing_centre, StartHeading, Task, TASK_NAMES};
+pub use tasks::{facing_centre, StartHeading, Task, TaskInfo, TASKS, TASK_NAMES};
 pub use world::{Agent, BoxObj, Footprint, Goal, Tunnel, World, Zone};
 
 /// Side of the square arena, metres; the fences' inner faces are at 0 and 40.
@@ -36,18 +36,28 @@ pub struct Rgb(pub u8, pub u8, pub u8);
 /// The objects of the Animal-AI catalogue this simulator implements (docs/ARENAS.md section 5).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ObjectKind {
+    /// An opaque wall block.
     Wall,
+    /// A see-through wall block.
     WallTransparent,
+    /// An arch the agent can walk through.
     CylinderTunnel,
+    /// A see-through arch.
     CylinderTunnelTransparent,
+    /// A green sphere: positive reward, ends the episode.
     GoodGoal,
+    /// A red sphere: negative reward, ends the episode.
     BadGoal,
+    /// A gold sphere: positive reward, collected without ending the episode.
     GoodGoalMulti,
+    /// A red floor zone: reward -1, ends the episode.
     DeathZone,
+    /// An orange floor zone: a penalty per step on it.
     HotZone,
 }
 
 impl ObjectKind {
+    /// Every kind, in the catalogue's order.
     pub const ALL: [ObjectKind; 9] = [
         ObjectKind::Wall,
         ObjectKind::WallTransparent,
@@ -75,6 +85,7 @@ impl ObjectKind {
         }
     }
 
+    /// The kind of an Animal-AI object name (`GoodGoal`, ...), if implemented.
     pub fn from_name(name: &str) -> Option<ObjectKind> {
         ObjectKind::ALL.into_iter().find(|k| k.name() == name)
     }
@@ -105,6 +116,7 @@ impl ObjectKind {
         matches!(self, ObjectKind::Wall | ObjectKind::CylinderTunnel)
     }
 
+    /// Whether touching it is a goal (good, bad or multi).
     pub fn is_goal(self) -> bool {
         matches!(self, ObjectKind::GoodGoal | ObjectKind::BadGoal | ObjectKind::GoodGoalMulti)
     }
@@ -113,6 +125,7 @@ impl ObjectKind {
 /// One object of a layout. `None` stands for Animal-AI's `-1`: drawn at random on every reset.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ObjectSpec {
+    /// What the object is.
     pub kind: ObjectKind,
     /// x, y (bottom of the object), z.
     pub position: [Option<f32>; 3],
@@ -125,6 +138,7 @@ pub struct ObjectSpec {
 }
 
 impl ObjectSpec {
+    /// An object of `kind` at (x, y, z), unrotated, of its default size and a random colour.
     pub fn new(kind: ObjectKind, x: f32, y: f32, z: f32) -> Self {
         ObjectSpec {
             kind,
@@ -134,14 +148,17 @@ impl ObjectSpec {
             colour: None,
         }
     }
+    /// With this size per axis.
     pub fn size(mut self, sx: f32, sy: f32, sz: f32) -> Self {
         self.size = [Some(sx), Some(sy), Some(sz)];
         self
     }
+    /// With this rotation (degrees about +y).
     pub fn rotation(mut self, degrees: f32) -> Self {
         self.rotation = Some(degrees);
         self
     }
+    /// With this colour.
     pub fn colour(mut self, r: u8, g: u8, b: u8) -> Self {
         self.colour = Some(Rgb(r, g, b));
         self
@@ -151,17 +168,22 @@ impl ObjectSpec {
 /// Where the agent starts; `None` parts are random (a free spot, any heading).
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct AgentSpec {
+    /// x and z.
     pub position: [Option<f32>; 2],
+    /// Degrees about +y.
     pub rotation: Option<f32>,
 }
 
 /// One arena configuration: what one `!Arena` of a YAML file describes.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Layout {
+    /// Its name (the YAML file's, with the arena's index).
     pub name: String,
     /// Episode limit in env steps; 0 means no limit (and no time penalty).
     pub t: u32,
+    /// Its objects.
     pub objects: Vec<ObjectSpec>,
+    /// Where the agent starts.
     pub agent: AgentSpec,
 }
 

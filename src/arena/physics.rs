@@ -18,6 +18,7 @@ pub const FRICTION_DV: f32 = 0.6 * 9.81 * FRAME_DT;
 pub const DRAG_FACTOR: f32 = 0.96;
 /// The agent sphere's radius; its centre is this high above the floor.
 pub const AGENT_RADIUS: f32 = 0.5;
+/// Gravity, m/s^2 (goals fall until they rest).
 pub const GRAVITY: f32 = 9.81;
 /// Goals bounce with bounciness 0.4 averaged with the floor's 0.
 const GOAL_RESTITUTION: f32 = 0.2;

@@ -5,8 +5,11 @@ use super::{AgentSpec, ConfigError, Layout, ObjectKind, ObjectSpec, DEFAULT_T};
 /// A task: one or more start layouts, cycled one per episode in an order shuffled once per run.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Task {
+    /// Its name (`double-t-maze`, ...).
     pub name: String,
+    /// One line on what it tests.
     pub description: String,
+    /// The start layouts.
     pub layouts: Vec<Layout>,
 }
 
@@ -23,13 +26,10 @@ pub enum StartHeading {
 }
 
 impl StartHeading {
+    /// Every start heading with its name.
     pub const ALL: [(&'static str, StartHeading); 2] =
         [("random", StartHeading::Random), ("fixed", StartHeading::Fixed)];
 }
-
-/// The built-in tasks, in the order the page lists them.
-pub const TASK_NAMES: [&str; 6] =
-    ["double-t-maze", "detour", "detour-transparent", "cylinder", "object-permanence", "object-permanence-pits"];
 
 const GREY: (u8, u8, u8) = (153, 153, 153);
 
@@ -63,55 +63,144 @@ impl Task {
         self
     }
 
-    /// A built-in task by name; every preset uses t = 1000 (the paper's limit).
+    /// A built-in task by name (its row of `TASKS`); every preset uses t = 1000 (the paper's
+    /// limit).
     pub fn preset(name: &str) -> Result<Task, ConfigError> {
-        let (description, layouts) = match name {
-            "double-t-maze" => (
-                "SEC's double T-maze (arena_generator_lvl4.py): four corner rooms, a goal chamber open to \
-                 the west and east, goal size 3 (+2.997). Four layouts, one per corner start, random heading.",
-                double_t_maze(),
-            ),
-            "detour" => (
-                "Olympics 3-4-1 and 3-4-2, what SEC ran: a 0.5-high grey wall with the size-1 goal (+0.999) \
-                 visible above it; the way round is the west gap.",
-                vec![detour("3-4-1", 10.0), detour("3-4-2", 15.0)],
-            ),
-            "detour-transparent" => (
-                "Olympics 3-5-1, the paper's wording: a 3-high transparent wall with the goal behind it.",
-                vec![detour_transparent()],
-            ),
-            "cylinder" => (
-                "Olympics 3-13-1 with SEC's goal size 2 (+1.998): a grey arch seen side-on hides the goal; \
-                 the agent must go round and enter along its axis.",
-                vec![cylinder()],
-            ),
-            "object-permanence" => (
-                "Olympics 8-7-1/2/3: a size-3 goal drops behind a 4-high wall and disappears; a small \
-                 visible goal (+0.999) is the local optimum.",
-                [25.0, 27.0, 23.0]
-                    .iter()
-                    .enumerate()
-                    .map(|(i, &r)| permanence(&format!("8-7-{}", i + 1), r, false))
-                    .collect(),
-            ),
-            "object-permanence-pits" => (
-                "Object permanence with the paper's holes: 8-7 plus three DeathZone pits (-1, episode ends) \
-                 off the route around the wall.",
-                [25.0, 27.0, 23.0]
-                    .iter()
-                    .enumerate()
-                    .map(|(i, &r)| permanence(&format!("8-7-{}-pits", i + 1), r, true))
-                    .collect(),
-            ),
-            _ => {
-                return Err(ConfigError::new(
-                    "task",
-                    format!("unknown task '{name}'; one of {}", TASK_NAMES.join(", ")),
-                ))
-            }
-        };
-        Ok(Task { name: name.to_string(), description: description.to_string(), layouts })
+        let info = TaskInfo::find(name)?;
+        Ok(Task { name: name.to_string(), description: info.description.to_string(), layouts: (info.layouts)() })
     }
+}
+
+/// One built-in task, declared once: the page, Python (its Gymnasium id) and the CLI read this
+/// table. Adding a task is its layouts, a row here, and its trained model in
+/// `assets/encoders/<name>.secae` (`sec-train` makes it).
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct TaskInfo {
+    /// Its name everywhere (`RunConfig.task`, the URL hash, the CLI).
+    pub name: &'static str,
+    /// As the page writes it in a sentence ("the double T-maze").
+    pub title: &'static str,
+    /// What it is and where it comes from.
+    pub description: &'static str,
+    /// Its Gymnasium id (`sec_playground` registers it).
+    pub gym_id: &'static str,
+    /// Its trained autoencoder's file, under `assets/encoders/` (the page fetches it).
+    pub model_file: &'static str,
+    /// Its start layouts.
+    #[serde(skip)]
+    pub layouts: fn() -> Vec<Layout>,
+    /// Its trained autoencoder, compiled into native builds (empty in the wasm build, where the
+    /// page registers the one it fetched).
+    #[serde(skip)]
+    pub model: &'static [u8],
+}
+
+/// A model file's bytes in native builds; none in the wasm build.
+macro_rules! model {
+    ($file:literal) => {{
+        #[cfg(not(target_arch = "wasm32"))]
+        let bytes: &[u8] = include_bytes!(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/encoders/", $file));
+        #[cfg(target_arch = "wasm32")]
+        let bytes: &[u8] = &[];
+        bytes
+    }};
+}
+
+/// The built-in tasks, in the order the page lists them.
+pub const TASKS: [TaskInfo; 6] = [
+    TaskInfo {
+        name: "double-t-maze",
+        title: "the double T-maze",
+        description: "SEC's double T-maze (arena_generator_lvl4.py): four corner rooms, a goal chamber open to \
+             the west and east, goal size 3 (+2.997). Four layouts, one per corner start, random heading.",
+        gym_id: "SecPlayground/DoubleTMaze-v0",
+        model_file: "double-t-maze.secae",
+        layouts: double_t_maze,
+        model: model!("double-t-maze.secae"),
+    },
+    TaskInfo {
+        name: "detour",
+        title: "the detour",
+        description: "Olympics 3-4-1 and 3-4-2, what SEC ran: a 0.5-high grey wall with the size-1 goal (+0.999) \
+             visible above it; the way round is the west gap.",
+        gym_id: "SecPlayground/Detour-v0",
+        model_file: "detour.secae",
+        layouts: || vec![detour("3-4-1", 10.0), detour("3-4-2", 15.0)],
+        model: model!("detour.secae"),
+    },
+    TaskInfo {
+        name: "detour-transparent",
+        title: "the transparent detour",
+        description: "Olympics 3-5-1, the paper's wording: a 3-high transparent wall with the goal behind it.",
+        gym_id: "SecPlayground/DetourTransparent-v0",
+        model_file: "detour-transparent.secae",
+        layouts: || vec![detour_transparent()],
+        model: model!("detour-transparent.secae"),
+    },
+    TaskInfo {
+        name: "cylinder",
+        title: "the cylinder",
+        description: "Olympics 3-13-1 with SEC's goal size 2 (+1.998): a grey arch seen side-on hides the goal; \
+             the agent must go round and enter along its axis.",
+        gym_id: "SecPlayground/Cylinder-v0",
+        model_file: "cylinder.secae",
+        layouts: || vec![cylinder()],
+        model: model!("cylinder.secae"),
+    },
+    TaskInfo {
+        name: "object-permanence",
+        title: "object permanence",
+        description: "Olympics 8-7-1/2/3: a size-3 goal drops behind a 4-high wall and disappears; a small \
+             visible goal (+0.999) is the local optimum.",
+        gym_id: "SecPlayground/ObjectPermanence-v0",
+        model_file: "object-permanence.secae",
+        layouts: || permanence_layouts(false),
+        model: model!("object-permanence.secae"),
+    },
+    TaskInfo {
+        name: "object-permanence-pits",
+        title: "object permanence with pits",
+        description: "Object permanence with the paper's holes: 8-7 plus three DeathZone pits (-1, episode ends) \
+             off the route around the wall.",
+        gym_id: "SecPlayground/ObjectPermanencePits-v0",
+        model_file: "object-permanence-pits.secae",
+        layouts: || permanence_layouts(true),
+        model: model!("object-permanence-pits.secae"),
+    },
+];
+
+/// The built-in tasks' names, in the table's order.
+pub const TASK_NAMES: [&str; TASKS.len()] = {
+    let mut names = [""; TASKS.len()];
+    let mut i = 0;
+    while i < TASKS.len() {
+        names[i] = TASKS[i].name;
+        i += 1;
+    }
+    names
+};
+
+impl TaskInfo {
+    /// The row of `name`; another name is refused, listing the tasks.
+    pub fn find(name: &str) -> Result<&'static TaskInfo, ConfigError> {
+        TASKS.iter().find(|t| t.name == name).ok_or_else(|| {
+            ConfigError::new(
+                "task",
+                format!("unknown task '{}'; one of {}", crate::util::shown(name), TASK_NAMES.join(", ")),
+            )
+        })
+    }
+}
+
+/// Object permanence's three layouts, with or without the pits.
+fn permanence_layouts(pits: bool) -> Vec<Layout> {
+    let suffix = if pits { "-pits" } else { "" };
+    [25.0, 27.0, 23.0]
+        .iter()
+        .enumerate()
+        .map(|(i, &r)| permanence(&format!("8-7-{}{suffix}", i + 1), r, pits))
+        .collect()
 }
 
 /// The 14 walls of docs/ARENAS.md section 7.1, in the generator's order.

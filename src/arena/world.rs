@@ -15,14 +15,18 @@ const OVERLAP_EPS: f32 = 1e-3;
 /// An oriented rectangle on the floor: centre, half extents along local x and z, rotation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Footprint {
+    /// Centre on the floor (x, z).
     pub centre: Vec2,
+    /// Half extents along local x and z.
     pub half: Vec2,
     /// cos and sin of the rotation; local +x is (cos, -sin) and local +z is (sin, cos) in (x, z).
     pub cos: f32,
+    /// See `cos`.
     pub sin: f32,
 }
 
 impl Footprint {
+    /// A rectangle at `centre` with half extents `half`, rotated `degrees` clockwise seen from above.
     pub fn new(centre: Vec2, half: Vec2, degrees: f32) -> Self {
         let r = degrees.to_radians();
         let (sin, cos) = (libm::sinf(r), libm::cosf(r));
@@ -38,9 +42,11 @@ impl Footprint {
         };
         Footprint { centre, half, cos: snap(cos), sin: snap(sin) }
     }
+    /// Local +x in world (x, z).
     pub fn axis_x(&self) -> Vec2 {
         Vec2::new(self.cos, -self.sin)
     }
+    /// Local +z in world (x, z).
     pub fn axis_z(&self) -> Vec2 {
         Vec2::new(self.sin, self.cos)
     }
@@ -49,9 +55,11 @@ impl Footprint {
         let d = p - self.centre;
         Vec2::new(d.dot(self.axis_x()), d.dot(self.axis_z()))
     }
+    /// A local direction in world (x, z).
     pub fn to_world_dir(&self, l: Vec2) -> Vec2 {
         self.axis_x() * l.x + self.axis_z() * l.y
     }
+    /// Whether `p` lies inside, grown by `margin` on every side.
     pub fn contains(&self, p: Vec2, margin: f32) -> bool {
         let l = self.to_local(p);
         l.x.abs() <= self.half.x + margin && l.y.abs() <= self.half.y + margin
@@ -83,38 +91,53 @@ impl Footprint {
 /// A wall: a box standing on the floor.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BoxObj {
+    /// Where it stands.
     pub foot: Footprint,
+    /// Its height.
     pub height: f32,
+    /// Its colour.
     pub colour: Rgb,
+    /// Drawn see-through.
     pub transparent: bool,
 }
 
 /// A CylinderTunnel: the upper half of an elliptic tube lying along local z (an arch).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Tunnel {
+    /// Where it stands (local z along the tube).
     pub foot: Footprint,
     /// Outer half-width (local x), outer height, inner half-width, inner height, half-length.
     pub outer_w: f32,
+    /// See `outer_w`.
     pub outer_h: f32,
+    /// See `outer_w`.
     pub inner_w: f32,
+    /// See `outer_w`.
     pub inner_h: f32,
+    /// See `outer_w`.
     pub half_len: f32,
+    /// Its colour.
     pub colour: Rgb,
+    /// Drawn see-through.
     pub transparent: bool,
     /// 1/outer_w^2, 1/outer_h^2, 1/inner_w^2, 1/inner_h^2, for the renderer's per-pixel tests.
     pub inv_sq: [f32; 4],
 }
 
 impl Tunnel {
+    /// 1/outer_w^2.
     pub fn outer_ia(&self) -> f32 {
         self.inv_sq[0]
     }
+    /// 1/outer_h^2.
     pub fn outer_ib(&self) -> f32 {
         self.inv_sq[1]
     }
+    /// 1/inner_w^2.
     pub fn inner_ia(&self) -> f32 {
         self.inv_sq[2]
     }
+    /// 1/inner_h^2.
     pub fn inner_ib(&self) -> f32 {
         self.inv_sq[3]
     }
@@ -136,11 +159,15 @@ impl Tunnel {
 /// A goal sphere; it falls under gravity until it rests on the floor.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Goal {
+    /// Good, bad or multi.
     pub kind: ObjectKind,
     /// Centre (x, y, z).
     pub centre: Vec3,
+    /// Its radius.
     pub radius: f32,
+    /// Vertical speed while falling.
     pub vy: f32,
+    /// Whether it has come to rest.
     pub resting: bool,
     /// Reward on touch: +size*0.999 for good goals, minus that for BadGoal.
     pub reward: f64,
@@ -151,7 +178,9 @@ pub struct Goal {
 /// A DeathZone or HotZone: a flat rectangle on the floor.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Zone {
+    /// Death or hot zone.
     pub kind: ObjectKind,
+    /// Where it lies.
     pub foot: Footprint,
 }
 
@@ -179,12 +208,17 @@ impl Agent {
 /// Everything in the arena for one episode.
 #[derive(Clone, Debug, PartialEq)]
 pub struct World {
+    /// Wall blocks.
     pub walls: Vec<BoxObj>,
+    /// Arches.
     pub tunnels: Vec<Tunnel>,
+    /// Goal spheres.
     pub goals: Vec<Goal>,
+    /// Floor zones.
     pub zones: Vec<Zone>,
     /// Solid footprints the agent collides with: walls and tunnel legs (fences are the bounds).
     pub colliders: Vec<Footprint>,
+    /// The agent's body.
     pub agent: Agent,
 }
 

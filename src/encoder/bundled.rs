@@ -5,29 +5,15 @@
 //! for the default page a sixth of what all six would be.
 
 use super::{Autoencoder, Weights};
-use crate::arena::TASK_NAMES;
+use crate::arena::{TASKS, TASK_NAMES};
 use crate::error::{ConfigError, Error, FileError};
 use std::sync::Mutex;
 
-#[cfg(not(target_arch = "wasm32"))]
-macro_rules! model_file {
-    ($name:literal) => {
-        ($name, include_bytes!(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/encoders/", $name, ".secae")) as &[u8])
-    };
+/// (task, weights file) for every task whose model is compiled in: all of them natively
+/// (`arena::TASKS`), none in the wasm build (the page registers the one it fetched).
+fn files() -> impl Iterator<Item = (&'static str, &'static [u8])> {
+    TASKS.iter().filter(|t| !t.model.is_empty()).map(|t| (t.name, t.model))
 }
-
-/// (task, weights file) for every task preset.
-#[cfg(not(target_arch = "wasm32"))]
-pub const FILES: [(&str, &[u8]); 6] = [
-    model_file!("double-t-maze"),
-    model_file!("detour"),
-    model_file!("detour-transparent"),
-    model_file!("cylinder"),
-    model_file!("object-permanence"),
-    model_file!("object-permanence-pits"),
-];
-#[cfg(target_arch = "wasm32")]
-pub const FILES: [(&str, &[u8]); 0] = [];
 
 /// Models registered at run time (the page's fetched weights), by task.
 static REGISTERED: Mutex<Vec<Autoencoder>> = Mutex::new(Vec::new());
@@ -52,7 +38,7 @@ pub fn register(bytes: &[u8]) -> Result<String, FileError> {
 /// Whether `task`'s model is available (registered, or compiled in).
 pub fn has(task: &str) -> bool {
     REGISTERED.lock().unwrap_or_else(|e| e.into_inner()).iter().any(|m| m.task == task)
-        || FILES.iter().any(|(name, _)| *name == task)
+        || files().any(|(name, _)| name == task)
 }
 
 /// The trained autoencoder of a task preset. A file whose task differs from its name is refused.
@@ -60,7 +46,7 @@ pub fn autoencoder(task: &str) -> Result<Autoencoder, Error> {
     if let Some(ae) = REGISTERED.lock().unwrap_or_else(|e| e.into_inner()).iter().find(|m| m.task == task) {
         return Ok(ae.clone());
     }
-    let Some((_, bytes)) = FILES.iter().find(|(name, _)| *name == task) else {
+    let Some((_, bytes)) = files().find(|(name, _)| *name == task) else {
         return Err(Error::Config(if TASK_NAMES.contains(&task) {
             ConfigError::new(
                 "weights",

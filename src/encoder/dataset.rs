@@ -14,8 +14,11 @@ pub const FRAME_BYTES: usize = PIXELS * 3;
 /// An agent pose of the data set.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pose {
+    /// Position x.
     pub x: f32,
+    /// Position z.
     pub z: f32,
+    /// Heading, radians.
     pub heading: f32,
 }
 

@@ -39,9 +39,12 @@ impl Default for ReconstructionGate {
 }
 
 impl ReconstructionGate {
+    /// The value before the first measurement (above any reconstruction error of [0, 1] pixels).
     pub const INITIAL: f32 = 100.0;
+    /// Env steps between measurements.
     pub const PERIOD: u64 = 16;
 
+    /// A gate that has measured nothing yet.
     pub fn new() -> Self {
         ReconstructionGate { mse: Self::INITIAL, steps: 0, pending: false, image: vec![0.0; IMAGE], embedding: None }
     }
@@ -72,6 +75,12 @@ impl ReconstructionGate {
         }
         *self = ReconstructionGate { mse, steps, pending, image, embedding: known.then_some(e) };
         Ok(())
+    }
+
+    /// Whether it has taken a measurement (before, its value is `INITIAL`, which no reconstruction
+    /// passes).
+    pub fn has_measured(&self) -> bool {
+        self.steps >= Self::PERIOD
     }
 
     /// Called once per env step with the current image; measures on every 16th call.

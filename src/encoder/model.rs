@@ -53,7 +53,9 @@ pub struct Autoencoder {
     /// The decoder's last three convolutions' weights folded for reading their input before the
     /// upsampling (`Up2`): derived from `params`, kept so that decoding does not redo it.
     up: [Up2; 3],
+    /// The task it was trained on.
     pub task: String,
+    /// What its embeddings are multiplied by (calibrated per task).
     pub embedding_scale: f32,
 }
 
@@ -111,6 +113,7 @@ impl Autoencoder {
         Autoencoder { params, up, task, embedding_scale }
     }
 
+    /// Its weights as a weights file's tensors.
     pub fn to_weights(&self) -> Weights {
         let tensors = TENSORS
             .iter()
@@ -130,6 +133,7 @@ impl Autoencoder {
         crate::util::fnv1a(&bytes)
     }
 
+    /// Trainable parameters.
     pub fn parameter_count(&self) -> usize {
         self.params.iter().map(Vec::len).sum()
     }

@@ -24,6 +24,7 @@ pub enum PerceptionKind {
 }
 
 impl PerceptionKind {
+    /// Every perception with its name.
     pub const ALL: [(&'static str, PerceptionKind); 2] =
         [("untrained", PerceptionKind::Untrained), ("trained", PerceptionKind::Trained)];
 }
@@ -79,6 +80,7 @@ impl Perception {
         Ok(Perception { kind, trained, untrained })
     }
 
+    /// Which encoder it is.
     pub fn kind(&self) -> PerceptionKind {
         self.kind
     }

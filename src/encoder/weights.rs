@@ -12,13 +12,17 @@
 use crate::error::FileError;
 use crate::util::{fnv1a, put_str, ByteReader};
 
+/// A weights file's first bytes.
 pub const MAGIC: [u8; 8] = *b"SECAEWTS";
+/// The format version this build reads and writes.
 pub const VERSION: u32 = 1;
 
 /// How values are stored.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DType {
+    /// 32-bit floats.
     F32 = 1,
+    /// 16-bit floats.
     F16 = 2,
 }
 
@@ -28,17 +32,22 @@ pub const MAX_WEIGHT: f32 = 1e4;
 /// One named tensor (row-major, shape as stored).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Tensor {
+    /// Its name in the model.
     pub name: String,
+    /// Its shape.
     pub shape: Vec<usize>,
+    /// Its values, row-major.
     pub data: Vec<f32>,
 }
 
 /// A weights file's content.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Weights {
+    /// The task the model was trained on.
     pub task: String,
     /// Multiplies the embedding; 1.0 is the authors' raw ReLU output (docs/ALGORITHM.md, D17).
     pub embedding_scale: f32,
+    /// The model's tensors.
     pub tensors: Vec<Tensor>,
 }
 

@@ -28,7 +28,9 @@ pub const MAX_EPISODES: u64 = 10_000_000;
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "camelCase", deny_unknown_fields)]
 pub struct Header {
+    /// The run's seed.
     pub seed: u64,
+    /// The run's configuration.
     pub config: RunConfig,
     /// Episodes played.
     pub episodes: u64,

@@ -8,14 +8,19 @@ use crate::agent::{Decision, Layer};
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "camelCase")]
 pub struct EpisodeMetrics {
+    /// Its number, from 0.
     pub episode: u64,
+    /// The layout it started in.
     pub layout: String,
     /// R_ep when positive, else 0 (the tables' reward).
     pub reward: f64,
     /// R_ep itself: goal reward plus the per-step penalties.
     pub raw_reward: f64,
+    /// A goal event happened.
     pub goal: bool,
+    /// Env steps it lasted.
     pub env_steps: u32,
+    /// Decisions taken in it.
     pub decisions: u32,
     /// Mean entropy (bits) logged at every decision, stale values included (the authors').
     pub entropy: f64,
@@ -44,11 +49,15 @@ impl EpisodeMetrics {
 /// The running totals of the episode in progress.
 #[derive(Clone, Debug)]
 pub struct EpisodeState {
+    /// Its number, from 0.
     pub episode: u64,
+    /// The layout it started in.
     pub layout: String,
     /// R_ep so far.
     pub reward: f64,
+    /// Decisions so far.
     pub decisions: u32,
+    /// Of them, the contextual layer's.
     pub contextual: u32,
     /// Decisions a person took.
     pub human: u32,
@@ -60,6 +69,7 @@ pub struct EpisodeState {
 }
 
 impl EpisodeState {
+    /// The totals of a fresh episode.
     pub fn new(episode: u64, layout: String) -> Self {
         EpisodeState {
             episode,

@@ -31,6 +31,7 @@ use rand_chacha::ChaCha8Rng;
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "camelCase", default, deny_unknown_fields)]
 pub struct RunConfig {
+    /// The task (`arena::TASK_NAMES`).
     pub task: String,
     /// Episode limit in env steps (`None`: the task's, 1000).
     pub t: Option<u32>,
@@ -218,7 +219,9 @@ struct Episode {
 /// neither sees nor learns from them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Driver {
+    /// The action held, 0..=8.
     pub action: u8,
+    /// Whether the agent learns from the person's decisions.
     pub record: bool,
 }
 
@@ -253,10 +256,12 @@ impl Run {
         })
     }
 
+    /// The configuration in force.
     pub fn config(&self) -> &RunConfig {
         &self.cfg
     }
 
+    /// The run's seed.
     pub fn seed(&self) -> u64 {
         self.seed
     }
@@ -275,6 +280,7 @@ impl Run {
         Ok(true)
     }
 
+    /// The agent, through its hooks.
     pub fn controller(&self) -> &dyn Controller {
         self.controller.as_ref()
     }
@@ -284,6 +290,7 @@ impl Run {
         self.controller.inspect()
     }
 
+    /// The environment.
     pub fn env(&self) -> &Env {
         &self.env
     }
@@ -304,9 +311,10 @@ impl Run {
         &self.perception
     }
 
-    /// The reconstruction error the gate measured last.
-    pub fn gate_mse(&mut self) -> f32 {
-        self.gate.mse(self.perception.trained(), &mut self.scratch)
+    /// The reconstruction error the gate measured last (`None` before its first measurement,
+    /// and always for an agent without the gate).
+    pub fn gate_mse(&mut self) -> Option<f32> {
+        self.gate.has_measured().then(|| self.gate.mse(self.perception.trained(), &mut self.scratch))
     }
 
     /// A person takes (`Some`) or gives back (`None`) the controls; see `Driver`. An action
@@ -321,6 +329,7 @@ impl Run {
         Ok(())
     }
 
+    /// Who drives, if a person does.
     pub fn driver(&self) -> Option<Driver> {
         self.driver
     }

@@ -14,7 +14,9 @@ use crate::memory::{Forgetting, ValueFn};
 pub struct Condition {
     /// `group/model`: the group is what one plot shows (a task, or a memory size).
     pub name: String,
+    /// The run.
     pub config: RunConfig,
+    /// The paper's total reward for it, where it reports one.
     pub paper_total: Option<f64>,
 }
 

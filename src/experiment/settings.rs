@@ -28,11 +28,30 @@ pub enum Kind {
     /// A real number in [min, max] (or (min, max] when `min_open`); with `auto`, also the word
     /// `auto`, which leaves the value to the run (an empty control shows it).
     #[serde(rename_all = "camelCase")]
-    Number { min: f64, max: f64, min_open: bool, step: f64, auto: bool },
+    Number {
+        /// Lower bound.
+        min: f64,
+        /// Upper bound.
+        max: f64,
+        /// The lower bound itself is excluded.
+        min_open: bool,
+        /// The control's step.
+        step: f64,
+        /// `auto` is a value too.
+        auto: bool,
+    },
     /// A whole number in min..=max.
-    Integer { min: u64, max: u64 },
+    Integer {
+        /// Lower bound.
+        min: u64,
+        /// Upper bound.
+        max: u64,
+    },
     /// One of the options.
-    Choice { options: Vec<String> },
+    Choice {
+        /// The values, as the URL hash spells them.
+        options: Vec<String>,
+    },
     /// On ("1") or off ("0").
     Switch,
 }
@@ -40,10 +59,13 @@ pub enum Kind {
 /// One setting as the page shows it.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Param {
+    /// The URL hash's key.
     pub key: &'static str,
     /// The paper's symbol (Greek letters as Unicode), or a short label.
     pub symbol: &'static str,
+    /// One line on what it does.
     pub help: &'static str,
+    /// What values it takes.
     pub kind: Kind,
     /// Applies to the running agent; otherwise a change starts a new run.
     pub live: bool,

@@ -25,11 +25,15 @@ use std::io::{BufRead, Write};
 pub enum Event {
     /// Which encoder made the embeddings that follow, and its scale.
     Perception {
+        /// Which encoder.
         perception: PerceptionKind,
         #[serde(rename = "embeddingScale")]
+        /// Its scale.
         embedding_scale: f32,
     },
+    /// A decision: the frame's embedding and the gate's MSE.
     Decision {
+        /// The embedding the agent read.
         embedding: Vec<f32>,
         /// The reconstruction gate's last MSE.
         #[serde(rename = "recMse", default)]
@@ -37,30 +41,44 @@ pub enum Event {
     },
     /// A goal reached with episode reward `reward`: the STM is stored if it is positive.
     Goal {
+        /// R_ep at the goal.
         reward: f64,
     },
+    /// The episode ended.
     EpisodeEnd,
 }
 
 /// A selected couplet as the trace writes it.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TracedCouplet {
+    /// LTM sequence.
     pub row: u32,
+    /// STM position.
     pub col: u32,
+    /// Its biased similarity G.
     pub g: f64,
 }
 
 /// The internals after one decision.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TraceLine {
+    /// The decision's number.
     pub decision: u64,
+    /// The action taken.
     pub action: u8,
+    /// The layer that took it (R, C or H).
     pub layer: String,
+    /// Sequences in the LTM.
     pub ltm: usize,
+    /// The bias T where it is not 1: (sequence, position, T).
     pub t: Vec<(u32, u32, f64)>,
+    /// The couplets the retrieval selected.
     pub selected: Vec<TracedCouplet>,
+    /// Q per action, when something was selected.
     pub q: Option<Vec<f64>>,
+    /// p per action, when something was selected.
     pub p: Option<Vec<f64>>,
+    /// The entropy logged.
     pub entropy: f64,
 }
 
@@ -69,6 +87,7 @@ pub struct TraceLine {
 pub enum TraceError {
     /// A bad line: 1-based line number and what is wrong.
     Input(Error),
+    /// Reading or writing failed.
     Io(std::io::Error),
 }
 

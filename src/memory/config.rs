@@ -35,6 +35,7 @@ pub enum ValueFn {
 }
 
 impl ValueFn {
+    /// Every value function with its name.
     pub const ALL: [(&'static str, ValueFn); 7] = [
         ("default", ValueFn::Default),
         ("noGi", ValueFn::NoGi),
@@ -45,6 +46,7 @@ impl ValueFn {
         ("soloRR", ValueFn::SoloRr),
     ];
 
+    /// The value function of `s`; another name is refused.
     pub fn parse(s: &str) -> Result<Self, ConfigError> {
         parse_named("valueFunction", &Self::ALL, s)
     }
@@ -82,6 +84,7 @@ pub enum Forgetting {
 }
 
 impl Forgetting {
+    /// Every forgetting rule with its name.
     pub const ALL: [(&'static str, Forgetting); 5] = [
         ("none", Forgetting::None),
         ("fifo", Forgetting::Fifo),
@@ -90,6 +93,7 @@ impl Forgetting {
         ("prior", Forgetting::Prior),
     ];
 
+    /// The forgetting rule of `s`; another name is refused.
     pub fn parse(s: &str) -> Result<Self, ConfigError> {
         parse_named("forgetting", &Self::ALL, s)
     }
@@ -115,7 +119,9 @@ pub struct MemoryConfig {
     pub tau: f64,
     /// The sequential bias T; false is NSEC.
     pub sequential_bias: bool,
+    /// How a couplet's terms make its value.
     pub value_function: ValueFn,
+    /// What a full LTM does.
     pub forgetting: Forgetting,
 }
 
@@ -138,10 +144,15 @@ impl Default for MemoryConfig {
 
 /// Allowed ranges, also shown by the page's controls.
 pub const N_RANGE: (usize, usize) = (1, 1000);
+/// The LTM capacity m's range.
 pub const M_RANGE: (usize, usize) = (1, 100_000);
+/// theta_abs's range.
 pub const THETA_ABS_RANGE: (f64, f64) = (0.0, 2.0);
+/// theta_prop's range.
 pub const THETA_PROP_RANGE: (f64, f64) = (0.0, 1.0);
+/// alpha's range.
 pub const ALPHA_RANGE: (f64, f64) = (0.0, 1.0);
+/// beta's range.
 pub const BETA_RANGE: (f64, f64) = (0.0, 1.0);
 /// From 0.01: below it exp(-d / tau) underflows to 0 for distant couplets and every value with
 /// it, which made p 0 / 0 (the retrieval also refuses a zero total, see `retrieve`).

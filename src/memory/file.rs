@@ -19,12 +19,15 @@ use crate::error::FileError;
 use crate::memory::ACTIONS;
 use crate::util::{fnv1a, put_bytes, put_f32s, put_f64s, put_str, ByteReader};
 
+/// A memory file's first bytes.
 pub const MAGIC: [u8; 8] = *b"SECMEMRY";
+/// The format version this build reads and writes.
 pub const VERSION: u32 = 1;
 
 /// What a memory's embeddings were made with: a file loads only into a run that agrees.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Identity {
+    /// The task the embeddings were made in.
     pub task: String,
     /// The encoder's fingerprint (`Autoencoder::fingerprint`).
     pub model: u64,

@@ -28,7 +28,9 @@ pub const ACTIONS: usize = crate::arena::Action::COUNT;
 /// One decision: the embedding the agent saw and the action it then took.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Couplet {
+    /// The frame's embedding.
     pub embedding: [f32; EMBEDDING],
+    /// The action taken at it.
     pub action: u8,
 }
 
@@ -41,8 +43,11 @@ impl Couplet {
 /// and the terms of its value, kept so that a decision can be explained term by term.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Selected {
+    /// LTM sequence.
     pub row: u32,
+    /// STM position.
     pub col: u32,
+    /// Biased similarity G = similarity x T.
     pub g: f64,
     /// T of the couplet at the retrieval (1 without the bias).
     pub t: f64,
@@ -88,6 +93,7 @@ pub struct Memory {
 }
 
 impl Memory {
+    /// An empty memory of `cfg`; an invalid `cfg` is refused.
     pub fn new(cfg: MemoryConfig) -> Result<Self, ConfigError> {
         cfg.validate()?;
         let n = cfg.n;
@@ -113,6 +119,7 @@ impl Memory {
         })
     }
 
+    /// Its parameters.
     pub fn config(&self) -> &MemoryConfig {
         &self.cfg
     }
@@ -122,6 +129,7 @@ impl Memory {
         self.rewards.len()
     }
 
+    /// Whether the LTM holds no sequence.
     pub fn is_empty(&self) -> bool {
         self.rewards.is_empty()
     }
@@ -132,6 +140,7 @@ impl Memory {
         self.entropy
     }
 
+    /// Each LTM sequence's reward, oldest first.
     pub fn rewards(&self) -> &[f64] {
         &self.rewards
     }
@@ -156,6 +165,7 @@ impl Memory {
         &self.q
     }
 
+    /// The last retrieval's policy p = Q / sum Q.
     pub fn p(&self) -> &[f64; ACTIONS] {
         &self.p
     }
@@ -171,6 +181,7 @@ impl Memory {
         std::array::from_fn(|k| self.ltm[(i * EMBEDDING + k) * n + j])
     }
 
+    /// The action of couplet `j` of LTM sequence `i`.
     pub fn ltm_action(&self, i: usize, j: usize) -> u8 {
         self.actions[i * self.cfg.n + j]
     }

@@ -52,6 +52,7 @@ struct Hit {
 }
 
 impl Camera {
+    /// A camera with empty buffers.
     pub fn new() -> Self {
         let n = WIDTH as f32;
         Camera {

@@ -11,7 +11,9 @@ use crate::arena::Rgb;
 
 /// The camera image side, pixels (`Learner.asset`).
 pub const WIDTH: usize = 84;
+/// The camera image height, pixels.
 pub const HEIGHT: usize = 84;
+/// Pixels per camera image.
 pub const PIXELS: usize = WIDTH * HEIGHT;
 
 /// Colours of docs/ARENAS.md section 4 (measured on a real v1 frame, or Unity materials).
@@ -19,11 +21,17 @@ pub mod colours {
     use super::Rgb;
     /// The camera background: there is no skybox in v1.
     pub const SKY: Rgb = Rgb(49, 77, 121);
+    /// The floor.
     pub const FLOOR: Rgb = Rgb(200, 173, 130);
+    /// The arena's fence.
     pub const FENCE: Rgb = Rgb(116, 95, 70);
+    /// GoodGoal (emissive).
     pub const GOOD_GOAL: Rgb = Rgb(129, 191, 65);
+    /// BadGoal (emissive).
     pub const BAD_GOAL: Rgb = Rgb(159, 25, 25);
+    /// DeathZone.
     pub const DEATH_ZONE: Rgb = Rgb(159, 25, 25);
+    /// HotZone.
     pub const HOT_ZONE: Rgb = Rgb(255, 144, 44);
     /// GoodGoalMulti's albedo: it is lit, unlike the emissive goals.
     pub const MULTI_GOAL: Rgb = Rgb(163, 114, 7);
@@ -35,6 +43,7 @@ pub mod colours {
 pub const GLASS_ALPHA: f32 = 0.416;
 /// Flat shading: ambient 0.537 plus a white directional light of 0.9 towards `LIGHT`.
 pub const AMBIENT: f32 = 0.537;
+/// See `AMBIENT`.
 pub const DIFFUSE: f32 = 0.9;
 /// Direction towards the light (Euler (45, 45, 0) reversed), unit length.
 pub const LIGHT: [f32; 3] = [-0.5, core::f32::consts::FRAC_1_SQRT_2, -0.5];
@@ -55,6 +64,7 @@ pub fn lit(c: Rgb, factor: f32) -> [u8; 3] {
 /// An 84x84 RGBA8 image, row 0 at the top.
 #[derive(Clone, PartialEq, Eq)]
 pub struct Frame {
+    /// The pixels, 4 bytes each.
     pub rgba: Vec<u8>,
 }
 
@@ -71,6 +81,7 @@ impl std::fmt::Debug for Frame {
 }
 
 impl Frame {
+    /// A white image.
     pub fn new() -> Self {
         Frame { rgba: vec![255; PIXELS * 4] }
     }

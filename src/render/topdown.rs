@@ -11,14 +11,18 @@ const MARGIN: f32 = 1.0;
 /// A square RGBA8 image of the arena seen from above, +z up and +x to the right.
 #[derive(Clone, Debug)]
 pub struct TopDown {
+    /// Its side, pixels.
     pub size: usize,
+    /// The pixels, 4 bytes each.
     pub rgba: Vec<u8>,
 }
 
 impl TopDown {
+    /// A white image of side `size`.
     pub fn new(size: usize) -> Self {
         TopDown { size, rgba: vec![255; size * size * 4] }
     }
+    /// Draws `w` and the agent's `trail`.
     pub fn render(&mut self, w: &World, trail: &[Vec2]) {
         render_top_down(w, trail, self.size, &mut self.rgba);
     }

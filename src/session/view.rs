@@ -22,19 +22,24 @@ pub struct DecisionView {
     /// The memory's policy p = Q / sum Q, while it has one (an agent with a memory that selected
     /// something, or whose entropy is still that of an earlier selection).
     pub p: Option<[f64; ACTIONS]>,
-    /// The reconstruction error of the current frame.
-    pub gate_mse: f32,
+    /// The reconstruction error the gate measured last (none before its first measurement, every
+    /// 16 env steps, or for an agent without the gate).
+    pub gate_mse: Option<f32>,
     /// Entries in the agent's memory, and the most it keeps.
     pub ltm: usize,
+    /// The most entries it keeps.
     pub capacity: usize,
     /// The episode in progress and its env step.
     pub episode: u64,
+    /// The env step within the episode.
     pub step: u32,
     /// R_ep so far.
     pub episode_reward: f64,
     /// The body's position on the floor and its heading (radians).
     pub x: f32,
+    /// Position z.
     pub z: f32,
+    /// Heading, radians.
     pub heading: f32,
     /// Decisions since the run started (a rate is its change over time).
     pub decisions: u64,
@@ -52,14 +57,19 @@ pub struct DecisionView {
 pub struct ExplainedCouplet {
     /// Its LTM sequence and STM position.
     pub sequence: u32,
+    /// Its STM position.
     pub position: u32,
     /// G = similarity x T, T, relative reward, distance.
     pub g: f64,
+    /// The sequential bias T.
     pub t: f64,
+    /// The relative reward rr: its sequence's reward over the best selected one's.
     pub rr: f64,
+    /// The distance d to the goal, (n - position) / n.
     pub d: f64,
     /// The action it votes for, and its value.
     pub action: u8,
+    /// Its value in Q.
     pub value: f64,
 }
 
@@ -67,15 +77,21 @@ pub struct ExplainedCouplet {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(rename_all = "camelCase")]
 pub struct Explanation {
+    /// Each selected couplet.
     pub couplets: Vec<ExplainedCouplet>,
     /// Q per action (the sum of its couplets' values) and p = Q / sum Q.
     pub q: [f64; ACTIONS],
+    /// p = Q / sum Q.
     pub p: [f64; ACTIONS],
     /// The parameters the terms were computed with.
     pub tau: f64,
+    /// The value function's name.
     pub value_function: &'static str,
+    /// The absolute threshold theta_abs.
     pub theta_abs: f64,
+    /// The proportional threshold theta_prop.
     pub theta_prop: f64,
+    /// Whether the sequential bias is on (SEC, not NSEC).
     pub sequential_bias: bool,
 }
 

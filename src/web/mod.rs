@@ -12,7 +12,9 @@ mod args;
 #[cfg(feature = "test-hooks")]
 mod hooks;
 mod run;
-pub use run::{agents, apply_settings, has_model, parameters, parse_settings, preset_settings, register_model, SecRun};
+pub use run::{
+    agents, apply_settings, has_model, parameters, parse_settings, preset_settings, register_model, tasks, SecRun,
+};
 
 /// Error messages are cut to this many characters (a value in a message is already cut to 40).
 const MAX_MESSAGE: usize = 400;
@@ -172,6 +174,7 @@ impl ArenaEnv {
         Ok(serde_wasm_bindgen::to_value(&out)?)
     }
 
+    /// The task's name.
     #[wasm_bindgen(js_name = taskName)]
     pub fn task_name(&self) -> String {
         self.env.config().task.name.clone()

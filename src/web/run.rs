@@ -92,6 +92,17 @@ export interface AgentInfo {
   /** The RunConfig `kind` and `mfec.embedding` that run it. */
   kind: string; mfecEmbedding: "autoencoder" | "random-projection" | null;
 }
+/** One built-in task of the core's table (`tasks()`). */
+export interface TaskInfo {
+  /** Its name everywhere (RunConfig.task, the URL hash). */
+  name: string;
+  /** As a sentence writes it ("the double T-maze"). */
+  title: string; description: string;
+  /** Its Gymnasium id (sec_playground registers it). */
+  gymId: string;
+  /** Its trained autoencoder, under assets/encoders/. */
+  modelFile: string;
+}
 /** Settings (URL hash keys to values) with the run they describe. */
 export interface ParsedSettings {
   config: RunConfig; seed: number; settings: Record<string, string>; errors: string[];
@@ -99,7 +110,9 @@ export interface ParsedSettings {
 /** The last decision and the state the page's views show. */
 export interface DecisionView {
   action: number | null; layer: "R" | "C" | "H" | null; selected: number; entropy: number;
-  p: number[] | null; gateMse: number; ltm: number; capacity: number;
+  p: number[] | null;
+  /** The reconstruction error the gate measured last (null before its first measurement). */
+  gateMse: number | null; ltm: number; capacity: number;
   episode: number; step: number; episodeReward: number; x: number; z: number; heading: number;
   /** Decisions since the run started (a rate is its change over time). */
   decisions: number;
@@ -181,6 +194,7 @@ impl SecRun {
         to_js(self.session.config())
     }
 
+    /// The run's seed.
     #[wasm_bindgen(getter)]
     pub fn seed(&self) -> f64 {
         self.session.seed() as f64
@@ -376,6 +390,12 @@ pub fn parameters() -> Result<JsValue, JsError> {
 #[wasm_bindgen(unchecked_return_type = "AgentInfo[]")]
 pub fn agents() -> Result<JsValue, JsError> {
     to_js(&crate::agent::AGENTS)
+}
+
+/// The task table (`TaskInfo[]`): every built-in task, its title, Gymnasium id and model file.
+#[wasm_bindgen(unchecked_return_type = "TaskInfo[]")]
+pub fn tasks() -> Result<JsValue, JsError> {
+    to_js(&crate::arena::TASKS)
 }
 
 /// Settings as the URL hash holds them (`{alpha: "0.01", ...}`) to `{config, seed, settings,

@@ -128,3 +128,15 @@ def test_bad_env_arguments_raise_value_error_by_name():
         env.reset(seed=2**60)
     with pytest.raises(ValueError, match="num_envs"):
         sec_playground.ArenaVectorEnv(0, task="cylinder")
+
+
+def test_the_task_table_registers_every_task():
+    import gymnasium as gym
+
+    from sec_playground import tasks
+
+    table = tasks()
+    assert [t["name"] for t in table] == list(TASKS)
+    for t in table:
+        assert gym.spec(t["gymId"]).kwargs == {"task": t["name"]}
+        assert t["modelFile"] == f"{t['name']}.secae" and t["title"]

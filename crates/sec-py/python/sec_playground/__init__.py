@@ -14,11 +14,18 @@ a run is a pure function of its configuration and seed, on every platform.
 import json as _json
 
 from ._core import AGENTS_JSON as _AGENTS_JSON
+from ._core import TASKS_JSON as _TASKS_JSON
 from ._core import MAX_SEED, TASKS, Encoder, fingerprint
 from .envs import ENV_IDS, ArenaEnv, ArenaVectorEnv
 from .run import Run
 
-__all__ = ["ArenaEnv", "ArenaVectorEnv", "Encoder", "Run", "TASKS", "ENV_IDS", "MAX_SEED", "agents", "fingerprint"]
+__all__ = ["ArenaEnv", "ArenaVectorEnv", "Encoder", "Run", "TASKS", "ENV_IDS", "MAX_SEED", "agents", "tasks", "fingerprint"]
+
+
+def tasks() -> list:
+    """The core's task table: one dict per task with its name, title, description, gymId and
+    modelFile (its trained autoencoder under assets/encoders)."""
+    return _json.loads(_TASKS_JSON)
 
 
 def agents() -> list:

@@ -37,6 +37,7 @@ class VecEnv:
     def step_seconds(self) -> float: ...
 
 AGENTS_JSON: str
+TASKS_JSON: str
 
 class Run:
     def __init__(self, config: str, seed: int) -> None: ...

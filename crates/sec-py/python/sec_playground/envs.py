@@ -1,6 +1,7 @@
 """The arenas as Gymnasium environments: `ArenaEnv` (one arena) and `ArenaVectorEnv` (n arenas
 stepped in one call across cores, the GIL released)."""
 
+import json
 from typing import Any, Optional
 
 import gymnasium as gym
@@ -10,16 +11,10 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 
 from . import _core
 
-# Gymnasium ids of the six tasks; "AnimalAI-v0" takes an Animal-AI YAML file (`yaml_path`).
-ENV_IDS = {
-    "SecPlayground/DoubleTMaze-v0": "double-t-maze",
-    "SecPlayground/Detour-v0": "detour",
-    "SecPlayground/DetourTransparent-v0": "detour-transparent",
-    "SecPlayground/Cylinder-v0": "cylinder",
-    "SecPlayground/ObjectPermanence-v0": "object-permanence",
-    "SecPlayground/ObjectPermanencePits-v0": "object-permanence-pits",
-    "SecPlayground/AnimalAI-v0": None,
-}
+# Gymnasium ids of the tasks (the core's task table); "AnimalAI-v0" takes an Animal-AI YAML file
+# (`yaml_path`).
+ENV_IDS = {t["gymId"]: t["name"] for t in json.loads(_core.TASKS_JSON)}
+ENV_IDS["SecPlayground/AnimalAI-v0"] = None
 
 RENDER_MODES = ["rgb_array"]
 RENDER_VIEWS = ("top-down", "first-person")
