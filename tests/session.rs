@@ -84,7 +84,7 @@ fn the_explanation_adds_up_and_the_views_show_the_memory() {
     assert_eq!((t.len(), g.len()), (view.ltm * n, view.ltm * n));
     assert_eq!(marks.len(), e.couplets.len());
     assert!(marks.iter().all(|&i| (i as usize) < view.ltm * n));
-    assert!(e.couplets.iter().all(|c| marks.contains(&(c.sequence * n as u32 + c.position))));
+    assert!(e.couplets.iter().all(|c| marks.contains(&(c.row * n as u32 + c.col))));
     assert_eq!("h".parse::<MemoryMap>().unwrap_err().field, "which");
 }
 

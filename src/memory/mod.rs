@@ -40,12 +40,16 @@ impl Couplet {
 }
 
 /// A selected couplet (docs/ALGORITHM.md, retrieval): LTM row, column, its G (bias included)
-/// and the terms of its value, kept so that a decision can be explained term by term.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// and the terms of its value, kept so that a decision can be explained term by term (the
+/// explanation's couplets, `session::Explanation`, serialise it as they are).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
 pub struct Selected {
     /// LTM sequence.
+    #[serde(rename = "sequence")]
     pub row: u32,
     /// STM position.
+    #[serde(rename = "position")]
     pub col: u32,
     /// Biased similarity G = similarity x T.
     pub g: f64,

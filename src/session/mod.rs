@@ -6,7 +6,7 @@
 
 mod view;
 
-pub use view::{DecisionView, ExplainedCouplet, Explanation};
+pub use view::{DecisionView, Explanation};
 
 use crate::agent::Decision;
 use crate::arena::ConfigError;

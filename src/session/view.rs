@@ -4,7 +4,7 @@
 
 use crate::agent::{Decision, Layer};
 use crate::experiment::Run;
-use crate::memory::{ValueFn, ACTIONS};
+use crate::memory::{Selected, ValueFn, ACTIONS};
 use serde::Serialize;
 
 /// The last decision and the state the views show.
@@ -51,34 +51,13 @@ pub struct DecisionView {
     pub embedding: Option<Vec<f32>>,
 }
 
-/// One couplet the last retrieval selected, term by term.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-#[serde(rename_all = "camelCase")]
-pub struct ExplainedCouplet {
-    /// Its LTM sequence and STM position.
-    pub sequence: u32,
-    /// Its STM position.
-    pub position: u32,
-    /// G = similarity x T, T, relative reward, distance.
-    pub g: f64,
-    /// The sequential bias T.
-    pub t: f64,
-    /// The relative reward rr: its sequence's reward over the best selected one's.
-    pub rr: f64,
-    /// The distance d to the goal, (n - position) / n.
-    pub d: f64,
-    /// The action it votes for, and its value.
-    pub action: u8,
-    /// Its value in Q.
-    pub value: f64,
-}
-
 /// The last decision's contextual layer term by term (no couplets when it selected nothing).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(rename_all = "camelCase")]
 pub struct Explanation {
-    /// Each selected couplet.
-    pub couplets: Vec<ExplainedCouplet>,
+    /// Each selected couplet: its LTM sequence and STM position, G, T, rr, d, the action it votes
+    /// for and its value.
+    pub couplets: Vec<Selected>,
     /// Q per action (the sum of its couplets' values) and p = Q / sum Q.
     pub q: [f64; ACTIONS],
     /// p = Q / sum Q.
@@ -134,20 +113,7 @@ pub fn explain(run: &Run) -> Explanation {
     let cfg = memory.map_or(&run.config().agent.memory, |m| m.config());
     let (couplets, q, p) = match memory {
         Some(m) if !m.selected().is_empty() => {
-            let couplets = m
-                .selected()
-                .iter()
-                .map(|s| ExplainedCouplet {
-                    sequence: s.row,
-                    position: s.col,
-                    g: s.g,
-                    t: s.t,
-                    rr: s.rr,
-                    d: s.d,
-                    action: s.action,
-                    value: s.value,
-                })
-                .collect();
+            let couplets = m.selected().to_vec();
             (couplets, *m.q(), *m.p())
         }
         _ => (Vec::new(), [0.0; ACTIONS], [0.0; ACTIONS]),
