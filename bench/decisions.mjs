@@ -38,8 +38,11 @@ function measure(wasm, batches, decisions, now, config = {}) {
 
 const show = (r) => `best ${r.best}, median ${r.median} decisions/s over ${BATCHES} batches of ${DECISIONS} (LTM ${r.ltm} sequences)`;
 
-const wasm = await import(`${root}pkg/hooks/sec_playground.js`);
-wasm.initSync({ module: readFileSync(`${root}pkg/hooks/sec_playground_bg.wasm`) });
+// SEC_PKG names another build of pkg/hooks (say, the build before a change) to compare with;
+// --node-only skips Chromium and the page.
+const pkg = process.env.SEC_PKG ?? `${root}pkg/hooks`;
+const wasm = await import(`${pkg}/sec_playground.js`);
+wasm.initSync({ module: readFileSync(`${pkg}/sec_playground_bg.wasm`) });
 wasm.registerModel(readFileSync(`${root}assets/encoders/double-t-maze.secae`));
 const node = measure(wasm, BATCHES, DECISIONS, () => performance.now());
 console.log(`node ${process.version}: ${show(node)}`);
@@ -47,6 +50,7 @@ console.log(`node ${process.version}: ${show(node)}`);
 // doubles as the gate's, where the default's untrained encoder leaves the gate its own encode.
 const trained = measure(wasm, BATCHES, DECISIONS, () => performance.now(), { perception: 'trained' });
 console.log(`node ${process.version}, trained encoder: ${show(trained)}`);
+if (process.argv.includes('--node-only')) process.exit(0);
 
 const server = await serve(0);
 const base = `http://127.0.0.1:${server.address().port}/`;

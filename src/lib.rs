@@ -14,6 +14,7 @@ pub mod error;
 pub mod experiment;
 pub mod memory;
 pub mod render;
+pub mod reuse;
 pub mod seed;
 pub mod session;
 pub mod util;

@@ -5,7 +5,7 @@
 
 use sec_playground::arena::{Env, EnvConfig, Task, TASK_NAMES};
 use sec_playground::encoder::{
-    bundled, Autoencoder, DType, ReconstructionGate, Scratch, Weights, EMBEDDING, IMAGE, PARAMETERS,
+    bundled, Autoencoder, DType, FrameCache, ReconstructionGate, Scratch, Weights, EMBEDDING, IMAGE, PARAMETERS,
 };
 use sec_playground::render::fnv1a;
 
@@ -193,29 +193,30 @@ fn the_gate_starts_closed_and_measures_every_16th_step() {
     let img = frame("detour");
     let mut s = Scratch::default();
     let mut gate = ReconstructionGate::new();
+    let mut c = FrameCache::new();
     for _ in 0..15 {
-        gate.watch(&img);
-        assert_eq!(gate.mse(&ae, &mut s), 100.0);
-        assert!(!gate.open(0.01, &ae, &mut s));
+        gate.watch(&img, None);
+        assert_eq!(gate.mse(&ae, &mut s, &mut c), 100.0);
+        assert!(!gate.open(0.01, &ae, &mut s, &mut c));
     }
-    gate.watch(&img);
+    gate.watch(&img, None);
     assert_eq!(gate.last_mse(), 100.0, "measured lazily");
     let mse = ae.reconstruction_mse(&img, &mut s);
-    assert_eq!(gate.mse(&ae, &mut s), mse);
+    assert_eq!(gate.mse(&ae, &mut s, &mut c), mse);
     assert!(mse < 100.0 && mse > 0.0);
     // Later frames do not change the value until the next 16th step, which measures its own.
     let other = frame("cylinder");
     for _ in 0..15 {
-        gate.watch(&other);
+        gate.watch(&other, None);
     }
-    assert_eq!(gate.mse(&ae, &mut s), mse);
-    gate.watch(&other);
+    assert_eq!(gate.mse(&ae, &mut s, &mut c), mse);
+    gate.watch(&other, None);
     // With the frame's embedding shared, the same value without a second encoder pass.
     let mut e = [0.0; EMBEDDING];
     ae.encode(&other, &mut s, &mut e);
     assert!(gate.measured_now());
     gate.share_embedding(&e);
-    assert_eq!(gate.mse(&ae, &mut s), ae.reconstruction_mse(&other, &mut s));
+    assert_eq!(gate.mse(&ae, &mut s, &mut c), ae.reconstruction_mse(&other, &mut s));
     assert!(!gate.measured_now());
 }
 
@@ -361,4 +362,52 @@ fn bad_embedding_scales_are_refused_by_name() {
         assert_eq!(e.field(), "embeddingScale", "{s}");
         assert!(matches!(e, sec_playground::Error::Config(_)), "a value, not a file");
     }
+}
+
+/// The frame cache remembers per frame, finds a frame again only when every pixel is the same,
+/// keeps the `CAPACITY` most recently used frames, and never answers for a dropped entry.
+#[test]
+fn the_frame_cache_remembers_equal_frames_only() {
+    use sec_playground::encoder::cache::CAPACITY;
+    use sec_playground::render::Frame;
+    let numbered = |n: usize| {
+        let mut f = Frame::new();
+        f.rgba[..8].copy_from_slice(&(n as u64).to_le_bytes());
+        f
+    };
+    let mut c = FrameCache::new();
+    let mut computed = 0;
+    let mut mse = |c: &mut FrameCache, slot, v: f32| {
+        c.mse(slot, || {
+            computed += 1;
+            v
+        })
+    };
+    let first = c.find(&numbered(0));
+    assert_eq!(mse(&mut c, first, 0.5), 0.5);
+    // The same pixels: remembered (the closure's value is not used); one pixel off: a new frame.
+    let again = c.find(&numbered(0));
+    assert_eq!(again, first);
+    assert_eq!(mse(&mut c, again, 9.0), 0.5);
+    let mut other = numbered(0);
+    other.rgba[4 * 7055 + 2] ^= 1;
+    let other = c.find(&other);
+    assert_ne!(other, first);
+    assert_eq!(mse(&mut c, other, 0.25), 0.25);
+    // Embeddings likewise.
+    let mut e = [0.0; EMBEDDING];
+    c.embedding(first, &mut e, |e| e[3] = 1.5);
+    let mut e2 = [0.0; EMBEDDING];
+    c.embedding(first, &mut e2, |e| e[3] = 7.0);
+    assert_eq!((e[3], e2[3]), (1.5, 1.5));
+    // Filling it drops the least recently used: `other` (frame 0 was used after it).
+    c.find(&numbered(0));
+    for n in 1..CAPACITY {
+        c.find(&numbered(n));
+    }
+    assert_eq!(c.len(), CAPACITY);
+    assert_eq!(mse(&mut c, other, 0.75), 0.75, "a dropped entry is measured again");
+    assert_eq!(mse(&mut c, first, 9.0), 0.5, "frame 0 was used recently and is kept");
+    assert_eq!(computed, 3);
+    assert_eq!(c.hit_rate(), (2, CAPACITY as u64 + 3));
 }

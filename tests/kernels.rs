@@ -6,7 +6,8 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use sec_playground::encoder::kernels::{
-    conv3x3_relu, conv3x3_relu_sparse, conv3x3_up2_relu, conv3x3_up2_relu_planar, pad1, pad1_planar, Sparse, Up2,
+    conv3x3_relu, conv3x3_relu_sparse, conv3x3_up2_relu, conv3x3_up2_relu_planar, pad1, pad1_planar, Repeats, Sparse,
+    Up2,
 };
 
 /// Values in [-1, 1], `zeros` of them exactly zero, some of those -0.0.
@@ -34,14 +35,14 @@ fn bits(v: &[f32]) -> Vec<u32> {
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn skipping_zero_inputs_gives_the_dense_bits() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
-    let mut sparse = Sparse::default();
+    let mut sparse = Sparse::plain();
     // Odd and even sizes, few and many zeros; a negative bias makes many sums end at or below 0.
     for (h, w, zeros) in [(13, 13, 0.8), (23, 23, 0.7), (44, 44, 0.95), (9, 30, 0.0), (12, 17, 1.0)] {
         let input = mostly_zero(h * w * 16, zeros, &mut rng);
         let weights: Vec<f32> = (0..9 * 16 * 32).map(|_| rng.gen_range(-0.5..0.5)).collect();
         let bias: Vec<f32> = (0..32).map(|_| rng.gen_range(-0.5..0.2)).collect();
         let (mut dense, mut skipped) = (Vec::new(), Vec::new());
-        let a = conv3x3_relu::<16, 32>(&input, h, w, &weights, &bias, &mut dense);
+        let a = conv3x3_relu::<16, 32>(&input, h, w, &weights, &bias, &mut Repeats::plain(), &mut dense);
         let b = conv3x3_relu_sparse::<16, 32>(&input, h, w, &weights, &bias, &mut sparse, &mut skipped);
         assert_eq!(a, b);
         assert_eq!(bits(&dense), bits(&skipped), "{h}x{w}, {zeros} zeros");
@@ -73,7 +74,7 @@ fn folded_upsampling_convolutions_match_the_upsampled_image() {
         let bias: Vec<f32> = (0..16).map(|_| rng.gen_range(-0.2..0.2)).collect();
         let (up, uh, uw) = upsample(&input, h, w, 32, border);
         let mut expected = Vec::new();
-        let size = conv3x3_relu::<32, 16>(&up, uh, uw, &weights, &bias, &mut expected);
+        let size = conv3x3_relu::<32, 16>(&up, uh, uw, &weights, &bias, &mut Repeats::plain(), &mut expected);
         let (mut padded, mut got) = (Vec::new(), Vec::new());
         pad1(&input, h, w, 32, &mut padded);
         let fold = Up2::fold(&weights, 32, 16, border);
@@ -96,7 +97,7 @@ fn the_planar_folded_convolution_matches_the_upsampled_image() {
         let bias: Vec<f32> = (0..3).map(|_| rng.gen_range(-0.2..0.2)).collect();
         let (up, uh, uw) = upsample(&input, h, w, 16, 1);
         let mut expected = Vec::new();
-        let size = conv3x3_relu::<16, 3>(&up, uh, uw, &weights, &bias, &mut expected);
+        let size = conv3x3_relu::<16, 3>(&up, uh, uw, &weights, &bias, &mut Repeats::plain(), &mut expected);
         let (mut planes, mut got) = (Vec::new(), Vec::new());
         pad1_planar(&input, h, w, 16, &mut planes);
         let got_size = conv3x3_up2_relu_planar::<16, 3>(&planes, h, w, &Up2::fold(&weights, 16, 3, 1), &bias, &mut got);
@@ -104,5 +105,73 @@ fn the_planar_folded_convolution_matches_the_upsampled_image() {
         let worst = expected.iter().zip(&got).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
         assert!(worst <= 1e-5, "{h}x{w}: off by {worst}");
         assert!(expected.iter().filter(|&&v| v > 0.0).count() > expected.len() / 4);
+    }
+}
+
+/// An activation with repeated windows: rows of runs of equal pixels (some all zero, some with
+/// a -0.0 where the pixel on the left has +0.0, which must not count as equal), most rows
+/// repeating the row above, as in a rendered wall.
+fn with_runs(h: usize, w: usize, c: usize, zeros: f64, rng: &mut ChaCha8Rng) -> Vec<f32> {
+    let mut x = mostly_zero(h * w * c, zeros, rng);
+    for y in 0..h {
+        if y > 0 && rng.gen_bool(0.7) {
+            x.copy_within((y - 1) * w * c..y * w * c, y * w * c);
+            continue;
+        }
+        let mut n = 0;
+        while n < w {
+            let len = rng.gen_range(1..=w - n);
+            for k in n + 1..n + len {
+                let (src, dst) = ((y * w + n) * c, (y * w + k) * c);
+                x.copy_within(src..src + c, dst);
+                if rng.gen_bool(0.02) {
+                    let v = &mut x[dst + rng.gen_range(0..c)];
+                    *v = if v.to_bits() == 0 { -0.0 } else { *v };
+                }
+            }
+            n += len;
+        }
+    }
+    x
+}
+
+/// Output pixels whose input window equals their left neighbour's copy its output: the same
+/// bits as computing every pixel, in every kernel that reuses windows (the dense first layer,
+/// the sparse middle layers and the folded decoder layers), on inputs whose rows are runs of
+/// equal pixels, with and without a zero border.
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn reusing_repeated_windows_gives_the_bits_of_computing_them() {
+    let mut rng = ChaCha8Rng::seed_from_u64(8);
+    let (mut reused, mut plain) = (Repeats::default(), Repeats::plain());
+    let (mut sparse, mut sparse_plain) = (Sparse::default(), Sparse::plain());
+    // Rows wider than 128 pixels are computed in full.
+    for (h, w) in [(86, 86), (13, 9), (5, 40), (4, 140)] {
+        let input = with_runs(h, w, 3, 0.1, &mut rng);
+        let weights: Vec<f32> = (0..9 * 3 * 16).map(|_| rng.gen_range(-0.5..0.5)).collect();
+        let bias: Vec<f32> = (0..16).map(|_| rng.gen_range(-0.5..0.2)).collect();
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        conv3x3_relu::<3, 16>(&input, h, w, &weights, &bias, &mut plain, &mut a);
+        conv3x3_relu::<3, 16>(&input, h, w, &weights, &bias, &mut reused, &mut b);
+        assert_eq!(bits(&a), bits(&b), "first layer, {h}x{w}");
+        assert!((reused.reused() > (h - 2) * (w - 2) / 4) == (w <= 128) && plain.reused() == 0);
+        assert!(a.iter().any(|&v| v > 0.0));
+    }
+    for (h, w, zeros) in [(44, 44, 0.7), (23, 23, 0.3), (9, 31, 0.0)] {
+        let input = with_runs(h, w, 16, zeros, &mut rng);
+        let weights: Vec<f32> = (0..9 * 16 * 32).map(|_| rng.gen_range(-0.5..0.5)).collect();
+        let bias: Vec<f32> = (0..32).map(|_| rng.gen_range(-0.5..0.2)).collect();
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        conv3x3_relu_sparse::<16, 32>(&input, h, w, &weights, &bias, &mut sparse_plain, &mut a);
+        conv3x3_relu_sparse::<16, 32>(&input, h, w, &weights, &bias, &mut sparse, &mut b);
+        assert_eq!(bits(&a), bits(&b), "sparse layer, {h}x{w}");
+        assert!(sparse.reused() > (h - 2) * (w - 2) / 4 && sparse_plain.reused() == 0);
+        let fold = Up2::fold(&weights[..9 * 16 * 16], 16, 16, 1);
+        let mut padded = Vec::new();
+        pad1(&input, h, w, 16, &mut padded);
+        conv3x3_up2_relu::<16, 16>(&padded, h, w, &fold, &bias[..16], &mut sparse_plain, &mut a);
+        conv3x3_up2_relu::<16, 16>(&padded, h, w, &fold, &bias[..16], &mut sparse, &mut b);
+        assert_eq!(bits(&a), bits(&b), "folded layer, {h}x{w}");
+        assert!(sparse.reused() > 0);
     }
 }

@@ -19,6 +19,11 @@
 //! convolutions of the input, one per output-pixel parity, with weights summed ahead (`Up2`):
 //! 4/9 of the multiply-adds. The sums are then those of the folded weights, in the same fixed
 //! order on every target.
+//!
+//! Work not done: where an output pixel's whole input window equals its left neighbour's, bit for
+//! bit (a wall, the sky, a zero region: 58-93 % of the encoder's windows in a run), the pixel
+//! takes its neighbour's output instead of summing again (`Repeats`). Equal inputs summed in the
+//! same order give equal bits, so this changes nothing but the time.
 
 use crate::dispatch::avx2_dispatch;
 
@@ -55,19 +60,125 @@ impl Pass {
 ///
 /// On x86-64 with AVX2 the same code runs compiled for 8-wide vectors; lanes are output
 /// channels, so the result is bit-identical to the SSE2 and wasm builds.
+#[allow(clippy::too_many_arguments)]
 pub fn conv3x3_relu<const CI: usize, const CO: usize>(
     input: &[f32],
     h: usize,
     w: usize,
     weights: &[f32],
     bias: &[f32],
+    repeats: &mut Repeats,
     out: &mut Vec<f32>,
 ) -> (usize, usize) {
     assert_eq!(input.len(), h * w * CI);
     let pass = Pass::plain(h, w);
     out.resize(pass.rows * pass.cols * CO, 0.0); // every value is written: no need to clear
-    conv_pass::<CI, CO, 3>(input, w, weights, bias, pass, out);
+    repeats.mark::<CI>(input, h, w);
+    repeats.plan(&pass, 3);
+    conv_pass::<CI, CO, 3>(input, w, weights, bias, pass, &repeats.todo, out);
+    repeats.fill::<CO>(&pass, out);
     (pass.rows, pass.cols)
+}
+
+/// Which pixels of an activation equal their left neighbour in every channel, bit for bit, and
+/// from that, which output pixels of a pass must be computed (`todo`) and which take their left
+/// neighbour's output: those whose K x K input window equals the left neighbour's window, that
+/// is, whose K columns each equal the column to their left in all K rows. Rows are bit sets, so
+/// activations wider than 128 pixels are computed in full.
+#[derive(Clone, Debug)]
+pub struct Repeats {
+    /// Per input row, bit c: pixel c equals pixel c - 1 (bit 0 is never set).
+    same: Vec<u128>,
+    /// Output pixels (i, j) of the pass to compute, row by row.
+    todo: Vec<(u32, u32)>,
+    /// Per output row of the pass, bit j: pixel (i, j) takes the output of (i, j - 1).
+    copy: Vec<u128>,
+    /// The (rows, cols) of the pass `todo` and `copy` were planned for.
+    planned: (usize, usize),
+    /// Whether windows are compared at all (`plain` computes every pixel).
+    reuse: bool,
+}
+
+impl Default for Repeats {
+    fn default() -> Self {
+        Repeats { same: Vec::new(), todo: Vec::new(), copy: Vec::new(), planned: (0, 0), reuse: true }
+    }
+}
+
+impl Repeats {
+    /// Scratch space that computes every output pixel: the reference the reuse is tested against.
+    pub fn plain() -> Self {
+        Repeats { reuse: false, ..Repeats::default() }
+    }
+
+    fn mark<const C: usize>(&mut self, input: &[f32], h: usize, w: usize) {
+        assert_eq!(input.len(), h * w * C);
+        self.same.clear();
+        if !(self.reuse && crate::reuse::on()) || w > 128 {
+            return;
+        }
+        for row in input.chunks_exact(w * C) {
+            // Two words, not a u128: its variable shifts cost a branch or a select each.
+            let mut bits = [0u64; 2];
+            for (c, (a, b)) in row.chunks_exact(C).zip(row[C..].chunks_exact(C)).enumerate() {
+                let (a, b): (&[f32; C], &[f32; C]) = (a.try_into().unwrap(), b.try_into().unwrap());
+                let same = (0..C).fold(true, |s, k| s & (a[k].to_bits() == b[k].to_bits()));
+                bits[(c + 1) / 64] |= (same as u64) << ((c + 1) % 64);
+            }
+            self.same.push(bits[0] as u128 | (bits[1] as u128) << 64);
+        }
+    }
+
+    /// Splits the pass's output pixels into those to compute and those to copy (after `mark` of
+    /// its input). Without marks (reuse off, or a wide input), every pixel is computed.
+    fn plan(&mut self, pass: &Pass, k: usize) {
+        let (rows, cols) = (pass.rows, pass.cols);
+        self.planned = (rows, cols);
+        self.todo.clear();
+        self.copy.clear();
+        self.copy.resize(rows, 0);
+        if self.same.is_empty() {
+            self.todo.extend((0..rows).flat_map(|i| (0..cols).map(move |j| (i as u32, j as u32))));
+            return;
+        }
+        assert!(pass.r0 + rows + k - 1 <= self.same.len() && pass.c0 + cols + k - 1 <= 128);
+        let columns = if cols == 128 { u128::MAX } else { (1u128 << cols) - 1 };
+        for i in 0..rows {
+            // Bit c: column c equals column c - 1 in all k rows of the window.
+            let column = self.same[pass.r0 + i..][..k].iter().fold(u128::MAX, |m, &r| m & r);
+            // Bit c: columns c..c + k all do, so the window at c equals the one at c - 1.
+            let window = (0..k).fold(u128::MAX, |m, t| m & (column >> t));
+            let copy = (window >> pass.c0) & columns & !1;
+            self.copy[i] = copy;
+            let mut todo = !copy & columns;
+            while todo != 0 {
+                self.todo.push((i as u32, todo.trailing_zeros()));
+                todo &= todo - 1;
+            }
+        }
+    }
+
+    /// Output pixels of the last planned pass that take their neighbour's output.
+    pub fn reused(&self) -> usize {
+        self.copy.iter().map(|c| c.count_ones() as usize).sum()
+    }
+
+    /// Gives each copied pixel its left neighbour's output (computed, or copied just before).
+    fn fill<const CO: usize>(&self, pass: &Pass, out: &mut [f32]) {
+        for (i, &copy) in self.copy.iter().enumerate() {
+            let mut bits = copy;
+            while bits != 0 {
+                // A run of copies j..j + len all take pixel j - 1's output.
+                let j = bits.trailing_zeros() as usize;
+                let len = (bits >> j).trailing_ones() as usize;
+                bits &= !(((1u128 << len) - 1) << j);
+                let v: [f32; CO] = out[pass.pixel(i, j - 1) * CO..][..CO].try_into().unwrap();
+                for jj in j..j + len {
+                    out[pass.pixel(i, jj) * CO..][..CO].copy_from_slice(&v);
+                }
+            }
+        }
+    }
 }
 
 /// The 3x3 weights of a convolution that reads a 2x nearest-neighbour upsampling, folded for
@@ -152,7 +263,9 @@ pub fn conv3x3_relu_sparse<const CI: usize, const CO: usize>(
     sparse.build::<CI>(input, h, w);
     let pass = Pass::plain(h, w);
     out.resize(pass.rows * pass.cols * CO, 0.0);
+    sparse.repeats.plan(&pass, 3);
     sparse_pass::<CI, CO, 3>(sparse, weights, bias, pass, out);
+    sparse.repeats.fill::<CO>(&pass, out);
     (pass.rows, pass.cols)
 }
 
@@ -173,19 +286,22 @@ pub fn conv3x3_up2_relu<const CI: usize, const CO: usize>(
     let (oh, ow) = up.output(h, w);
     out.resize(oh * ow * CO, 0.0);
     for (pass, weights) in up.passes(h, w) {
+        sparse.repeats.plan(&pass, 2);
         sparse_pass::<CI, CO, 2>(sparse, weights, bias, pass, out);
+        sparse.repeats.fill::<CO>(&pass, out);
     }
     (oh, ow)
 }
 
 /// The nonzero values of an activation of h x w pixels of CI channels, pixel by pixel: those of
 /// pixel p are entries `start[p]..start[p + 1]`, each a value and its index within its row of
-/// the activation (x * CI + ci), in channel order.
+/// the activation (x * CI + ci), in channel order; and its `Repeats`.
 #[derive(Clone, Debug, Default)]
 pub struct Sparse {
     start: Vec<u32>,
     pos: Vec<u32>,
     val: Vec<f32>,
+    repeats: Repeats,
     /// The activation's width and channels, checked by `sparse_pass`.
     w: usize,
     ci: usize,
@@ -212,6 +328,17 @@ impl Sparse {
             }
         }
         self.start[h * w] = k as u32;
+        self.repeats.mark::<CI>(input, h, w);
+    }
+
+    /// Output pixels of the last pass that took their neighbour's output.
+    pub fn reused(&self) -> usize {
+        self.repeats.reused()
+    }
+
+    /// Scratch space whose convolutions compute every output pixel (see `Repeats::plain`).
+    pub fn plain() -> Self {
+        Sparse { repeats: Repeats::plain(), ..Sparse::default() }
     }
 }
 
@@ -255,6 +382,8 @@ fn check_sparse_pass<const CI: usize, const CO: usize, const K: usize>(
     assert!(pass.r0 + pass.rows + K - 1 <= sparse.start.len() / w && pass.c0 + pass.cols + K - 1 <= w);
     assert!(weights.len() == K * K * CI * CO && bias.len() == CO);
     assert!(pass.pixel(pass.rows - 1, pass.cols - 1) * CO + CO <= out.len());
+    // `todo` lists pixels (i, j) with i < rows and j < cols of the pass it was planned for.
+    assert_eq!(sparse.repeats.planned, (pass.rows, pass.cols), "the pass was not planned");
 }
 
 #[inline(always)]
@@ -267,8 +396,9 @@ fn sparse_pass_any<const CI: usize, const CO: usize, const K: usize>(
 ) {
     check_sparse_pass::<CI, CO, K>(sparse, weights, bias, &pass, out);
     let (w, bias) = (sparse.w, <&[f32; CO]>::try_from(bias).unwrap());
-    for i in 0..pass.rows {
-        for j in 0..pass.cols {
+    for &(i, j) in &sparse.repeats.todo {
+        let (i, j) = (i as usize, j as usize);
+        {
             let mut acc = *bias;
             for ky in 0..K {
                 let p0 = (pass.r0 + i + ky) * w + pass.c0 + j;
@@ -292,9 +422,10 @@ fn sparse_pass_any<const CI: usize, const CO: usize, const K: usize>(
 }
 
 avx2_dispatch! {
-    /// One pass of a K x K convolution with ReLU over an input `w` pixels wide.
+    /// One pass of a K x K convolution with ReLU over an input `w` pixels wide: the output pixels
+    /// `todo` lists (`Repeats::plan` of this pass).
     fn conv_pass<const CI: usize, const CO: usize, const K: usize>(
-        input: &[f32], w: usize, weights: &[f32], bias: &[f32], pass: Pass, out: &mut [f32]
+        input: &[f32], w: usize, weights: &[f32], bias: &[f32], pass: Pass, todo: &[(u32, u32)], out: &mut [f32]
     ) => conv_pass_any
 }
 
@@ -305,6 +436,7 @@ fn conv_pass_any<const CI: usize, const CO: usize, const K: usize>(
     weights: &[f32],
     bias: &[f32],
     pass: Pass,
+    todo: &[(u32, u32)],
     out: &mut [f32],
 ) {
     assert_eq!(weights.len(), K * K * CI * CO);
@@ -315,25 +447,40 @@ fn conv_pass_any<const CI: usize, const CO: usize, const K: usize>(
     if CO % 16 == 0 {
         // Few input channels (the first layer) leave time for more pixels per weight load.
         if CI <= 4 {
-            for (i, j) in runs::<4>(pass) {
-                simd::conv_block::<CI, CO, K, 4, 2>(input, w, weights, bias, pass, i, j, out);
+            for block in blocks::<4>(pass, todo) {
+                simd::conv_block::<CI, CO, K, 4, 2>(input, w, weights, bias, pass, block, out);
             }
         } else {
-            for (i, j) in runs::<2>(pass) {
-                simd::conv_block::<CI, CO, K, 2, 4>(input, w, weights, bias, pass, i, j, out);
+            for block in blocks::<2>(pass, todo) {
+                simd::conv_block::<CI, CO, K, 2, 4>(input, w, weights, bias, pass, block, out);
             }
         }
         return;
     }
-    for (i, j) in runs::<BLOCK>(pass) {
-        conv_block::<CI, CO, K>(input, w, weights, bias, pass, i, j, out);
+    for block in blocks::<BLOCK>(pass, todo) {
+        conv_block::<CI, CO, K>(input, w, weights, bias, pass, block, out);
     }
 }
 
-/// The runs of B pixels (i, j..j + B) of the pass, row by row. Runs of pixels share each weight
-/// load. The last run of a row overlaps the one before when B does not divide the width; its
-/// pixels are computed again the same way. (An iterator, not a callback: a closure holding a
-/// kernel was not inlined into the AVX2 copies and ran without AVX2, ten times slower.)
+/// The output pixels `todo` lists, B at a time, each as (i, j) of the pass. Blocks of pixels
+/// share each weight load. The last block repeats its last pixel when B does not divide the
+/// count; a repeated pixel is computed again the same way. (An iterator, not a callback: a
+/// closure holding a kernel was not inlined into the AVX2 copies and ran without AVX2, ten times
+/// slower.)
+#[inline(always)]
+fn blocks<const B: usize>(pass: Pass, todo: &[(u32, u32)]) -> impl Iterator<Item = [(usize, usize); B]> + '_ {
+    todo.chunks(B).map(move |c| {
+        std::array::from_fn(|p| {
+            let (i, j) = c[p.min(c.len() - 1)];
+            let (i, j) = (i as usize, j as usize);
+            assert!(i < pass.rows && j < pass.cols, "a pixel outside the pass");
+            (i, j)
+        })
+    })
+}
+
+/// The runs of B pixels (i, j..j + B) of the pass, row by row. The last run of a row overlaps
+/// the one before when B does not divide the width; its pixels are computed again the same way.
 #[inline(always)]
 fn runs<const B: usize>(pass: Pass) -> impl Iterator<Item = (usize, usize)> {
     assert!(pass.cols >= B, "the output must be at least {B} pixels wide");
@@ -348,7 +495,7 @@ const BLOCK: usize = 4;
 #[cfg(target_arch = "wasm32")]
 const BLOCK: usize = 2;
 
-/// Pixels j..j + BLOCK of row i of the pass.
+/// The output pixels of one block (each inside the pass, checked by `blocks`).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn conv_block<const CI: usize, const CO: usize, const K: usize>(
@@ -357,19 +504,21 @@ fn conv_block<const CI: usize, const CO: usize, const K: usize>(
     weights: &[f32],
     bias: &[f32; CO],
     pass: Pass,
-    i: usize,
-    j: usize,
+    block: [(usize, usize); BLOCK],
     out: &mut [f32],
 ) {
     let mut acc = [*bias; BLOCK];
     for ky in 0..K {
-        let row = &input[((pass.r0 + i + ky) * w + pass.c0 + j) * CI..][..(BLOCK + K - 1) * CI];
+        let rows: [&[f32]; BLOCK] = std::array::from_fn(|p| {
+            let (i, j) = block[p];
+            &input[((pass.r0 + i + ky) * w + pass.c0 + j) * CI..][..K * CI]
+        });
         for kx in 0..K {
             let wk = &weights[(ky * K + kx) * CI * CO..][..CI * CO];
             for ci in 0..CI {
                 let wr: &[f32; CO] = wk[ci * CO..][..CO].try_into().unwrap();
-                for (p, a) in acc.iter_mut().enumerate() {
-                    let v = row[(p + kx) * CI + ci];
+                for (a, row) in acc.iter_mut().zip(&rows) {
+                    let v = row[kx * CI + ci];
                     for co in 0..CO {
                         a[co] += v * wr[co];
                     }
@@ -377,8 +526,8 @@ fn conv_block<const CI: usize, const CO: usize, const K: usize>(
             }
         }
     }
-    for (p, a) in acc.iter().enumerate() {
-        let o = &mut out[pass.pixel(i, j + p) * CO..][..CO];
+    for (a, &(i, j)) in acc.iter().zip(&block) {
+        let o = &mut out[pass.pixel(i, j) * CO..][..CO];
         for co in 0..CO {
             o[co] = relu(a[co]);
         }
@@ -392,9 +541,9 @@ mod simd {
     use super::Pass;
     use core::arch::wasm32::*;
 
-    /// Pixels j..j + P of row i of the pass. Wasm engines have 16 vector registers, so a block
-    /// accumulates P pixels x NV vectors of 4 output channels at a time and walks the channel
-    /// groups in turn.
+    /// The output pixels of one block (each inside the pass, checked by `blocks`). Wasm engines
+    /// have 16 vector registers, so a block accumulates P pixels x NV vectors of 4 output
+    /// channels at a time and walks the channel groups in turn.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     pub fn conv_block<const CI: usize, const CO: usize, const K: usize, const P: usize, const NV: usize>(
@@ -403,21 +552,21 @@ mod simd {
         weights: &[f32],
         bias: &[f32; CO],
         pass: Pass,
-        i: usize,
-        j: usize,
+        block: [(usize, usize); P],
         out: &mut [f32],
     ) {
-        let first = ((pass.r0 + i) * w + pass.c0 + j) * CI;
+        let first: [usize; P] = std::array::from_fn(|p| ((pass.r0 + block[p].0) * w + pass.c0 + block[p].1) * CI);
+        let to: [usize; P] = std::array::from_fn(|p| pass.pixel(block[p].0, block[p].1) * CO);
         assert!(weights.len() == K * K * CI * CO && CO % (4 * NV) == 0);
-        assert!(first + ((K - 1) * w + P + K - 1) * CI <= input.len());
-        assert!(pass.pixel(i, j + P - 1) * CO + CO <= out.len());
+        for p in 0..P {
+            assert!(first[p] + ((K - 1) * w + K) * CI <= input.len());
+            assert!(to[p] + CO <= out.len());
+        }
         // The hot loop reads without a bounds check per load. Weights: every index is
         // (ky * K + kx) * CI * CO + ci * CO + g0 + 4 * v + 3 < K * K * CI * CO = weights.len().
-        // Inputs: first + ((ky * w + p + kx) * CI + ci < first + ((K - 1) * w + P + K - 1) * CI.
-        // Outputs: pixel(i, j + p) * CO + g0 + 4 * v + 3 < pixel(i, j + P - 1) * CO + CO.
-        // All asserted above.
+        // Inputs: first[p] + (ky * w + kx) * CI + ci < first[p] + ((K - 1) * w + K) * CI.
+        // Outputs: to[p] + g0 + 4 * v + 3 < to[p] + CO. All asserted above.
         let (wp, ip, op) = (weights.as_ptr(), input.as_ptr(), out.as_mut_ptr());
-        let (o0, step) = (pass.pixel(i, j) * CO, pass.sx * CO);
         let zero = f32x4_splat(0.0);
         // A short channel loop (the first layer's 3) hidden from the optimiser: unrolled, its
         // loads and products are all live at once and V8 spills them (0.24 -> 0.17 ms).
@@ -434,14 +583,14 @@ mod simd {
             for ky in 0..K {
                 for kx in 0..K {
                     let base = (ky * K + kx) * CI * CO + g0;
-                    let row = first + (ky * w + kx) * CI;
+                    let shift = (ky * w + kx) * CI;
                     for ci in 0..channels {
                         let wr: [v128; NV] = std::array::from_fn(|v| unsafe {
                             v128_load(wp.add(base + ci * CO + 4 * v) as *const v128)
                         });
                         for (p, a) in acc.iter_mut().enumerate() {
                             // One load that fills the four lanes, no shuffle.
-                            let x = unsafe { v128_load32_splat(ip.add(row + p * CI + ci) as *const u32) };
+                            let x = unsafe { v128_load32_splat(ip.add(first[p] + shift + ci) as *const u32) };
                             for v in 0..NV {
                                 a[v] = f32x4_add(a[v], f32x4_mul(x, wr[v]));
                             }
@@ -450,7 +599,7 @@ mod simd {
                 }
             }
             for (p, a) in acc.iter().enumerate() {
-                let o = o0 + p * step + g0;
+                let o = to[p] + g0;
                 for (v, &x) in a.iter().enumerate() {
                     unsafe { v128_store(op.add(o + 4 * v) as *mut v128, f32x4_pmax(zero, x)) };
                 }
@@ -471,14 +620,16 @@ mod simd {
         let w = sparse.w;
         let (wp, vp, pp, op) = (weights.as_ptr(), sparse.val.as_ptr(), sparse.pos.as_ptr(), out.as_mut_ptr());
         let zero = f32x4_splat(0.0);
-        // SAFETY (the unchecked loads and stores below): by `check_sparse_pass`, the window's K
+        // SAFETY (the unchecked loads and stores below): by `check_sparse_pass`, every listed
+        // output pixel is inside the pass, the window's K
         // pixels p0..p0 + K lie in one row of the activation, so their entries a..b are
         // within `val` and `pos` (`build` writes `start` ascending up to their length), and
         // each entry's pos - skip = (x - c0 - j) * CI + ci with 0 <= x - c0 - j < K and
         // ci < CI, so the weight row read is inside `weights`; the output pixel is inside
         // `out`. v128 loads and stores have no alignment requirement.
-        for i in 0..pass.rows {
-            for j in 0..pass.cols {
+        for &(i, j) in &sparse.repeats.todo {
+            let (i, j) = (i as usize, j as usize);
+            {
                 let mut acc: [v128; NV] =
                     std::array::from_fn(|g| unsafe { v128_load(bias.as_ptr().add(4 * g) as *const v128) });
                 for ky in 0..K {
@@ -728,13 +879,18 @@ fn planar_pass_any<const CI: usize, const CO: usize, const K: usize>(
     }
 }
 
-/// Dense layer `out = b + x W` (W is `[in][out]`), optionally with ReLU.
+/// Dense layer `out = b + x W` (W is `[in][out]`), optionally with ReLU. With ReLU, zero inputs
+/// (most of the encoder's, after its last ReLU and pooling) are skipped: a skipped term could only
+/// change the sign of a zero sum, which ReLU maps to +0.
 pub fn dense(x: &[f32], weights: &[f32], bias: &[f32], relu: bool, out: &mut [f32]) {
     let n = bias.len();
     assert_eq!(out.len(), n);
     assert_eq!(weights.len(), x.len() * n);
     out.copy_from_slice(bias);
     for (i, &v) in x.iter().enumerate() {
+        if relu && v == 0.0 {
+            continue;
+        }
         let row = &weights[i * n..][..n];
         for (o, &wv) in out.iter_mut().zip(row) {
             *o += v * wv;

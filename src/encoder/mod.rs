@@ -2,12 +2,14 @@
 //! the reconstruction-error gate that lets the contextual layer act only on familiar views.
 
 pub mod bundled;
+pub mod cache;
 pub mod dataset;
 pub mod kernels;
 pub mod model;
 pub mod perception;
 pub mod weights;
 
+pub use cache::FrameCache;
 pub use model::{Autoencoder, Scratch, EMBEDDING, IMAGE, PARAMETERS};
 pub use perception::{Perception, PerceptionKind};
 pub use weights::{DType, Weights};
@@ -30,6 +32,9 @@ pub struct ReconstructionGate {
     pending: bool,
     image: Vec<f32>,
     embedding: Option<[f32; EMBEDDING]>,
+    /// The measured frame's entry in the run's `FrameCache` (not part of the saved state: a
+    /// cache entry is only a memo).
+    slot: Option<cache::Slot>,
 }
 
 impl Default for ReconstructionGate {
@@ -46,7 +51,14 @@ impl ReconstructionGate {
 
     /// A gate that has measured nothing yet.
     pub fn new() -> Self {
-        ReconstructionGate { mse: Self::INITIAL, steps: 0, pending: false, image: vec![0.0; IMAGE], embedding: None }
+        ReconstructionGate {
+            mse: Self::INITIAL,
+            steps: 0,
+            pending: false,
+            image: vec![0.0; IMAGE],
+            embedding: None,
+            slot: None,
+        }
     }
 
     /// The gate's state for a run checkpoint: the last MSE, the step count and a pending
@@ -73,7 +85,7 @@ impl ReconstructionGate {
         for v in &mut e {
             *v = r.f32()?;
         }
-        *self = ReconstructionGate { mse, steps, pending, image, embedding: known.then_some(e) };
+        *self = ReconstructionGate { mse, steps, pending, image, embedding: known.then_some(e), slot: None };
         Ok(())
     }
 
@@ -83,13 +95,15 @@ impl ReconstructionGate {
         self.steps >= Self::PERIOD
     }
 
-    /// Called once per env step with the current image; measures on every 16th call.
-    pub fn watch(&mut self, image: &[f32]) {
+    /// Called once per env step with the current image (and its entry in the run's frame
+    /// cache); measures on every 16th call.
+    pub fn watch(&mut self, image: &[f32], slot: Option<cache::Slot>) {
         self.steps += 1;
         if self.steps % Self::PERIOD == 0 {
             self.image.copy_from_slice(image);
             self.pending = true;
             self.embedding = None;
+            self.slot = slot;
         }
     }
 
@@ -112,13 +126,15 @@ impl ReconstructionGate {
         }
     }
 
-    /// The gate's value: the MSE of the last measured frame (computed now if it was not yet).
-    pub fn mse(&mut self, ae: &Autoencoder, scratch: &mut Scratch) -> f32 {
+    /// The gate's value: the MSE of the last measured frame (computed now if it was not yet,
+    /// or taken from `cache` if the frame was measured before).
+    pub fn mse(&mut self, ae: &Autoencoder, scratch: &mut Scratch, cache: &mut FrameCache) -> f32 {
         if self.pending {
-            self.mse = match self.embedding {
-                Some(e) => ae.reconstruction_mse_of(&self.image, &e, scratch),
-                None => ae.reconstruction_mse(&self.image, scratch),
-            };
+            let (image, embedding) = (&self.image, self.embedding);
+            self.mse = cache.mse(self.slot, || match embedding {
+                Some(e) => ae.reconstruction_mse_of(image, &e, scratch),
+                None => ae.reconstruction_mse(image, scratch),
+            });
             self.pending = false;
         }
         self.mse
@@ -130,8 +146,8 @@ impl ReconstructionGate {
     }
 
     /// Whether the contextual layer may act: MSE strictly below the threshold (0.01 by default).
-    pub fn open(&mut self, threshold: f32, ae: &Autoencoder, scratch: &mut Scratch) -> bool {
-        self.mse(ae, scratch) < threshold
+    pub fn open(&mut self, threshold: f32, ae: &Autoencoder, scratch: &mut Scratch, cache: &mut FrameCache) -> bool {
+        self.mse(ae, scratch, cache) < threshold
     }
 }
 

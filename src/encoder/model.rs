@@ -7,7 +7,7 @@
 
 use super::kernels::{
     conv3x3_relu, conv3x3_relu_sparse, conv3x3_up2_relu, conv3x3_up2_relu_planar, dense, maxpool2, pad1, pad1_planar,
-    Sparse, Up2,
+    Repeats, Sparse, Up2,
 };
 use super::weights::{Tensor, Weights};
 use crate::error::FileError;
@@ -67,6 +67,7 @@ pub struct Scratch {
     flat: Vec<f32>,
     rec: Vec<f32>,
     sparse: Sparse,
+    repeats: Repeats,
 }
 
 impl Autoencoder {
@@ -147,7 +148,7 @@ impl Autoencoder {
     pub fn encode(&self, image: &[f32], s: &mut Scratch, out: &mut [f32; EMBEDDING]) {
         assert_eq!(image.len(), IMAGE, "the image must be 84x84x3");
         let (h, w) = pad1(image, HEIGHT, WIDTH, 3, &mut s.b);
-        let (h, w) = conv3x3_relu::<3, 16>(&s.b, h, w, self.p(0), self.p(1), &mut s.a);
+        let (h, w) = conv3x3_relu::<3, 16>(&s.b, h, w, self.p(0), self.p(1), &mut s.repeats, &mut s.a);
         let (h, w) = maxpool2::<16>(&s.a, h, w, 1, &mut s.b);
         let (h, w) = conv3x3_relu_sparse::<16, 32>(&s.b, h, w, self.p(2), self.p(3), &mut s.sparse, &mut s.a);
         let (h, w) = maxpool2::<32>(&s.a, h, w, 1, &mut s.b);
@@ -168,7 +169,7 @@ impl Autoencoder {
         s.flat.resize(FLAT, 0.0);
         dense(&raw, self.p(8), self.p(9), false, &mut s.flat);
         let (h, w) = pad1(&s.flat, 11, 11, 32, &mut s.b);
-        let (h, w) = conv3x3_relu::<32, 32>(&s.b, h, w, self.p(10), self.p(11), &mut s.a);
+        let (h, w) = conv3x3_relu::<32, 32>(&s.b, h, w, self.p(10), self.p(11), &mut s.repeats, &mut s.a);
         pad1(&s.a, h, w, 32, &mut s.b);
         let (h, w) = conv3x3_up2_relu::<32, 32>(&s.b, h, w, &self.up[0], self.p(13), &mut s.sparse, &mut s.a);
         pad1(&s.a, h, w, 32, &mut s.b);

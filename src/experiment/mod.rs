@@ -10,7 +10,9 @@ pub use crate::agent::AgentKind;
 use crate::agent::{AgentInfo, Decision, Layer, SecConfig};
 use crate::arena::{Action, ConfigError, Env, EnvConfig, StartHeading, StepOutcome, Task};
 use crate::encoder::perception::check_scale;
-use crate::encoder::{Autoencoder, Perception, PerceptionKind, ReconstructionGate, Scratch, EMBEDDING, IMAGE};
+use crate::encoder::{
+    cache, Autoencoder, FrameCache, Perception, PerceptionKind, ReconstructionGate, Scratch, EMBEDDING, IMAGE,
+};
 use crate::error::Error;
 use crate::memory::{self, ACTIONS};
 use crate::render::Frame;
@@ -190,6 +192,9 @@ pub struct Run {
     perception: Perception,
     scratch: Scratch,
     image: Vec<f32>,
+    /// What the encoders made of frames seen before in this run, and the current frame's entry.
+    cache: FrameCache,
+    slot: Option<cache::Slot>,
     gate: ReconstructionGate,
     controller: Box<dyn Controller>,
     /// SEC's events, when recorded (see `trace`).
@@ -247,6 +252,8 @@ impl Run {
             perception,
             scratch: Scratch::default(),
             image: vec![0.0; IMAGE],
+            cache: FrameCache::new(),
+            slot: None,
             gate: ReconstructionGate::new(),
             controller,
             events: None,
@@ -306,6 +313,11 @@ impl Run {
         self.perception.trained()
     }
 
+    /// What the encoders made of the frames seen so far (a memo: see `encoder::cache`).
+    pub fn frame_cache(&self) -> &FrameCache {
+        &self.cache
+    }
+
     /// Where the run's embeddings come from.
     pub fn perception(&self) -> &Perception {
         &self.perception
@@ -314,7 +326,7 @@ impl Run {
     /// The reconstruction error the gate measured last (`None` before its first measurement,
     /// and always for an agent without the gate).
     pub fn gate_mse(&mut self) -> Option<f32> {
-        self.gate.has_measured().then(|| self.gate.mse(self.perception.trained(), &mut self.scratch))
+        self.gate.has_measured().then(|| self.gate.mse(self.perception.trained(), &mut self.scratch, &mut self.cache))
     }
 
     /// A person takes (`Some`) or gives back (`None`) the controls; see `Driver`. An action
@@ -388,19 +400,21 @@ impl Run {
         }
         let mut e = [0.0; EMBEDDING];
         if self.controller.input() == Input::Embedding {
-            self.perception.embed(&self.image, &mut self.scratch, &mut e);
+            let (perception, image, scratch) = (&self.perception, &self.image, &mut self.scratch);
+            self.cache.embedding(self.slot, &mut e, |e| perception.embed(image, scratch, e));
             if self.perception.embeds_with_gate_model() {
                 self.gate.share_embedding(&e);
             }
         }
         if self.sec_events().is_some() {
-            let rec_mse = self.gate.mse(self.perception.trained(), &mut self.scratch);
+            let rec_mse = self.gate.mse(self.perception.trained(), &mut self.scratch, &mut self.cache);
             let ev = self.sec_events().expect("checked above");
             ev.push(trace::Event::Decision { embedding: e.to_vec(), rec_mse });
         }
         let obs = Observation { embedding: &e, image: &self.image, terminal, person: self.driver.map(|d| d.action) };
-        let (gate, encoder, scratch) = (&mut self.gate, self.perception.trained(), &mut self.scratch);
-        self.controller.decide(&obs, &mut || gate.mse(encoder, scratch), &mut self.rng)
+        let (gate, encoder, scratch, cache) =
+            (&mut self.gate, self.perception.trained(), &mut self.scratch, &mut self.cache);
+        self.controller.decide(&obs, &mut || gate.mse(encoder, scratch, cache), &mut self.rng)
     }
 
     /// Plays one episode to its end and starts the next.
@@ -470,10 +484,12 @@ impl Run {
         }
         let uses_gate = self.controller.uses_gate();
         if self.controller.input() != Input::Nothing && (decides || (uses_gate && self.gate.due())) {
-            self.env.observation().to_rgb_f32(&mut self.image);
+            let frame = self.env.observation();
+            frame.to_rgb_f32(&mut self.image);
+            self.slot = self.cache.find(frame);
         }
         if uses_gate {
-            self.gate.watch(&self.image);
+            self.gate.watch(&self.image, self.slot);
         }
         let mut decision = None;
         if decides {

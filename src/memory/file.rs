@@ -173,6 +173,7 @@ impl Memory {
         self.sel_prev.clear();
         self.sel_prev.resize(rows * n, false);
         self.g.clear();
+        self.sim_for = None;
         self.selected.clear();
         Ok(rows)
     }
@@ -261,6 +262,7 @@ impl Memory {
         (self.stm, self.stm_head, self.ltm, self.actions, self.rewards) = (stm, head, ltm, actions, rewards);
         (self.t, self.sel, self.sel_prev, self.g, self.forgot, self.sim) = (t, sel, sel_prev, g, forgot, sim);
         (self.selected, self.q, self.p, self.entropy) = (selected, q, p, entropy);
+        self.sim_for = None;
         Ok(())
     }
 }

@@ -88,8 +88,13 @@ pub struct Memory {
     /// Whether the LTM has been through forgetting: from then on the authors' LTM is a list of
     /// Python floats, so numpy computes the similarity in f64 (see `retrieve`).
     forgot: bool,
-    /// 1 - MAE of every couplet, rows x n.
+    /// 1 - MAE of every couplet, rows x n: in f32, and in f64 once `forgot`.
     sim: Vec<f32>,
+    sim64: Vec<f64>,
+    /// The embedding (as bits) and the precision `sim` or `sim64` holds the similarities of for
+    /// the LTM as it is (`None` after any change to the LTM): the same embedding again, as when
+    /// the agent faces a wall, reuses them.
+    sim_for: Option<([u32; EMBEDDING], bool)>,
     selected: Vec<Selected>,
     q: [f64; ACTIONS],
     p: [f64; ACTIONS],
@@ -115,6 +120,8 @@ impl Memory {
             g: Vec::new(),
             forgot: false,
             sim: Vec::new(),
+            sim64: Vec::new(),
+            sim_for: None,
             selected: Vec::new(),
             q: [0.0; ACTIONS],
             p: [0.0; ACTIONS],
@@ -223,6 +230,7 @@ impl Memory {
             self.t.resize(self.t.len() + n, 1.0);
             self.sel.resize(self.sel.len() + n, false);
             self.sel_prev.resize(self.sel_prev.len() + n, false);
+            self.sim_for = None;
         }
         if self.len() >= m {
             // Any forgetting, even one that removes nothing, leaves the authors' LTM as Python
@@ -309,5 +317,6 @@ impl Memory {
         self.sel.drain(i * n..(i + 1) * n);
         self.sel_prev.drain(i * n..(i + 1) * n);
         self.g.truncate(0);
+        self.sim_for = None;
     }
 }

@@ -1,7 +1,7 @@
 //! Retrieval (docs/ALGORITHM.md, "Retrieval"): T's update after each decision, the selection of
 //! couplets by both thresholds, Q over the actions of the selected and the proportional draw.
 
-use super::similarity::{biased, biased_in_place, pairwise9, similarity, similarity_f64};
+use super::similarity::{biased, biased_f64, pairwise9, similarity, similarity_f64};
 use super::{Memory, Selected, ACTIONS};
 use crate::encoder::EMBEDDING;
 use rand::Rng;
@@ -15,12 +15,7 @@ impl Memory {
             return;
         }
         let (beta, alpha, n) = (self.cfg.beta, self.cfg.alpha, self.cfg.n);
-        // Decay, clamp at 1 and reset the selected in one pass (the same values as three), with
-        // compare and select: `f64::max` is a call per element in wasm.
-        for (t, &s) in self.t.iter_mut().zip(&self.sel_prev) {
-            let v = *t * (1.0 - beta) + beta;
-            *t = if s || v < 1.0 { 1.0 } else { v };
-        }
+        decay(&mut self.t, &self.sel_prev, beta);
         // Then the successors' boost (each T gets at most one, so their order does not matter).
         let t = &mut self.t;
         each_set(&self.sel_prev, |idx| {
@@ -47,14 +42,23 @@ impl Memory {
         }
         self.g.resize(rows * n, 0.0);
         let t: &[f64] = if self.cfg.sequential_bias { &self.t } else { &[] };
+        // The similarities of the same embedding to the same LTM are those computed last time.
+        let key = (e.map(f32::to_bits), self.forgot);
+        let fresh = !(crate::reuse::on() && self.sim_for == Some(key));
         let gmax = if self.forgot {
-            similarity_f64(e, &self.ltm, n, &mut self.g);
-            biased_in_place(t, &mut self.g)
+            if fresh {
+                self.sim64.resize(rows * n, 0.0);
+                similarity_f64(e, &self.ltm, n, &mut self.sim64);
+            }
+            biased_f64(&self.sim64, t, &mut self.g)
         } else {
-            self.sim.resize(rows * n, 0.0);
-            similarity(e, &self.ltm, n, &mut self.sim);
+            if fresh {
+                self.sim.resize(rows * n, 0.0);
+                similarity(e, &self.ltm, n, &mut self.sim);
+            }
             biased(&self.sim, t, &mut self.g)
         };
+        self.sim_for = Some(key);
         // D16: with Gmax <= 0 nothing can pass (every G <= Gmax <= 0 < theta_abs or G / Gmax
         // undefined); otherwise G > theta_abs and G / Gmax > theta_prop, the ratio rounded as
         // numpy rounds it.
@@ -112,6 +116,22 @@ impl Memory {
         }
         self.entropy = 0.0 - pairwise9(&terms);
         Some(sample(&self.p, rng) as u8)
+    }
+}
+
+crate::dispatch::avx2_dispatch! {
+    /// T's decay, its clamp at 1 and the reset of the selected in one pass (the same values as
+    /// three), branch-free with compare and select so that it vectorises (`f64::max` is a call
+    /// per element in wasm).
+    fn decay(t: &mut [f64], sel_prev: &[bool], beta: f64) => decay_any
+}
+
+#[inline(always)]
+fn decay_any(t: &mut [f64], sel_prev: &[bool], beta: f64) {
+    assert_eq!(t.len(), sel_prev.len());
+    for (t, &s) in t.iter_mut().zip(sel_prev) {
+        let v = *t * (1.0 - beta) + beta;
+        *t = if s | (v < 1.0) { 1.0 } else { v };
     }
 }
 

@@ -180,8 +180,9 @@ pub(super) fn similarity_f64(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &
     }
 }
 
-/// G = similarity times T (unchanged when `t` is empty, NSEC), in place; returns Gmax.
-pub(super) fn biased_in_place(t: &[f64], g: &mut [f64]) -> f64 {
+/// G = similarity (f64) times T (or 1 when `t` is empty, NSEC) into `g`; returns Gmax.
+pub(super) fn biased_f64(sim: &[f64], t: &[f64], g: &mut [f64]) -> f64 {
+    g.copy_from_slice(sim);
     for (g, &t) in g.iter_mut().zip(t) {
         *g *= t;
     }
