@@ -73,7 +73,7 @@ fn every_range_is_checked_at_both_ends_and_named() {
         for v in &bad {
             let e = apply(&mut cfg, &mut seed, p.key, v).expect_err(&format!("{} = {v:?} accepted", p.key));
             assert_eq!(e.field, p.key);
-            assert!(e.message.contains("out of range"), "{e}");
+            assert!(e.message.contains("out of range") || e.message.contains("not a number"), "{e}");
             assert_eq!((cfg.clone(), seed), before, "a refused value changes nothing");
         }
     }
@@ -91,6 +91,39 @@ fn bad_settings_keep_their_defaults_and_are_reported() {
     assert_eq!(errors.len(), 1);
     assert_eq!(errors[0].field, "minSequences");
     assert_eq!(cfg, defaults().0, "every default kept");
+}
+
+/// HTML lowercases attribute names and people write links by hand: every key of the table is
+/// accepted in camelCase, lowercase, kebab and snake form, as the same setting.
+#[test]
+fn every_key_is_accepted_in_any_case_and_kebab_form() {
+    use sec_playground::experiment::settings::canonical_key;
+    for p in params() {
+        let kebab: String = p
+            .key
+            .chars()
+            .flat_map(|c| if c.is_ascii_uppercase() { vec!['-', c.to_ascii_lowercase()] } else { vec![c] })
+            .collect();
+        for form in
+            [p.key.to_string(), p.key.to_lowercase(), p.key.to_uppercase(), kebab.clone(), kebab.replace('-', "_")]
+        {
+            assert_eq!(canonical_key(&form), Some(p.key), "{form}");
+        }
+    }
+    assert_eq!(canonical_key("colour"), None);
+    let (cfg, _, errors) = from_settings(&settings(&[("startheading", "fixed"), ("embedding-scale", "2")]));
+    assert!(errors.is_empty(), "{errors:?}");
+    assert_eq!((cfg.start_heading, cfg.embedding_scale), (sec_playground::arena::StartHeading::Fixed, Some(2.0)));
+}
+
+#[test]
+fn non_numbers_and_impossible_combinations_say_what_to_change() {
+    let (_, _, errors) = from_settings(&settings(&[("alpha", "abc"), ("tau", "")]));
+    assert_eq!(errors[0].to_string(), "alpha: 'abc' is not a number in [0, 1]");
+    assert_eq!(errors[1].to_string(), "tau: is empty, not a number in [0.01, 100]");
+    let (_, _, errors) = from_settings(&settings(&[("m", "3")]));
+    let message = errors[0].to_string();
+    assert!(message.contains("raise m to 5 or more, or lower minSequences to 3 or less"), "{message}");
 }
 
 #[test]

@@ -1,6 +1,8 @@
 // <sec-playground>: the playground as a custom element for course pages. Its attributes are the
-// URL hash's keys (task, alpha, m, seed...), plus `hide="key key ..."` (settings or sections a
-// teacher hides: runbar, keepbar, controls, views, charts, compare) and `autoplay`. Each element
+// URL hash's keys (task, alpha, m, seed...) in any case or kebab form (HTML lowercases them; the
+// core resolves `startheading` and `start-heading` to `startHeading` from its own table), plus
+// `hide="key key ..."` (settings or sections a teacher hides: runbar, keepbar, controls, views,
+// charts, compare) and `autoplay`. Each element
 // has its own shadow root, worker and keyboard focus, so several on one page do not interfere;
 // one that is scrolled off screen pauses.
 //
@@ -32,7 +34,13 @@ class SecPlaygroundElement extends HTMLElement {
       for (const e of entries) this.playground.setOnScreen(e.isIntersecting);
     });
     this.observer.observe(this);
-    this.attributes$ = new MutationObserver(() => this.playground.set(this.settingsFromAttributes()));
+    // Only the attributes that changed: one refused earlier must not block the later ones.
+    this.attributes$ = new MutationObserver((records) => {
+      const changed = new Set(records.map((r) => r.attributeName));
+      const all = this.settingsFromAttributes();
+      const keys = Object.keys(all).filter((name) => changed.has(name));
+      if (keys.length) this.playground.set(Object.fromEntries(keys.map((k) => [k, all[k]])));
+    });
     this.attributes$.observe(this, { attributes: true });
   }
 
@@ -50,19 +58,13 @@ class SecPlaygroundElement extends HTMLElement {
 
   settingsFromAttributes() {
     return Object.fromEntries([...this.attributes].filter((a) => !OWN.has(a.name) && !a.name.startsWith('data-')
-      && !a.name.startsWith('aria-')).map((a) => [attributeKey(a.name), a.value]));
+      && !a.name.startsWith('aria-')).map((a) => [a.name, a.value]));
   }
 
   /** The playground's state (settings, episodes, playing...), as `window.secPlayground` on the page. */
   get state() {
     return this.playground?.state;
   }
-}
-
-/** HTML lowercases attribute names: theta-abs, thetaabs and thetaAbs all mean the key thetaAbs. */
-function attributeKey(name) {
-  const camel = name.replace(/-([a-z])/g, (_, c) => c.toUpperCase());
-  return { thetaabs: 'thetaAbs', thetaprop: 'thetaProp' }[camel.toLowerCase()] ?? camel;
 }
 
 if (!customElements.get('sec-playground')) customElements.define('sec-playground', SecPlaygroundElement);

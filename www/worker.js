@@ -131,10 +131,40 @@ const handlers = {
     postView(true);
   },
   async set({ changes }) {
-    // Throws (naming the key and range) before anything changes.
-    const next = applySettings(settings, changes);
+    // All together if they go together; else each change that goes (in passes, since m and
+    // minSequences may only go in one order), the others refused by name. Nothing applied: throws.
+    let next;
+    let refused = [];
+    try {
+      next = applySettings(settings, changes);
+    } catch {
+      let left = Object.entries(changes);
+      let current = settings;
+      for (let progress = true; progress && left.length;) {
+        progress = false;
+        refused = [];
+        const still = [];
+        for (const [k, v] of left) {
+          try {
+            next = applySettings(current, { [k]: v });
+            current = next.settings;
+            progress = true;
+          } catch (e) {
+            refused.push(e.message);
+            still.push([k, v]);
+          }
+        }
+        left = still;
+      }
+      if (!next) throw new Error(refused.join('; '));
+      changes = Object.fromEntries(Object.entries(changes).filter(([k]) => !left.some(([l]) => l === k)));
+    }
     const same = Object.keys(next.settings).every((k) => next.settings[k] === settings[k]);
-    if (same && run && !dead) return; // nothing to change (e.g. the same value twice)
+    if (same && run && !dead) {
+      // Nothing to change (e.g. the same value twice); a refused part is still reported.
+      if (refused.length) post({ type: 'error', message: refused.join('; '), fatal: false });
+      return;
+    }
     let mode;
     if (!run || dead || next.seed !== run.seed) {
       await newRun(next.config, next.seed);
@@ -144,7 +174,7 @@ const handlers = {
       mode = run.configure(next.config);
     }
     settings = next.settings;
-    post({ type: 'started', settings, errors: [], mode, changes });
+    post({ type: 'started', settings, errors: [], refused, mode, changes });
     postView(true);
   },
   preset({ name }) {

@@ -62,7 +62,14 @@ impl SecConfig {
         if self.min_sequences > self.memory.m {
             return Err(ConfigError::new(
                 "minSequences",
-                format!("{} is out of range 0..={} (the LTM capacity m)", self.min_sequences, self.memory.m),
+                format!(
+                    "{} is out of range 0..={m} (the LTM capacity m): SEC acts from {} stored sequences, which an \
+                     LTM of m = {m} cannot hold; raise m to {} or more, or lower minSequences to {m} or less",
+                    self.min_sequences,
+                    self.min_sequences,
+                    self.min_sequences,
+                    m = self.memory.m
+                ),
             ));
         }
         if let Some(g) = self.gate {

@@ -258,7 +258,15 @@ fn range_error(key: &str, value: &str, kind: &Kind) -> ConfigError {
         Kind::Choice { options } => format!("one of {}", options.join(", ")),
         Kind::Switch => "0 or 1".into(),
     };
-    ConfigError::new(shown(key), format!("'{}' is out of range {range}", shown(value)))
+    let number = matches!(kind, Kind::Number { .. } | Kind::Integer { .. });
+    let message = if number && value.trim().is_empty() {
+        format!("is empty, not a number in {range}")
+    } else if number && value.trim().parse::<f64>().is_err() {
+        format!("'{}' is not a number in {range}", shown(value))
+    } else {
+        format!("'{}' is out of range {range}", shown(value))
+    };
+    ConfigError::new(shown(key), message)
 }
 
 /// The setting's value parsed and range-checked, as a number (choices: their index; `auto`:
@@ -290,7 +298,7 @@ fn parse(p: &Param, value: &str) -> Result<f64, ConfigError> {
 /// the key and its range, and changes nothing.
 pub fn apply(cfg: &mut RunConfig, seed: &mut u64, key: &str, value: &str) -> Result<(), ConfigError> {
     let all = table();
-    let s = all.iter().find(|s| s.param.key == key).ok_or_else(|| {
+    let s = all.iter().find(|s| s.param.key == key || loose(s.param.key) == loose(key)).ok_or_else(|| {
         let keys: Vec<&str> = all.iter().map(|s| s.param.key).collect();
         let name = if key.is_empty() { "\"\"".to_string() } else { shown(key) };
         ConfigError::new(name, format!("is not a setting (settings: {})", keys.join(", ")))
@@ -298,6 +306,17 @@ pub fn apply(cfg: &mut RunConfig, seed: &mut u64, key: &str, value: &str) -> Res
     let v = parse(&s.param, value)?;
     (s.set)(cfg, seed, v);
     Ok(())
+}
+
+/// A key as HTML attributes and hand-typed links may write it: `startHeading`, `startheading`,
+/// `start-heading` and `start_heading` are one key.
+fn loose(key: &str) -> String {
+    key.chars().filter(|c| !matches!(c, '-' | '_')).flat_map(char::to_lowercase).collect()
+}
+
+/// The table's name of a key written in any case or kebab form (see `apply`), if it is one.
+pub fn canonical_key(key: &str) -> Option<&'static str> {
+    table().iter().map(|s| s.param.key).find(|k| *k == key || loose(k) == loose(key))
 }
 
 /// The settings that describe `cfg` and `seed` (what the URL hash shows).

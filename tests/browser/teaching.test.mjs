@@ -199,6 +199,7 @@ test('driving: arrow keys move the agent, and a recorded rewarded episode raises
   const page = await open('#task=object-permanence&seed=3', problems);
   await ready(page);
   await page.click('#record');
+  await page.evaluate(() => document.activeElement?.blur()); // shortcuts act when no control has focus
   await page.keyboard.press('d');
   assert.ok(await page.evaluate(() => window.secPlayground.driving));
   // A fresh run, driven from its start at (5, 5).
@@ -268,6 +269,7 @@ test('CSV export has a header and one row per episode; memory files save, load, 
   await page.waitForFunction(() => document.getElementById('error').textContent.includes('magic'));
   assert.equal(await page.evaluate(() => window.secPlayground.view.ltm), ltm);
   const before = await page.evaluate(() => window.secPlayground.episodes);
+  await page.evaluate(() => document.activeElement?.blur());
   await page.keyboard.press(' ');
   await page.waitForFunction((b) => window.secPlayground.episodes > b + 1, before, { timeout: 60000 });
   rmSync(dir, { recursive: true });
@@ -313,6 +315,17 @@ test('two <sec-playground> elements on a course page run their own settings; the
   await page.keyboard.press(' ');
   await page.waitForFunction(() => !document.getElementById('nsec').state.playing);
   assert.ok(await page.evaluate(() => document.getElementById('sec').state.playing !== undefined));
+  // Attributes in any case or kebab form; a bad one is refused by name and a later valid one applies.
+  const nsec = (f) => page.evaluate(f);
+  await nsec(() => document.getElementById('nsec').setAttribute('startheading', 'sideways'));
+  await page.waitForFunction(() => document.getElementById('nsec').shadowRoot.getElementById('error').textContent
+    .includes('startHeading'));
+  await nsec(() => document.getElementById('nsec').setAttribute('alpha', '0.2'));
+  await page.waitForFunction(() => document.getElementById('nsec').state.settings.alpha === '0.2');
+  await nsec(() => document.getElementById('nsec').setAttribute('start-heading', 'fixed'));
+  await page.waitForFunction(() => document.getElementById('nsec').state.settings.startHeading === 'fixed');
+  await nsec(() => document.getElementById('nsec').setAttribute('embeddingScale', '2'));
+  await page.waitForFunction(() => document.getElementById('nsec').state.settings.embeddingScale === '2');
   // The first one, scrolled away, pauses; back on screen, it plays again.
   await page.evaluate(() => window.scrollTo(0, document.body.scrollHeight));
   await page.waitForFunction(() => !document.getElementById('sec').state.playing, null, { timeout: 10000 });
