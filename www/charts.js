@@ -41,8 +41,18 @@ const CHARTS = [
   { id: 'entropy', title: 'Policy entropy (bits, mean per episode)', value: (m) => m.entropy, mean: true },
   { id: 'decisions', title: 'Decisions per episode', value: (m) => m.decisions, mean: true },
   { id: 'ltm', title: 'LTM fill (sequences stored)', value: (m) => m.ltm, mean: false },
-  { id: 'contextual', title: 'Share of contextual actions', value: (m) => m.contextualShare, mean: true },
+  { id: 'contextual', title: 'Share of contextual actions', value: (m) => m.contextualShare, mean: true, share: true },
 ];
+
+/**
+ * Axes from the start and fitted to the data: a share spans 0-1; other values start at 0 (or
+ * their minimum) with headroom, and all zeros get 0-1, not uPlot's 0-100.
+ */
+const Y_RANGE = {
+  share: () => [0, 1],
+  value: (u, min, max) => [Math.min(0, min ?? 0), (max ?? 0) > 0 ? max * 1.1 : 1],
+};
+const X_RANGE = (u, min, max) => (min == null ? [0, 10] : [min, max > min ? max : min + 1]);
 
 /** A uPlot plugin drawing the parameter changes as dashed lines with a label at the x axis. */
 function markPlugin(marks) {
@@ -116,7 +126,7 @@ export class Charts {
         title: c.title,
         width,
         height: 170,
-        scales: { x: { time: false } },
+        scales: { x: { time: false, range: X_RANGE }, y: { range: c.share ? Y_RANGE.share : Y_RANGE.value } },
         axes: axes(this.root),
         legend: { live: false },
         series,
@@ -162,6 +172,11 @@ export class Charts {
       col.rolling.clear();
     }
     this.dirty = true;
+  }
+
+  /** Each chart's y axis as drawn, [min, max] by chart id. */
+  ranges() {
+    return Object.fromEntries(this.plots.map((u, k) => [CHARTS[k].id, [u.scales.y.min, u.scales.y.max]]));
   }
 
   redraw() {
@@ -252,6 +267,11 @@ export class CompareChart {
   reset() {
     this.drawn = { series: 0, bands: 0, episodes: 0, references: 0, liveAtFirstReference: null };
     this.dirty = true;
+  }
+
+  /** Each chart's y axis as drawn, [min, max] by chart id. */
+  ranges() {
+    return Object.fromEntries(this.plots.map((u, k) => [CHARTS[k].id, [u.scales.y.min, u.scales.y.max]]));
   }
 
   redraw() {

@@ -104,7 +104,13 @@ export function buildControls(root, params, onChange) {
     const unused = document.createElement('p');
     unused.className = 'unused';
     unused.hidden = true;
-    row.append(range, help, unused);
+    // Where a refused value of this control is reported, next to it.
+    const refused = document.createElement('p');
+    refused.id = `e-${p.key}`;
+    refused.className = 'refused';
+    refused.setAttribute('role', 'alert');
+    refused.hidden = true;
+    row.append(range, help, unused, refused);
     groupOf(p.group ?? 'run').append(row);
     fields.set(p.key, el);
   }
@@ -117,6 +123,20 @@ export function buildControls(root, params, onChange) {
         else el.value = v === 'auto' && el.placeholder === 'auto' ? '' : v;
         const s = sliders.get(k);
         if (s) s.value = v;
+      }
+    },
+    /**
+     * Shows each refused value's message (`key: ...`) next to its control, and clears the
+     * others; `messages` empty clears all.
+     */
+    refused(messages) {
+      for (const [key, el] of fields) {
+        const message = messages.find((m) => m.startsWith(`${key}:`));
+        const alert = root.querySelector(`#e-${key}`);
+        alert.textContent = message ?? '';
+        alert.hidden = !message;
+        if (message) el.setAttribute('aria-invalid', 'true');
+        else el.removeAttribute('aria-invalid');
       }
     },
     hide(keys) {

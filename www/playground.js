@@ -86,10 +86,13 @@ export class Playground {
     this.startWorker();
   }
 
+  /** The error at the top of the page, and each refused value's next to its control. */
   showError(message) {
     const el = this.$('error');
     el.textContent = message ?? '';
     el.hidden = !message;
+    this.controls?.refused(message ? message.split(/; |\. (?=[A-Z])/) : []);
+    if (message) this.notice(''); // a notice of what applied before is stale now
   }
 
   notice(text) {
@@ -289,6 +292,8 @@ export class Playground {
       get playing() { return me.playing; },
       get marks() { return me.charts.marks; },
       get points() { return me.charts.episodes.length; },
+      /** Each learning curve's y axis, [min, max] by chart id. */
+      get chartRanges() { return me.charts.ranges(); },
       get view() { return me.lastView; },
       get build() { return me.build; },
       /** ms from the page's start to the first camera frame drawn. */

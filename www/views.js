@@ -54,7 +54,18 @@ export function drawHeat(canvas, values, n, selected, kind) {
   ctx.fillStyle = '#222';
   ctx.fillRect(0, 0, canvas.width, canvas.height);
   const rows = n ? Math.floor(values.length / n) : 0;
-  if (!rows) return 0;
+  canvas.dataset.empty = rows ? '' : '1';
+  canvas.setAttribute('aria-label', rows ? `Long-term memory heat map: ${rows} sequences`
+    : 'Long-term memory heat map: empty');
+  if (!rows) {
+    // Why it is empty, rather than a black square.
+    ctx.fillStyle = '#bbb';
+    ctx.font = '13px system-ui, sans-serif';
+    ctx.textAlign = 'center';
+    const lines = ['The LTM is empty.', 'A sequence is stored', 'when an episode ends at a goal.'];
+    lines.forEach((line, i) => ctx.fillText(line, canvas.width / 2, canvas.height / 2 + (i - 1) * 18));
+    return 0;
+  }
   const first = Math.max(0, rows - MAX_ROWS);
   const shown = rows - first;
   const [lo, hi] = HEAT_RANGE[kind];

@@ -44,6 +44,17 @@ const hashOf = (page) => page.evaluate(() => Object.fromEntries(new URLSearchPar
 
 test('the page loads, plays, draws its views and fills the reward chart', async () => {
   const page = await open();
+  // Axes from the start: a share spans 0-1, the rest 0-1 until there is data.
+  await page.waitForFunction(() => window.secPlayground?.chartRanges);
+  const empty = await page.evaluate(() => window.secPlayground.chartRanges);
+  assert.deepEqual(empty.contextual, [0, 1]);
+  assert.deepEqual(empty.reward, [0, 1]);
+  // The empty LTM's heat map says so (not a black square).
+  await page.waitForFunction(() => document.getElementById('heat').dataset.empty !== undefined);
+  if (await page.evaluate(() => window.secPlayground.view?.ltm === 0)) {
+    assert.equal(await page.getAttribute('#heat', 'data-empty'), '1');
+    assert.match(await page.getAttribute('#heat', 'aria-label'), /empty/);
+  }
   // The default run starts playing on load.
   await page.waitForFunction(() => window.secPlayground.playing, null, { timeout: 5000 });
   // The agent may start facing a wall (one colour): wait until it sees more.
@@ -65,6 +76,11 @@ test('the page loads, plays, draws its views and fills the reward chart', async 
   // Episodes of the double T-maze take up to 250 decisions: give it a few seconds.
   await page.waitForFunction(() => window.secPlayground.points >= 2, null, { timeout: 30000 });
   const view = await page.evaluate(() => window.secPlayground.view);
+  // The share of contextual actions (0 while memory is empty) keeps its 0-1 axis.
+  await page.waitForTimeout(400); // the charts redraw a few times a second
+  const ranges = await page.evaluate(() => window.secPlayground.chartRanges);
+  assert.deepEqual(ranges.contextual, [0, 1]);
+  assert.ok(ranges.decisions[1] > 1 && ranges.decisions[0] === 0, JSON.stringify(ranges));
   // Progress: steps into an episode, or (read at an episode's first step) episodes done.
   assert.ok((view.step > 0 || view.episode > 0) && view.decisions > 0 && view.capacity === 500, JSON.stringify(view));
   assert.deepEqual(problems, []);
@@ -140,6 +156,12 @@ test('a bad control value is refused by name and the run goes on', async () => {
   await page.press('#p-beta', 'Enter');
   await page.waitForFunction(() => !document.getElementById('error').hidden);
   assert.match(await page.textContent('#error'), /beta: '7' is out of range \[0, 1\]/);
+  // Also next to the control, as an alert, and no stale notice of an earlier change.
+  assert.match(await page.textContent('#e-beta'), /beta: '7' is out of range/);
+  assert.equal(await page.getAttribute('#e-beta', 'role'), 'alert');
+  assert.ok(await page.isVisible('#e-beta'));
+  assert.equal(await page.getAttribute('#p-beta', 'aria-invalid'), 'true');
+  assert.equal(await page.textContent('#notice'), '');
   await page.waitForFunction(() => document.getElementById('p-beta').value === '0.05');
   assert.equal((await hashOf(page)).beta, '0.05');
   const step = await page.evaluate(() => window.secPlayground.view.step);
