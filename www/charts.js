@@ -244,9 +244,25 @@ export class CompareChart {
     this.plot = null;
     this.shape = '';
     this.dirty = false;
-    this.drawn = { series: 0, bands: 0, episodes: 0, references: 0, liveAtFirstReference: null };
+    this.drawn = { series: 0, bands: 0, episodes: 0, references: 0, liveAtFirstReference: null, x: null };
     this.source = () => ({ title: '', arms: [], references: [] });
+    // The x axis follows the live runs unless `full` (the reference runs' whole length) or the
+    // user zoomed (drag across the chart: the range, kept until `resetZoom`).
+    this.full = false;
+    this.zoomed = null;
     this.timer = setInterval(() => this.redraw(), REDRAW_MS);
+  }
+
+  /** Shows the reference runs' full length (true) or follows the live runs (false). */
+  setFull(full) {
+    this.full = full;
+    this.zoomed = null;
+    this.dirty = true;
+  }
+
+  resetZoom() {
+    this.zoomed = null;
+    this.dirty = true;
   }
 
   /**
@@ -267,11 +283,6 @@ export class CompareChart {
   reset() {
     this.drawn = { series: 0, bands: 0, episodes: 0, references: 0, liveAtFirstReference: null };
     this.dirty = true;
-  }
-
-  /** Each chart's y axis as drawn, [min, max] by chart id. */
-  ranges() {
-    return Object.fromEntries(this.plots.map((u, k) => [CHARTS[k].id, [u.scales.y.min, u.scales.y.max]]));
   }
 
   redraw() {
@@ -324,18 +335,37 @@ export class CompareChart {
         title,
         width,
         height: 260,
-        scales: { x: { time: false }, y: { range: (u, min, max) => [Math.min(0, min), max > 0 ? max * 1.1 : 1] } },
+        scales: { x: { time: false, auto: false }, y: { range: (u, min, max) => [Math.min(0, min), max > 0 ? max * 1.1 : 1] } },
         axes: axes(this.root),
         legend: { show: false },
         series,
         bands,
+        // A drag across the chart selects a range and zooms to it.
+        hooks: {
+          setSelect: [(u) => {
+            if (u.select.width > 0) {
+              this.zoomed = [u.posToVal(u.select.left, 'x'), u.posToVal(u.select.left + u.select.width, 'x')];
+            }
+          }],
+        },
       }, data, this.root);
     } else {
       this.plot.setData(data);
     }
+    // The live runs' episodes with room to grow (a quarter more, at least 20), or everything.
+    // setData re-ranges every axis: put x back where it belongs (a zoom stays until reset).
+    if (this.zoomed) {
+      this.plot.setScale('x', { min: this.zoomed[0], max: this.zoomed[1] });
+    } else {
+      const target = this.full || !live ? len : Math.min(len, Math.max(20, Math.ceil(live * 1.25)));
+      this.plot.setScale('x', { min: 0, max: Math.max(1, target - 1) });
+    }
     const liveAtFirstReference = this.drawn.liveAtFirstReference
       ?? (references.length ? stats.reduce((n, s) => n + s.mean.length, 0) : null);
-    this.drawn = { series: stats.length, bands: bands.length, episodes: len, references: references.length, liveAtFirstReference };
+    this.drawn = {
+      series: stats.length, bands: bands.length, episodes: len, references: references.length, liveAtFirstReference,
+      live, x: [this.plot.scales.x.min, this.plot.scales.x.max],
+    };
   }
 
   destroy() {

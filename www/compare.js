@@ -9,6 +9,11 @@ const MAX_ARMS = 8;
 const METRICS = { reward: (m) => m.reward, entropy: (m) => m.entropy, decisions: (m) => m.decisions };
 
 let index = null;
+/** Most words of a preset's caption in view before "more". */
+const CAPTION_WORDS = 60;
+
+const words = (t) => t.trim().split(/\s+/).filter(Boolean).length;
+
 /** The reference runs there are (`experiment:condition` names), fetched once. */
 function referenceIndex() {
   index ??= fetch(new URL('../assets/reference/index.json', import.meta.url))
@@ -61,6 +66,8 @@ export class Compare {
     $('compare-add').addEventListener('click', () => this.addCurrent());
     $('compare-run').addEventListener('click', () => (this.running ? this.pause() : this.start()));
     $('compare-clear').addEventListener('click', () => this.clear());
+    $('compare-full').addEventListener('change', (e) => this.chart.setFull(e.target.checked));
+    $('compare-zoom-reset').addEventListener('click', () => this.chart.resetZoom());
     $('compare-metric').addEventListener('change', () => this.chart.touch());
     $('compare-task').addEventListener('change', () => this.preset('exp1'));
   }
@@ -77,7 +84,7 @@ export class Compare {
     this.clear();
     this.chart.reset();
     this.title = p.title;
-    this.$('compare-caption').textContent = p.caption;
+    this.caption(p.caption);
     for (const arm of p.arms) this.add(arm.label, { ...p.base, ...arm.settings }, arm.reference);
     this.natives = (p.natives ?? []).map((n, i) => ({
       label: n.label, referenceName: n.reference, reference: null,
@@ -224,12 +231,27 @@ export class Compare {
     this.arms = [];
     this.natives = [];
     this.title = '';
-    this.$('compare-caption').textContent = '';
+    this.caption('');
     this.$('compare-reference').textContent = '';
     this.$('compare-run').textContent = 'Start';
     this.$('compare-seeds').disabled = false;
     this.list();
     this.chart.touch();
+  }
+
+  /**
+   * A preset's caption: its first sentences (at most CAPTION_WORDS words: the finding and what
+   * the live runs will show) in view, the rest behind "more".
+   */
+  caption(text) {
+    // Sentences end at . ! or ? before a space and a capital (not in "2.3" or "e.g. the").
+    const sentences = text.split(/(?<=[.!?])\s+(?=[A-Z(])/).filter(Boolean);
+    let k = 0;
+    while (k < sentences.length && (k === 0 || words(sentences.slice(0, k + 1).join(' ')) <= CAPTION_WORDS)) k++;
+    this.$('compare-caption').textContent = sentences.slice(0, k).join(' ');
+    const rest = sentences.slice(k).join(' ');
+    this.$('compare-more-text').textContent = rest;
+    this.$('compare-more').hidden = !rest;
   }
 
   /** What the chart draws: per configuration one array of values per seed. */
@@ -291,7 +313,9 @@ export class Compare {
       get running() { return me.running; },
       get drawn() { return me.chart.drawn; },
       get episodes() { return me.arms.map(finished); },
-      get caption() { return me.$('compare-caption').textContent; },
+      /** The whole caption, and the part in view before "more". */
+      get caption() { return `${me.$('compare-caption').textContent} ${me.$('compare-more-text').textContent}`.trim(); },
+      get captionShort() { return me.$('compare-caption').textContent; },
       get referenceNote() { return me.$('compare-reference').textContent; },
       /** Each arm's reference runs: {name, seeds, episodes, settings}, or null. */
       get references() {

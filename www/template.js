@@ -122,8 +122,12 @@ export const TEMPLATE = `
       </select></label>
       <button id="compare-run" type="button">Start</button>
       <button id="compare-clear" type="button">Clear</button>
+      <label title="The x axis follows the live runs; tick to see the reference runs' whole length">
+        <input id="compare-full" type="checkbox"> reference runs' full length</label>
+      <button id="compare-zoom-reset" type="button" title="Drag across the chart to zoom; this goes back">Reset zoom</button>
     </div>
     <p id="compare-caption" class="caption"></p>
+    <details id="compare-more" class="caption" hidden><summary>more</summary><p id="compare-more-text"></p></details>
     <p id="compare-reference" class="note" aria-live="polite"></p>
     <ol id="compare-arms" class="arms"></ol>
     <div id="compare-chart" class="compare-chart"></div>

@@ -83,6 +83,36 @@ test('compare mode: a preset starts its runs; two configurations draw two series
       ['double-t-maze', 'untrained', 'mfec-ae', '1'],
     ]);
     await page.waitForFunction(() => window.secPlayground.compare.drawn.series === 3, null, { timeout: 120000, polling: 500 });
+    // The caption's finding in view, at most 60 words; the rest behind "more".
+    const short = (await c()).captionShort;
+    assert.ok(short.split(/\s+/).length <= 60 && short.length > 20, short);
+    assert.ok((await c()).caption.length > short.length);
+    // The x axis follows the live runs (within a factor 2), not the reference runs' thousands.
+    await page.waitForFunction(() => window.secPlayground.compare.drawn.live >= 3, null, { timeout: 120000, polling: 500 });
+    await page.waitForTimeout(300);
+    let d = (await c()).drawn;
+    assert.ok(d.x[1] >= d.live - 1 && d.x[1] <= Math.max(20, 2 * d.live), JSON.stringify(d));
+    assert.ok(d.episodes >= 1000, 'the reference runs are longer');
+    // "The reference runs' full length" shows them all.
+    await page.click('#compare-full');
+    await page.waitForFunction(() => window.secPlayground.compare.drawn.x[1] > 1000, null, { timeout: 5000 });
+    d = (await c()).drawn;
+    assert.equal(d.x[1], d.episodes - 1);
+    // A drag across the chart zooms to that range; "Reset zoom" follows the live runs again.
+    await page.locator('#compare-chart .u-over').scrollIntoViewIfNeeded();
+    const over = await page.locator('#compare-chart .u-over').boundingBox();
+    await page.mouse.move(over.x + over.width * 0.2, over.y + over.height / 2);
+    await page.mouse.down();
+    await page.mouse.move(over.x + over.width * 0.4, over.y + over.height / 2, { steps: 5 });
+    await page.mouse.up();
+    await page.waitForFunction(() => window.secPlayground.compare.drawn.x[0] > 0, null, { timeout: 5000 });
+    d = (await c()).drawn;
+    assert.ok(d.x[0] > 500 && d.x[1] < 2500, `zoomed to ${d.x}`);
+    await page.click('#compare-full');
+    await page.click('#compare-zoom-reset');
+    await page.waitForFunction(() => window.secPlayground.compare.drawn.x[0] === 0, null, { timeout: 5000 });
+    d = (await c()).drawn;
+    assert.ok(d.x[0] === 0 && d.x[1] <= Math.max(20, 2 * d.live), JSON.stringify(d));
     // Two configurations of object permanence (goals come early) with two seeds each.
     await page.click('#compare-clear');
     await page.selectOption('#compare-seeds', '2');
