@@ -118,6 +118,16 @@ test('on a phone-sized screen nothing is wider than the screen and the camera co
     return { camera: y('#camera'), charts: y('#charts'), controls: y('#controls') };
   });
   assert.ok(order.camera < order.charts && order.charts < order.controls, `camera, charts, then controls: ${JSON.stringify(order)}`);
+  // Touch targets: every visible button at least 44 px tall and wide, checkboxes with 44 px of room.
+  const small = await page.evaluate(() => [...document.querySelectorAll('button, input[type=checkbox], label.file')]
+    .filter((b) => b.offsetParent !== null)
+    .map((b) => {
+      const r = b.getBoundingClientRect();
+      const m = b.type === 'checkbox' ? 16 : 0; // a box's margin counts as its target
+      return { id: b.id || b.textContent.trim(), h: r.height + m, w: r.width + m };
+    })
+    .filter((b) => b.h < 44 || b.w < 44));
+  assert.deepEqual(small, [], 'targets under 44 px');
   mkdirSync(ARTIFACTS, { recursive: true });
   await page.screenshot({ path: fileURLToPath(new URL('phone.png', ARTIFACTS)), fullPage: false });
 });
