@@ -7,7 +7,12 @@
 // one that is scrolled off screen pauses.
 //
 //   <script type="module" src="sec-playground/www/element.js"></script>
-//   <sec-playground task="double-t-maze" alpha="0.05" hide="compare keepbar" autoplay></sec-playground>
+//   <sec-playground task="double-t-maze" alpha="0.05" hide="compare keepbar" autoplay>
+//     <p>Serve this page over HTTP (python3 -m http.server) to see the playground.</p>
+//   </sec-playground>
+//
+// What is inside the tag shows only until the element starts (its shadow root has no slot): a
+// page opened from disk, where browsers load no modules, shows it instead of nothing.
 import { Playground } from './playground.js';
 
 const OWN = new Set(['hide', 'autoplay', 'class', 'style', 'id', 'tabindex', 'title', 'lang', 'dir']);

@@ -138,6 +138,11 @@ test('opened from disk, the page says how to serve it', async () => {
   await page.goto(new URL('../../index.html', import.meta.url).href);
   assert.ok(await page.isVisible('#file-note'));
   assert.match(await page.textContent('#file-note'), /http\.server/);
+  // A course page opened from disk: its element cannot start and shows the text inside its tag.
+  await page.goto(new URL('../../www/examples/course.html', import.meta.url).href);
+  await page.waitForTimeout(500);
+  assert.ok(await page.isVisible('#sec .sec-fallback'));
+  assert.match(await page.textContent('#sec .sec-fallback'), /http\.server/);
 });
 
 test('an embedded iframe pauses while scrolled out of sight', async () => {

@@ -331,6 +331,8 @@ test('two <sec-playground> elements on a course page run their own settings; the
   await page.locator('#sec').scrollIntoViewIfNeeded();
   await page.waitForFunction(() => document.getElementById('sec').state?.episodes > 0, null, { timeout: 90000 });
   await page.locator('#nsec').scrollIntoViewIfNeeded();
+  // Served over HTTP, the element started: the fallback text inside its tag is not shown.
+  assert.equal(await page.isVisible('#sec .sec-fallback'), false);
   const [a, b] = await coursePage(page);
   assert.equal(a.settings.bias, '1');
   assert.equal(b.settings.bias, '0');
