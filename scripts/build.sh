@@ -24,6 +24,7 @@ cp index.html embed.html arena.html dist/sec-playground/
 cp -r www dist/sec-playground/www
 cp -r assets/encoders dist/sec-playground/assets/encoders
 cp -r assets/reference dist/sec-playground/assets/reference
+cp -r assets/warm-up dist/sec-playground/assets/warm-up
 for d in pkg pkg/scalar; do
     cp "$d/sec_playground.js" "$d/sec_playground_bg.wasm" "dist/sec-playground/$d/"
 done

@@ -1,6 +1,6 @@
 // Regenerates the README's screenshots of the page in Debian's Chromium: a desktop window
-// (1400x900) and a phone (390x844), each after a minute of the default run at max speed, paused
-// on a decision with the explanation open. Run `node scripts/screenshots.mjs` after
+// (1400x900) and a phone (390x844), each started from the reference run's memory ("Skip the
+// warm-up") and played a few seconds at max speed, paused on a decision with the explanation open. Run `node scripts/screenshots.mjs` after
 // `scripts/build.sh`; it writes docs/img/playground.png and docs/img/playground-phone.png.
 import { launch } from '../tests/browser/harness.mjs';
 
@@ -15,7 +15,9 @@ try {
       s.value = s.max;
       s.dispatchEvent(new Event('input'));
     });
-    await page.waitForFunction(() => window.secPlayground.view.ltm >= 8, null, { timeout: 180000, polling: 500 });
+    await page.click('#warm-up');
+    await page.waitForFunction(() => document.getElementById('notice').textContent.startsWith('Warm-up skipped'));
+    await page.waitForFunction(() => window.secPlayground.episodes >= 30, null, { timeout: 180000, polling: 500 });
     await page.click('#play');
     for (let i = 0; i < 300; i++) {
       await page.click('#step-decision');

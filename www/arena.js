@@ -50,9 +50,23 @@ function rebuild(make, description) {
   }
 }
 
+/** The menu's entry for a loaded file: shown (and selected) only while that file runs. */
+const CUSTOM = '(custom)';
+
 function fromTask() {
   const task = $('task').value;
-  if (rebuild(({ seed, t }) => new ArenaEnv(task, seed, t), taskDescription(task))) source = { kind: 'task' };
+  // Leaving a file's arena: its own t goes with it, back to the tasks' limit.
+  const fileT = source.kind === 'yaml' && source.ownT;
+  const limit = $('limit').value;
+  if (fileT) $('limit').value = $('limit').defaultValue;
+  if (rebuild(({ seed, t }) => new ArenaEnv(task, seed, t), taskDescription(task))) {
+    source = { kind: 'task' };
+    $('task').querySelector(`option[value="${CUSTOM}"]`)?.remove();
+  } else if (source.kind === 'yaml') {
+    // The file's arena goes on: the menu and the limit say so.
+    $('limit').value = limit;
+    $('task').value = CUSTOM;
+  }
 }
 
 /** The current source again, with the seed and limit now in the fields. */
@@ -105,6 +119,14 @@ $('yaml').addEventListener('change', async (e) => {
   if (rebuild(({ seed }) => ArenaEnv.fromYaml(file.name, text, seed, undefined), `Custom arena ${file.name}`)) {
     source = { kind: 'yaml', name: file.name, text, ownT: true };
     $('limit').value = String(env.agent().t); // the file's t
+    let custom = $('task').querySelector(`option[value="${CUSTOM}"]`);
+    if (!custom) {
+      custom = new Option('', CUSTOM);
+      custom.disabled = true;
+      $('task').prepend(custom);
+    }
+    custom.textContent = `custom: ${file.name}`;
+    $('task').value = CUSTOM;
   }
 });
 

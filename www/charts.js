@@ -6,6 +6,8 @@ import uPlot from './vendor/uPlot.esm.js';
 /** The paper's sliding window (episodes). */
 export const WINDOW = 20;
 const REDRAW_MS = 100;
+/** The width of a chart placed in a slot beside the camera and the action grid. */
+const SLOT_WIDTH = 360;
 const MARK = '#b3261e';
 
 /** Axes in the page's text colour (readable in dark mode too), with faint grid lines. */
@@ -38,7 +40,9 @@ export class RollingMean {
 /** What each chart shows: a per-episode value, and whether to add its 20-episode mean. */
 const CHARTS = [
   { id: 'reward', title: 'Reward per episode', value: (m) => m.reward, mean: true },
-  { id: 'entropy', title: 'Policy entropy (bits, mean per episode)', value: (m) => m.entropy, mean: true },
+  // As the authors logged it: every decision's, whether memory acted or not (`entropyFresh` is
+  // the mean over the decisions where it selected couplets).
+  { id: 'entropy', title: "Entropy of memory's vote, bits (all decisions, as the authors logged)", value: (m) => m.entropy, mean: true },
   { id: 'decisions', title: 'Decisions per episode', value: (m) => m.decisions, mean: true },
   { id: 'ltm', title: 'LTM fill (sequences stored)', value: (m) => m.ltm, mean: false },
   { id: 'contextual', title: 'Share of contextual actions', value: (m) => m.contextualShare, mean: true, share: true },
@@ -93,8 +97,12 @@ function markPlugin(marks) {
             continue;
           }
           rows[row] = x + w;
-          ctx.fillText(m.label, x + 3 * px, bbox.top + (11 + 12 * row) * px);
+          // Right of its line, or left of it where the plot ends first.
+          const right = x + w <= bbox.left + bbox.width;
+          ctx.textAlign = right ? 'left' : 'right';
+          ctx.fillText(m.label, right ? x + 3 * px : x - 3 * px, bbox.top + (11 + 12 * row) * px);
         }
+        ctx.textAlign = 'left';
         if (merged) ctx.fillText(`+${merged.n} more`, merged.x, bbox.top + 11 * px);
         ctx.restore();
       }],
@@ -102,9 +110,12 @@ function markPlugin(marks) {
   };
 }
 
-/** The learning-curve panel in `root`. */
+/**
+ * The learning-curve panel in `root`; a chart whose id is a key of `slots` goes into that element
+ * instead (the reward curve sits beside the camera, on the first screen).
+ */
 export class Charts {
-  constructor(root) {
+  constructor(root, slots = {}) {
     this.root = root;
     this.marks = [];
     this.episodes = [];
@@ -115,7 +126,7 @@ export class Charts {
       const box = document.createElement('figure');
       box.className = 'chart';
       box.dataset.chart = c.id;
-      root.append(box);
+      (slots[c.id] ?? root).append(box);
       const series = [
         { label: 'episode' },
         { label: c.mean ? 'per episode' : c.title, stroke: c.mean ? 'rgba(29,154,214,0.35)' : '#1d9ad6', width: 1,
@@ -124,7 +135,7 @@ export class Charts {
       if (c.mean) series.push({ label: `mean of ${WINDOW}`, stroke: '#1d4ed8', width: 2, points: { show: false } });
       return new uPlot({
         title: c.title,
-        width,
+        width: slots[c.id] ? Math.min(width, SLOT_WIDTH) : width,
         height: 170,
         scales: { x: { time: false, range: X_RANGE }, y: { range: c.share ? Y_RANGE.share : Y_RANGE.value } },
         axes: axes(this.root),

@@ -9,17 +9,13 @@ const MAX_ARMS = 8;
 const METRICS = { reward: (m) => m.reward, entropy: (m) => m.entropy, decisions: (m) => m.decisions };
 
 let index = null;
-/** Most words of a preset's caption in view before "more". */
-const CAPTION_WORDS = 60;
-
-const words = (t) => t.trim().split(/\s+/).filter(Boolean).length;
-
 /** The reference runs there are (`experiment:condition` names), fetched once. */
+/** The reference runs there are, by `experiment:condition` name, with their numbers; fetched once. */
 function referenceIndex() {
   index ??= fetch(new URL('../assets/reference/index.json', import.meta.url))
     .then((r) => (r.ok ? r.json() : { references: [] }))
-    .then((j) => new Set(j.references.map((r) => r.reference)))
-    .catch(() => new Set());
+    .then((j) => new Map(j.references.map((r) => [r.reference, r])))
+    .catch(() => new Map());
   return index;
 }
 
@@ -84,7 +80,17 @@ export class Compare {
     this.clear();
     this.chart.reset();
     this.title = p.title;
-    this.caption(p.caption);
+    this.caption('', '');
+    // The captions quote the reference index's numbers (the paper's and our runs').
+    referenceIndex().then((refs) => {
+      if (this.title !== p.title) return; // another preset since
+      if (!refs.size) {
+        this.caption('The reference index (assets/reference/index.json) could not be loaded: the paper\'s and our '
+          + 'numbers are in REPRODUCTION.md.', '');
+        return;
+      }
+      this.caption(p.summary(refs), typeof p.caption === 'function' ? p.caption(refs) : p.caption);
+    });
     for (const arm of p.arms) this.add(arm.label, { ...p.base, ...arm.settings }, arm.reference);
     this.natives = (p.natives ?? []).map((n, i) => ({
       label: n.label, referenceName: n.reference, reference: null,
@@ -231,7 +237,7 @@ export class Compare {
     this.arms = [];
     this.natives = [];
     this.title = '';
-    this.caption('');
+    this.caption('', '');
     this.$('compare-reference').textContent = '';
     this.$('compare-run').textContent = 'Start';
     this.$('compare-seeds').disabled = false;
@@ -240,18 +246,13 @@ export class Compare {
   }
 
   /**
-   * A preset's caption: its first sentences (at most CAPTION_WORDS words: the finding and what
-   * the live runs will show) in view, the rest behind "more".
+   * A preset's caption: its summary in view (two or three sentences: the finding, ours, and what
+   * the live runs will show; at most presets.js's SUMMARY_WORDS words, a test checks), the details behind "more".
    */
-  caption(text) {
-    // Sentences end at . ! or ? before a space and a capital (not in "2.3" or "e.g. the").
-    const sentences = text.split(/(?<=[.!?])\s+(?=[A-Z(])/).filter(Boolean);
-    let k = 0;
-    while (k < sentences.length && (k === 0 || words(sentences.slice(0, k + 1).join(' ')) <= CAPTION_WORDS)) k++;
-    this.$('compare-caption').textContent = sentences.slice(0, k).join(' ');
-    const rest = sentences.slice(k).join(' ');
-    this.$('compare-more-text').textContent = rest;
-    this.$('compare-more').hidden = !rest;
+  caption(summary, details) {
+    this.$('compare-caption').textContent = summary;
+    this.$('compare-more-text').textContent = details;
+    this.$('compare-more').hidden = !details;
   }
 
   /** What the chart draws: per configuration one array of values per seed. */

@@ -61,9 +61,12 @@ export class Playground {
     this.lastView = null;
     this.build = null;
     this.driving = false;
-    this.action = 0;
+    this.keyAction = 0; // the held arrow keys' action
+    this.padAction = null; // the held pad button's, which wins while held
     this.listeners = [];
-    this.charts = new Charts(this.$('charts'));
+    // The reward curve beside the camera, unless the views are hidden (then with the other charts).
+    const besideCamera = !hide.includes('views') && !hide.includes('charts');
+    this.charts = new Charts(this.$('charts'), besideCamera ? { reward: this.$('chart-slot') } : {});
     this.compare = new Compare(this.$('compare'), {
       current: () => this.settings,
       agentInfo: (key) => this.agentInfo(key),
@@ -177,10 +180,12 @@ export class Playground {
     const b = this.$('drive');
     b.setAttribute('aria-pressed', String(on));
     b.classList.toggle('on', on);
+    this.$('drive-pad').hidden = !on;
     this.send({ type: 'speed', value: this.effectiveSpeed() });
     this.sendDriver();
     if (on) {
-      this.notice('Driving: hold the arrow keys (↑ forward, ↓ back, ← → turn); no key: stand still. '
+      this.notice('Driving: hold the arrow keys (↑ forward, ↓ back, ← → turn) or a button of the pad under the camera; '
+        + 'nothing held: stand still. '
         + (this.$('record').checked ? 'Recording: a rewarded episode goes into the LTM.' : 'Not recording.'));
       if (!this.wantPlay) this.setPlaying(true);
     } else {
@@ -190,7 +195,33 @@ export class Playground {
   }
 
   sendDriver() {
-    this.send({ type: 'drive', action: this.driving ? this.action : null, record: this.$('record').checked });
+    const action = this.padAction ?? this.keyAction ?? 0;
+    this.send({ type: 'drive', action: this.driving ? action : null, record: this.$('record').checked });
+  }
+
+  /** The on-screen pad: a button held (mouse, pen or finger) drives with its action until let go. */
+  wirePad() {
+    const pad = this.$('drive-pad');
+    const release = (b) => {
+      b.classList.remove('held');
+      if (this.padButton !== b) return;
+      this.padButton = null;
+      this.padAction = null;
+      if (this.driving) this.sendDriver();
+    };
+    for (const b of pad.querySelectorAll('button')) {
+      b.addEventListener('pointerdown', (e) => {
+        e.preventDefault();
+        b.setPointerCapture?.(e.pointerId);
+        if (this.padButton) this.padButton.classList.remove('held');
+        this.padButton = b;
+        this.padAction = Number(b.dataset.action);
+        b.classList.add('held');
+        if (this.driving) this.sendDriver();
+      });
+      for (const type of ['pointerup', 'pointercancel', 'lostpointercapture']) b.addEventListener(type, () => release(b));
+      b.addEventListener('contextmenu', (e) => e.preventDefault()); // a long touch is a hold, not a menu
+    }
   }
 
   label(key) {
@@ -221,11 +252,12 @@ export class Playground {
       target: keys,
       active: () => this.driving,
       onChange: (action) => {
-        this.action = action;
+        this.keyAction = action;
         if (this.driving) this.sendDriver();
       },
     });
     $('drive').addEventListener('click', () => this.setDriving(!this.driving));
+    this.wirePad();
     this.listen(document, 'visibilitychange', () => this.setVisible(this.onScreen && !document.hidden));
     // Someone edits the link: apply what changed (validated by the core like any control).
     if (this.useHash) {
@@ -243,6 +275,7 @@ export class Playground {
     $('export-csv').addEventListener('click', () => this.exportCsv());
     $('export-json').addEventListener('click', () => this.exportJson());
     $('save-memory').addEventListener('click', () => this.send({ type: 'saveMemory' }));
+    $('warm-up').addEventListener('click', () => this.skipWarmUp());
     $('load-memory').addEventListener('change', async (e) => {
       const file = e.target.files?.[0];
       e.target.value = '';
@@ -250,6 +283,34 @@ export class Playground {
       const bytes = await file.arrayBuffer();
       this.send({ type: 'loadMemory', bytes }, [bytes]);
     });
+  }
+
+  /**
+   * "Skip the warm-up": the run starts again (same settings, the reference run's seed) from the
+   * memory a native reference run of this task had after its first episodes (assets/warm-up/,
+   * made and checked against that run by `sec-experiment warm-up`).
+   */
+  async skipWarmUp() {
+    const task = this.settings?.task;
+    if (!this.agentInfo()?.hasMemory) {
+      this.showError(`Skip the warm-up: ${this.agentInfo()?.label ?? 'this agent'} has no memory to load; choose SEC or a SEC variant.`);
+      return;
+    }
+    try {
+      const r0 = await fetch(new URL('../assets/warm-up/index.json', import.meta.url));
+      if (!r0.ok) throw new Error(`assets/warm-up/index.json: HTTP ${r0.status}`);
+      const index = await r0.json();
+      const entry = index[task];
+      if (!entry) {
+        throw new Error(`there is no warm-up memory for the task '${task}' (there is one for: ${Object.keys(index).join(', ')})`);
+      }
+      const r = await fetch(new URL(`../assets/warm-up/${entry.file}`, import.meta.url));
+      if (!r.ok) throw new Error(`${entry.file}: HTTP ${r.status}`);
+      const bytes = await r.arrayBuffer();
+      this.send({ type: 'warmUp', bytes, what: entry }, [bytes]);
+    } catch (e) {
+      this.showError(`Skip the warm-up: ${e.message ?? e}`);
+    }
   }
 
   /** Adds a listener that `destroy` removes. */
@@ -338,7 +399,8 @@ export class Playground {
     drawStatus(this.$('status'), [
       ['episode', String(v.episode)],
       ['env step', String(v.step)],
-      ['reward', v.episodeReward.toFixed(3)],
+      // As the charts and the CSV count it: below 0 is 0 (a failed episode); the raw sum beside it.
+      ['reward', v.episodeReward < 0 ? `0 (raw ${v.episodeReward.toFixed(3)})` : v.episodeReward.toFixed(3)],
       ['LTM', v.capacity ? `${v.ltm} / ${v.capacity}` : '–'],
       ['decisions/s', !this.playing ? 'paused' : rate.perSecond == null ? '…' : rate.perSecond.toFixed(0)],
     ]);
@@ -418,6 +480,14 @@ Playground.prototype.handlers = {
     const v = msg.view;
     this.measureRate(v);
     drawProbs($('probs'), v.p, v.action);
+    // Memory always votes; the grid and its entropy say whether its vote was acted on.
+    const memoryVotes = !!this.agentInfo()?.hasMemory && v.layer != null;
+    const acted = v.layer === 'C';
+    const policy = $('probs').closest('figure');
+    policy.classList.toggle('not-acted', memoryVotes && !acted);
+    $('policy-caption').textContent = !memoryVotes ? 'Action probabilities p (3×3 grid)'
+      : acted ? "Memory's vote p (3×3 grid), acted on: the outlined action is drawn from it"
+        : "Memory's vote p (3×3 grid), not acted on: the reactive layer chose the outlined action";
     drawEmbedding($('embedding'), v.embedding);
     $('entropy').textContent = `${v.entropy.toFixed(3)} bits`;
     $('entropy-meter').value = v.entropy;
@@ -443,10 +513,18 @@ Playground.prototype.handlers = {
     download(this.root, `sec-memory-${s.task}-seed${s.seed}.secmem`, 'application/octet-stream', bytes);
     this.notice(`Memory saved (${(bytes.byteLength / 1024).toFixed(0)} KB).`);
   },
-  loaded({ sequences }) {
+  loaded({ sequences, what }) {
     this.showError(null);
-    this.notice(`Memory loaded: ${sequences} sequence${sequences === 1 ? '' : 's'} in the LTM.`);
-    this.charts.mark('memory loaded');
+    const held = `${sequences} sequence${sequences === 1 ? '' : 's'} in the LTM`;
+    if (what) {
+      this.notice(`Warm-up skipped: this run starts from the memory of the reference run ${what.run}, seed ${what.seed}, `
+        + `after ${what.episodes} episodes (${held}; that run's 20-episode mean reward was then ${what.meanReward.toFixed(2)}). `
+        + `Episodes count from 0 again, with your settings and that run's seed (the untrained encoder is drawn per seed).`);
+      this.charts.mark('warm-up skipped');
+    } else {
+      this.notice(`Memory loaded: ${held}.`);
+      this.charts.mark('memory loaded');
+    }
   },
   config({ config, seed }) {
     if (!this.pendingJson) return;

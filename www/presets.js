@@ -1,8 +1,30 @@
 // One-click comparisons: the paper's experiments 1-4 in the double T-maze, as settings (the URL
 // hash's keys) per configuration. Each arm names its reference runs (`experiment:condition` of
 // results/experiments, reduced to assets/reference/ by `sec-experiment reference`), which the
-// chart draws faint behind the live runs; the captions say what the paper found, what the
-// reference runs show (REPRODUCTION.md has the tables) and what the first minutes can show.
+// chart draws faint behind the live runs. Each has a summary in view (the paper's finding, the
+// reference runs', and what the first minutes can show: at most 60 words) and the details
+// behind "more" (REPRODUCTION.md has the tables).
+
+/** Most words of a preset's summary, the part of its caption in view before "more". */
+export const SUMMARY_WORDS = 60;
+
+/**
+ * The numbers a summary quotes, from the reference index (assets/reference/index.json, written by
+ * `sec-experiment reference` from the committed runs and the core's presets): `refs` maps a
+ * reference name to its entry, `meanReward` per episode and `paperTotal` over the paper's 5000.
+ */
+const PAPER_EPISODES = 5000;
+const ours = (refs, name) => refs.get(name)?.meanReward;
+const paper = (refs, name) => {
+  const t = refs.get(name)?.paperTotal;
+  return t == null ? undefined : t / PAPER_EPISODES;
+};
+/** `a / b` to two decimals, or null when either is missing. */
+const times = (a, b) => (a > 0 && b > 0 ? (a / b).toFixed(2) : null);
+/** `x` to `d` decimals, or null. */
+const fixed = (x, d = 2) => (Number.isFinite(x) ? x.toFixed(d) : null);
+/** The sentence on our runs, or a note that this build has none of them. */
+const oursSaid = (parts) => (parts.every((p) => p != null) ? null : 'Our reference runs are not in this build.');
 
 const SEC = { bias: '1' };
 const NSEC = { bias: '0' };
@@ -10,6 +32,14 @@ const NSEC = { bias: '0' };
 export const COMPARE_PRESETS = {
   exp1: {
     title: 'Experiment 1: SEC vs NSEC vs MFEC',
+    summary: (refs) => {
+      const p = times(paper(refs, 'exp1:double-t-maze/SEC'), paper(refs, 'exp1:double-t-maze/NSEC'));
+      const o = times(ours(refs, 'exp1:double-t-maze/SEC'), ours(refs, 'exp1:double-t-maze/NSEC'));
+      return `The paper: in the double T-maze SEC collects ${p} times NSEC's reward and MFEC far less. `
+        + (oursSaid([o]) ?? `Our reference runs: SEC ${o} times NSEC over ${refs.get('exp1:double-t-maze/SEC').episodes} `
+          + 'episodes; MFEC does not learn here. ')
+        + 'Live, all curves lie together at first: SEC acts from memory only once it holds 5 sequences.';
+    },
     caption: 'The paper (figure 4, table 1): in the double T-maze SEC collects the most reward, 2.3 times NSEC\'s, '
       + 'with a low policy entropy; NSEC, the same model without the sequential bias, collects less with a higher '
       + 'entropy; MFEC far less. The reference runs at these settings (the authors\' untrained encoder; SEC and NSEC '
@@ -40,6 +70,13 @@ export const COMPARE_PRESETS = {
   },
   exp2: {
     title: 'Experiment 2: LTM capacity 125 and 1000',
+    summary: (refs) => {
+      const r = (m, f) => times(f(refs, `exp2:m${m}/SEC`), f(refs, `exp2:m${m}/NSEC`));
+      return `The paper: SEC beats NSEC at every memory size, by most with the smallest (${r(125, paper)} times at 125 `
+        + `sequences, ${r(1000, paper)} at 1000). `
+        + (oursSaid([r(125, ours), r(1000, ours)]) ?? `Our reference runs: ${r(125, ours)} times at 125, ${r(1000, ours)} at 1000. `)
+        + 'Live, the arms stay together: capacity matters only once a memory is full, hundreds of episodes in.';
+    },
     caption: 'The paper (figures 5 and 6): SEC beats NSEC at every memory size, and the gap grows as memory '
       + 'shrinks (1.6 times with 1000 sequences, 2.4 times with 125); SEC with 125 sequences gets 1.2 times the '
       + 'reward of NSEC with 1000. The reference runs (10 seeds x 2000 episodes per arm, the authors\' untrained '
@@ -57,6 +94,14 @@ export const COMPARE_PRESETS = {
   },
   exp3: {
     title: 'Experiment 3: the value function and its ablations',
+    summary: (refs) => {
+      const variants = ['noGi', 'noDist', 'noRR', 'soloGi', 'soloDist', 'soloRR'].map((v) => ours(refs, `exp3:value-function/SEC-${v}`));
+      const base = ours(refs, 'exp3:value-function/SEC-default');
+      const said = oursSaid([base, ...variants]) ?? `Our reference runs: ${fixed(Math.min(...variants))} to `
+        + `${fixed(Math.max(...variants))} per episode against the default's ${fixed(base)}. `;
+      return 'The paper: removing one term of the value costs no significant reward. ' + said
+        + 'Live, the arms stay together: they can differ only once memory holds many sequences.';
+    },
     caption: 'The paper (figure 7): removing one term of the value (noGi, noRR, noDist) costs no significant reward. '
       + 'The reference runs at the code preset (the protocol\'s 10 seeds x 2000 episodes per arm, the authors\' '
       + 'untrained encoder) agree: the six variants got 1.58 to 1.73 per episode against the default\'s 1.65, none '
@@ -68,6 +113,9 @@ export const COMPARE_PRESETS = {
   },
   exp4: {
     title: 'Experiment 4: forgetting',
+    summary: () => 'The paper: once the LTM is full, forgetting helps both models a little. Our reference runs point '
+      + 'the same way once the memory fills, not significantly. Live, each arm is one run with its seed\'s '
+      + 'no-forgetting arm until the memory fills, hundreds of episodes in.',
     caption: 'The paper (figure 8): once the LTM is full, forgetting (FIFO, or the lowest reward first) helps '
       + 'both models a little; the sequential bias matters more than forgetting. The reference runs at the code preset '
       + '(m = 500, as the paper) are 10 x 2000 per arm, the arms without forgetting exp1\'s runs (REPRODUCTION.md). '
@@ -90,32 +138,26 @@ export const COMPARE_PRESETS = {
 export const PRESET_BASE = { task: 'double-t-maze' };
 
 /**
- * The paper's table 1 (total reward over 5000 episodes: SEC, NSEC, MFEC-ae) for exp1's other tasks,
- * and what the protocol's reference runs there got (per episode over 10 seeds x 1000 episodes;
- * results/experiments/exp1/report.md, results/orderings.md).
+ * Exp1's other tasks: how the paper's table 1 reads there, and the significance tests of our
+ * reference runs (results/experiments/exp1/report.md, results/orderings.md); the numbers
+ * themselves come from the reference index.
  */
 const TABLE1 = {
   detour: {
     name: 'the detour',
-    paper: [1181.82, 3.48, 3.74],
     note: 'only SEC learned it',
-    ours: [0.250, 0.131, 0.111],
     found: 'SEC collected 1.90 times NSEC\'s reward (significant, p 0.002) and 2.26 times MFEC-ae\'s (not '
       + 'significant, p 0.37); but NSEC and MFEC-ae collect reward here too, where the paper\'s got almost none',
   },
   cylinder: {
     name: 'the cylinder',
-    paper: [5829.88, 5130.67, 4065.24],
     note: 'SEC ahead by a little',
-    ours: [1.444, 0.644, 0.672],
     found: 'SEC collected 2.24 times NSEC\'s reward (p 0.005) and 2.15 times MFEC-ae\'s (p 0.034), both '
       + 'significant and wider gaps than the paper\'s 1.14 and 1.43',
   },
   'object-permanence': {
     name: 'object permanence',
-    paper: [7224.33, 3803.15, 5218.06],
     note: 'SEC ahead of both',
-    ours: [1.485, 1.197, 1.172],
     found: 'SEC is ahead of both, but by 1.24 times NSEC and 1.27 times MFEC-ae, neither significant with 10 runs '
       + '(the paper: 1.90 and 1.38)',
   },
@@ -128,14 +170,27 @@ const TABLE1 = {
 export function exp1In(task) {
   if (task === 'double-t-maze' || !TABLE1[task]) return { ...COMPARE_PRESETS.exp1, base: PRESET_BASE };
   const t = TABLE1[task];
-  const [sec, nsec, mfec] = t.paper.map((x) => (x / 5000).toFixed(3));
+  const models = ['SEC', 'NSEC', 'MFEC-ae'].map((m) => `exp1:${task}/${m}`);
+  const numbers = (refs) => ({
+    paper: models.map((m) => fixed(paper(refs, m), 3)),
+    ours: models.map((m) => fixed(ours(refs, m))),
+  });
   return {
     title: `Experiment 1 in ${t.name}: SEC vs NSEC vs MFEC`,
-    caption: `The paper (table 1): in ${t.name} SEC collected ${sec} per episode over 5000 episodes, NSEC ${nsec} and `
-      + `MFEC-ae ${mfec} (${t.note}). The reference runs here (10 seeds x 1000 episodes, the authors' untrained `
-      + `encoder) got ${t.ours[0].toFixed(2)}, ${t.ours[1].toFixed(2)} and ${t.ours[2].toFixed(2)} per episode: `
-      + `${t.found}. SEC's policy entropy ends below NSEC's, as in the paper (REPRODUCTION.md). Live, the first `
-      + 'minutes show the reactive walk: SEC acts from memory only once 5 sequences are stored.',
+    summary: (refs) => {
+      const { paper: [sec, nsec, mfec], ours: o } = numbers(refs);
+      return `The paper: in ${t.name} SEC collected ${sec} per episode, NSEC ${nsec} and MFEC-ae ${mfec} (${t.note}). `
+        + (oursSaid(o) ?? `Our reference runs: ${o[0]}, ${o[1]} and ${o[2]}. `)
+        + 'Live, the first minutes show the reactive walk: SEC acts from memory once it holds 5 sequences.';
+    },
+    caption: (refs) => {
+      const { paper: [sec, nsec, mfec], ours: o } = numbers(refs);
+      return `The paper (table 1): in ${t.name} SEC collected ${sec} per episode over 5000 episodes, NSEC ${nsec} and `
+        + `MFEC-ae ${mfec} (${t.note}). The reference runs here (10 seeds x 1000 episodes, the authors' untrained `
+        + `encoder) got ${o.join(', ')} per episode: ${t.found}. SEC's policy entropy ends below NSEC's, as in the `
+        + 'paper (REPRODUCTION.md). Live, the first minutes show the reactive walk: SEC acts from memory only once 5 '
+        + 'sequences are stored.';
+    },
     arms: COMPARE_PRESETS.exp1.arms.map((a) => ({ ...a, reference: a.reference.replace('double-t-maze', task) })),
     natives: [], // the protocol runs DQN and ERLAM in the double T-maze only
     base: { task },

@@ -21,13 +21,15 @@ export const TEMPLATE = `
   </section>
   <section class="keepbar" aria-label="Drive, export and memory files">
     <button id="drive" type="button" aria-pressed="false"
-      title="Drive the agent yourself with the arrow keys (d); the run slows to a watchable speed">Drive</button>
+      title="Drive the agent yourself with the arrow keys or the on-screen pad (d); the run slows to a watchable speed">Drive</button>
     <label title="Store a rewarded episode you drive in SEC's long-term memory, like any other sequence">
       <input id="record" type="checkbox"> record</label>
     <span class="sep"></span>
     <button id="export-csv" type="button" title="Per-episode metrics of this run and the compared runs">Export CSV</button>
     <button id="export-json" type="button" title="The configuration: settings, RunConfig and seed">Export JSON</button>
     <button id="save-memory" type="button" title="SEC's memory (STM and LTM) as a file">Save memory</button>
+    <button id="warm-up" type="button"
+      title="Start again from the memory a reference run of this task had after its first 200 episodes, with that run's seed: a learned SEC at once">Skip the warm-up</button>
     <label class="file" title="Load a saved memory into this run (same task, encoder and n)">Load memory…
       <input id="load-memory" type="file" accept=".secmem,application/octet-stream"></label>
   </section>
@@ -39,7 +41,29 @@ export const TEMPLATE = `
       <figure class="camera">
         <canvas id="camera" width="84" height="84" aria-label="The agent's first-person camera, 84 by 84"></canvas>
         <figcaption>Camera (84×84)</figcaption>
+        <div id="drive-pad" class="drive-pad" role="group" aria-label="Drive: touch and hold" hidden>
+          <button type="button" data-action="5" aria-label="forward left">↖</button>
+          <button type="button" data-action="3" aria-label="forward">↑</button>
+          <button type="button" data-action="4" aria-label="forward right">↗</button>
+          <button type="button" data-action="2" aria-label="turn left">↶</button>
+          <button type="button" data-action="0" aria-label="stand still">■</button>
+          <button type="button" data-action="1" aria-label="turn right">↷</button>
+          <button type="button" data-action="8" aria-label="back left">↙</button>
+          <button type="button" data-action="6" aria-label="back">↓</button>
+          <button type="button" data-action="7" aria-label="back right">↘</button>
+        </div>
       </figure>
+      <figure class="policy">
+        <table id="probs" aria-label="Action probabilities">
+          <thead><tr><th></th><th>none</th><th>right</th><th>left</th></tr></thead>
+          <tbody></tbody>
+        </table>
+        <div class="entropy"><span title="Shannon entropy of memory's vote p, in bits (0: one action; 3.17: all nine equal)">entropy of p</span><meter id="entropy-meter" min="0" max="3.17"></meter><output id="entropy"></output></div>
+        <div class="layer">acting layer: <output id="layer">–</output></div>
+        <p id="why" class="why"></p>
+        <figcaption id="policy-caption">Action probabilities p (3×3 grid)</figcaption>
+      </figure>
+      <div id="chart-slot" class="chart-slot" aria-label="Reward per episode"></div>
       <figure class="arena">
         <canvas id="arena" width="252" height="252" aria-label="Top-down view of the arena with the agent's trail"></canvas>
         <figcaption>Top-down: agent, heading, trail</figcaption>
@@ -64,16 +88,6 @@ export const TEMPLATE = `
             <option value="g">G (biased similarity)</option>
             <option value="t">T (sequential bias)</option>
           </select>; white boxes: selected</figcaption>
-      </figure>
-      <figure class="policy">
-        <table id="probs" aria-label="Action probabilities">
-          <thead><tr><th></th><th>none</th><th>right</th><th>left</th></tr></thead>
-          <tbody></tbody>
-        </table>
-        <div class="entropy"><span>entropy</span><meter id="entropy-meter" min="0" max="3.17"></meter><output id="entropy"></output></div>
-        <div class="layer">acting layer: <output id="layer">–</output></div>
-        <p id="why" class="why"></p>
-        <figcaption>Action probabilities p (3×3 grid)</figcaption>
       </figure>
     </section>
   </div>

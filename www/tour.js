@@ -98,10 +98,15 @@ export class Tour {
     this.$('tour-title').textContent = s.title;
     const v = this.view();
     const empty = s.memory && v && v.capacity && v.ltm < v.minSequences;
+    // A memory stage over a decision memory did not take: say so, so its votes are not read as the action's cause.
+    const notActed = s.memory && v && !empty && v.layer != null && v.layer !== 'C';
     box.querySelector('.tour-text').textContent = s.text + (empty
       ? ` Right now the LTM holds ${v.ltm} of the ${v.minSequences} sequences memory needs, so there is little to see: `
-        + 'close the tour, play at max speed for a minute or two, and take it again.'
-      : '');
+        + 'close the tour and press "Skip the warm-up" (or play at max speed for a minute or two), and take it again.'
+      : notActed
+        ? ' In this decision memory did not act: the reactive layer chose (stage 10 says why), so what you see here is '
+          + 'the vote memory would have cast. Step a few decisions (.) to catch one where memory acts.'
+        : '');
     this.$('tour-back').disabled = this.stage === 0;
     this.$('tour-next').textContent = this.stage === STAGES.length - 1 ? 'Done' : 'Next';
     this.$('tour-next').focus();

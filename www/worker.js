@@ -5,10 +5,11 @@
 // Messages in:  {type: 'start', settings}, {type: 'set', changes}, {type: 'play'}, {type: 'pause'},
 //               {type: 'speed', value}, {type: 'step', what: 'decision' | 'episode'},
 //               {type: 'reset'}, {type: 'views', camera, top, heat, hz, explain}, {type: 'drive', action, record},
-//               {type: 'saveMemory'}, {type: 'loadMemory', bytes}, {type: 'crash'} (a test hook)
+//               {type: 'saveMemory'}, {type: 'loadMemory', bytes},
+//               {type: 'warmUp', bytes, what}, {type: 'crash'} (a test hook)
 // Messages out: {type: 'ready', params, agents, defaults, build}, {type: 'started', settings, errors, mode},
 //               {type: 'episodes', list}, {type: 'view', ...}, {type: 'state', playing},
-//               {type: 'memory', bytes}, {type: 'loaded', sequences}, {type: 'error', message, fatal}
+//               {type: 'memory', bytes}, {type: 'loaded', sequences, what}, {type: 'error', message, fatal}
 import init, { build, ensureModel, SecRun, agents, frameSize, parameters, parseSettings, applySettings, presetSettings, panicForTest } from './wasm.js';
 import { AdaptiveBatch, SLICE_MS, serveMessages } from './slices.js';
 
@@ -112,10 +113,19 @@ function setPlaying(p) {
   }
 }
 
-/** A new run (its task's model fetched first); on failure the old run goes on. */
-async function newRun(config, seed) {
+/**
+ * A new run (its task's model fetched first), given to `prepare` before it replaces the old one;
+ * on failure (of either) the old run goes on.
+ */
+async function newRun(config, seed, prepare) {
   await ensureModel(config.task);
   const next = new SecRun(config, seed);
+  try {
+    prepare?.(next);
+  } catch (e) {
+    next.free();
+    throw e;
+  }
   if (driver) next.setDriver(driver.action, driver.record);
   run?.free();
   run = next;
@@ -223,6 +233,23 @@ const handlers = {
   loadMemory({ bytes }) {
     const sequences = run.loadMemory(new Uint8Array(bytes));
     post({ type: 'loaded', sequences });
+    postView(true);
+  },
+  /**
+   * "Skip the warm-up": the run starts again from a reference run's memory (`what` says which),
+   * with that run's seed (the untrained encoder is drawn per seed, so only its seed's embeddings
+   * mean the same); a file that does not fit these settings is refused and the run goes on as it was.
+   */
+  async warmUp({ bytes, what }) {
+    const parsed = parseSettings({ ...settings, seed: String(what.seed) });
+    if (parsed.errors.length) throw new Error(parsed.errors.join('; '));
+    let sequences;
+    await newRun(parsed.config, parsed.seed, (next) => {
+      sequences = next.loadMemory(new Uint8Array(bytes));
+    });
+    settings = parsed.settings;
+    post({ type: 'started', settings, errors: [], mode: 'restart' });
+    post({ type: 'loaded', sequences, what });
     postView(true);
   },
   /** Test hook (the test flavour only, `?wasm=hooks`): a panic in the simulation, as a bug would cause. */

@@ -3,6 +3,7 @@
 // error while the run goes on. Screenshots go to test-artifacts/.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
+import { fileURLToPath } from 'node:url';
 import { ARTIFACTS, launch, colours as coloursOf } from './harness.mjs';
 
 let server, browser, page, base;
@@ -70,5 +71,20 @@ test('a bad seed shows an error naming it and the run goes on', async () => {
   await page.fill('#seed', '1');
   await page.dispatchEvent('#seed', 'change');
   assert.equal(await page.isHidden('#error'), true);
+  assert.deepEqual(problems, []);
+});
+
+test("a loaded YAML arena shows in the task menu, and its t does not carry over to the tasks", async () => {
+  const yaml = fileURLToPath(new URL('../../assets/arenas/v1_3-4-1.yml', import.meta.url));
+  await page.setInputFiles('#yaml', yaml);
+  await page.waitForFunction(() => document.getElementById('task').value === '(custom)');
+  assert.equal(await page.textContent('#task option[value="(custom)"]'), 'custom: v1_3-4-1.yml');
+  assert.equal(await page.inputValue('#limit'), '250', "the file's t");
+  assert.match(await page.textContent('#description'), /Custom arena v1_3-4-1\.yml/);
+  await page.selectOption('#task', 'cylinder');
+  await page.waitForFunction(() => window.secPlayground.env.taskName() === 'cylinder');
+  assert.equal(await page.inputValue('#limit'), '1000', "the tasks' limit again");
+  assert.equal(await page.evaluate(() => window.secPlayground.env.agent().t), 1000);
+  assert.equal(await page.locator('#task option[value="(custom)"]').count(), 0, 'the file leaves the menu');
   assert.deepEqual(problems, []);
 });

@@ -35,6 +35,9 @@ test('the warm-up says why the reactive layer acts, and a decision explains its 
   await page.waitForFunction(() => window.secPlayground.view.layer);
   assert.match(await page.textContent('#why'), /memory holds \d of the 5 sequences SEC needs/);
   assert.notEqual(await page.textContent('#gate-mse'), '–');
+  // Memory's vote is shown as such while the reactive layer acts.
+  assert.match(await page.textContent('#policy-caption'), /not acted on: the reactive layer chose/);
+  assert.ok(await page.$eval('.policy', (f) => f.classList.contains('not-acted')));
   // Learn at max speed until the memory can act, then pause and step until it selects.
   await maxSpeed(page);
   await page.waitForFunction(() => window.secPlayground.view.ltm >= 5, null, { timeout: 120000, polling: 250 });
@@ -49,6 +52,10 @@ test('the warm-up says why the reactive layer acts, and a decision explains its 
   assert.ok(e?.couplets.length, 'memory selected couplets within 400 decisions');
   await page.waitForTimeout(200);
   e = await page.evaluate(() => window.secPlayground.explanation);
+  if (await page.evaluate(() => window.secPlayground.view.layer === 'C')) {
+    assert.match(await page.textContent('#policy-caption'), /acted on: the outlined action is drawn from it/);
+    assert.ok(!(await page.$eval('.policy', (f) => f.classList.contains('not-acted'))));
+  }
   // Every couplet's value adds to the Q of its action; p = Q / sum Q is the grid's.
   const q = Array(9).fill(0);
   for (const c of e.couplets) q[c.action] += c.value;
@@ -130,6 +137,21 @@ test('on a phone-sized screen nothing is wider than the screen and the camera co
   assert.deepEqual(small, [], 'targets under 44 px');
   mkdirSync(ARTIFACTS, { recursive: true });
   await page.screenshot({ path: fileURLToPath(new URL('phone.png', ARTIFACTS)), fullPage: false });
+});
+
+test('at 1400x900 the camera, the why-line, the action grid and the reward chart are on the first screen', async () => {
+  const { page } = await open('', { width: 1400, height: 900 });
+  await page.waitForFunction(() => window.secPlayground.episodes > 0, null, { timeout: 60000 });
+  const boxes = await page.evaluate(() => Object.fromEntries(['#camera', '#why', '#probs', '[data-chart="reward"]'].map((sel) => {
+    const r = document.querySelector(sel).getBoundingClientRect();
+    return [sel, { top: Math.round(r.top), bottom: Math.round(r.bottom), height: Math.round(r.height) }];
+  })));
+  for (const [sel, b] of Object.entries(boxes)) {
+    assert.ok(b.height > 0 && b.top >= 0 && b.top < 900, `${sel} starts on the first screen: ${JSON.stringify(b)}`);
+  }
+  assert.ok(boxes['#camera'].bottom <= 900 && boxes['#probs'].bottom <= 900, JSON.stringify(boxes));
+  mkdirSync(ARTIFACTS, { recursive: true });
+  await page.screenshot({ path: fileURLToPath(new URL('desktop-1400x900.png', ARTIFACTS)), fullPage: false });
 });
 
 test('opened from disk, the page says how to serve it', async () => {

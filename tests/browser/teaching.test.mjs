@@ -8,6 +8,7 @@ import assert from 'node:assert/strict';
 import { cpSync, mkdtempSync, readFileSync, rmSync, writeFileSync, existsSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
+import { gunzipSync } from 'node:zlib';
 import { fileURLToPath } from 'node:url';
 import { ARTIFACTS, launch } from './harness.mjs';
 import { serve } from '../../scripts/serve.mjs';
@@ -260,6 +261,80 @@ test('driving: arrow keys move the agent, and a recorded rewarded episode raises
   await page.close();
 });
 
+test('the drive pad moves the agent by touch, and stops when the finger lifts', async () => {
+  const problems = [];
+  const page = await browser.newPage({ viewport: { width: 390, height: 844 }, hasTouch: true, isMobile: true });
+  pages.push(page);
+  page.on('pageerror', (e) => problems.push(String(e)));
+  await page.goto(`${base}#task=object-permanence&seed=3`);
+  await ready(page);
+  assert.equal(await page.isVisible('#drive-pad'), false, 'the pad shows only while driving');
+  await page.tap('#drive');
+  await page.waitForFunction(() => window.secPlayground.driving);
+  assert.equal(await page.isVisible('#drive-pad'), true);
+  const touch = await page.context().newCDPSession(page);
+  const at = () => page.evaluate(() => {
+    const v = window.secPlayground.view;
+    return { x: v.x, z: v.z, episode: v.episode };
+  });
+  // A fresh run, driven from its start.
+  await page.tap('#reset');
+  await page.waitForFunction(() => window.secPlayground.episodes === 0 && window.secPlayground.view.step < 8);
+  await page.waitForTimeout(100); // the notice above has moved the pad down
+  const box = await page.locator('#drive-pad button[data-action="3"]').boundingBox();
+  const point = { x: box.x + box.width / 2, y: box.y + box.height / 2 };
+  const p0 = await at();
+  await touch.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: [point] });
+  await page.waitForTimeout(700);
+  assert.equal(await page.evaluate(() => window.secPlayground.view.layer), 'H', 'the person acts');
+  assert.equal(await page.evaluate(() => window.secPlayground.view.action), 3, 'forward, the held button');
+  await touch.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
+  const p1 = await at();
+  assert.equal(p1.episode, p0.episode);
+  assert.ok(Math.hypot(p1.x - p0.x, p1.z - p0.z) > 0.5, `the agent moved forward: ${JSON.stringify(p0)} to ${JSON.stringify(p1)}`);
+  // Let go: the person's action is "stand still" (0) again, and the agent coasts to a stop.
+  await page.waitForFunction(() => window.secPlayground.view.action === 0 && window.secPlayground.view.layer === 'H');
+  await page.waitForTimeout(1000);
+  const p2 = await at();
+  await page.waitForTimeout(500);
+  const p3 = await at();
+  assert.ok(p3.episode !== p2.episode || Math.hypot(p3.x - p2.x, p3.z - p2.z) < 0.05, `the agent stopped: ${JSON.stringify(p2)} to ${JSON.stringify(p3)}`);
+  assert.deepEqual(problems, []);
+});
+
+test('"skip the warm-up" starts again from the reference run\'s memory, of the size that run logged', async () => {
+  const problems = [];
+  const page = await open('#seed=4', problems);
+  await ready(page);
+  const index = JSON.parse(readFileSync(new URL('../../assets/warm-up/index.json', import.meta.url), 'utf8'));
+  const entry = index['double-t-maze'];
+  // The size the reference run logged after those episodes, read from its committed log.
+  const log = gunzipSync(readFileSync(new URL(`../../results/experiments/${entry.run}/seed-${entry.seed}.jsonl.gz`, import.meta.url)))
+    .toString().split('\n');
+  const logged = JSON.parse(log[entry.episodes - 1]).ltm;
+  assert.equal(entry.sequences, logged);
+  await page.evaluate(() => document.activeElement?.blur());
+  await page.keyboard.press(' '); // pause: the loaded memory is what the view shows
+  await page.waitForFunction(() => !window.secPlayground.playing);
+  await page.click('#warm-up');
+  await page.waitForFunction(() => document.getElementById('notice').textContent.startsWith('Warm-up skipped'));
+  assert.match(await page.textContent('#notice'), new RegExp(`${entry.run}, seed ${entry.seed}, after ${entry.episodes} episodes \\(${logged} sequences`));
+  await page.waitForFunction((n) => window.secPlayground.view.ltm === n && window.secPlayground.episodes === 0, logged);
+  // The reference run's seed: the untrained encoder is drawn per seed.
+  assert.equal(await page.evaluate(() => window.secPlayground.settings.seed), String(entry.seed));
+  assert.match(await page.evaluate(() => location.hash), new RegExp(`seed=${entry.seed}\\b`));
+  // Bad input loses nothing: with n = 40 the file (n = 50) is refused by name and the run keeps its memory.
+  await page.fill('#p-n', '40');
+  await page.press('#p-n', 'Enter');
+  await page.waitForFunction(() => window.secPlayground.settings.n === '40');
+  const ltm = await page.evaluate(() => window.secPlayground.view.ltm);
+  await page.click('#warm-up');
+  await page.waitForFunction(() => !document.getElementById('error').hidden);
+  assert.match(await page.textContent('#error'), /n: the file's sequences have 50 couplets, this run's STM length n is 40/);
+  assert.equal(await page.evaluate(() => window.secPlayground.view.ltm), ltm);
+  assert.deepEqual(problems, []);
+});
+
 test('CSV export has a header and one row per episode; memory files save, load, and a corrupt one is refused', async () => {
   const problems = [];
   const page = await open('#task=object-permanence&seed=2', problems);
@@ -294,6 +369,7 @@ test('CSV export has a header and one row per episode; memory files save, load, 
   await page.setInputFiles('#load-memory', join(dir, 'bad.secmem'));
   await page.waitForFunction(() => !document.getElementById('error').hidden);
   assert.match(await page.textContent('#error'), /memory: checksum mismatch/);
+  assert.equal(await page.textContent('#notice'), '', 'no stale "Memory loaded" next to the error');
   writeFileSync(join(dir, 'foreign.secmem'), 'name,value\nalpha,1\n');
   await page.setInputFiles('#load-memory', join(dir, 'foreign.secmem'));
   await page.waitForFunction(() => document.getElementById('error').textContent.includes('magic'));

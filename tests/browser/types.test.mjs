@@ -57,3 +57,23 @@ test("the page's list of tasks (www/tasks.js, used before the wasm loads) is the
   const { TASKS } = await import(`${root}www/tasks.js`);
   assert.deepEqual(TASKS, wasm.taskNames());
 });
+
+test("every compare preset's summary is two or three sentences of at most 60 words, with details behind 'more'", async () => {
+  const { COMPARE_PRESETS, SUMMARY_WORDS, exp1In } = await import(`${root}www/presets.js`);
+  const presets = [...Object.values(COMPARE_PRESETS), ...['detour', 'cylinder', 'object-permanence'].map(exp1In)];
+  assert.equal(presets.length, 7);
+  const index = JSON.parse(readFileSync(`${root}assets/reference/index.json`, 'utf8'));
+  const refs = new Map(index.references.map((r) => [r.reference, r]));
+  for (const preset of presets) {
+    const p = { title: preset.title, summary: preset.summary(refs),
+      caption: typeof preset.caption === 'function' ? preset.caption(refs) : preset.caption };
+    assert.doesNotMatch(`${p.summary} ${p.caption}`, /null|undefined|NaN|not in this build/, `${p.title}: every number is in the index`);
+    const words = p.summary.trim().split(/\s+/).length;
+    const sentences = p.summary.split(/(?<=[.!?])\s+(?=[A-Z])/).length;
+    assert.ok(words <= SUMMARY_WORDS, `${p.title}: ${words} words`);
+    assert.ok(sentences >= 2 && sentences <= 3, `${p.title}: ${sentences} sentences`);
+    assert.match(p.summary, /Live/, `${p.title} says what the live runs show`);
+    assert.ok(p.caption.length > p.summary.length, `${p.title} has details`);
+  }
+
+});

@@ -38,3 +38,4 @@ pub mod reference;
 pub mod report;
 pub mod runner;
 pub mod stats;
+pub mod warmup;

@@ -1,8 +1,9 @@
 //! The page's reference curves: the committed long runs of each condition reduced to what the
 //! compare chart draws (per episode, the mean across seeds of each seed's 20-episode trailing mean,
 //! and its standard error), sampled so a file stays small. One JSON file per condition,
-//! `<to>/<experiment>/<group>/<model>.json`, and `<to>/index.json` listing them; the page fetches
-//! the ones its presets name.
+//! `<to>/<experiment>/<group>/<model>.json`, and `<to>/index.json` listing them with their mean
+//! reward per episode and the paper's total (over 5000 episodes, where it gives one), which the
+//! page's captions quote; the page fetches the curves its presets name.
 
 use crate::report::{load, ConditionRuns, WINDOW};
 use sec_playground::experiment::settings::to_settings;
@@ -88,10 +89,16 @@ pub fn references(out: &Path, to: &Path) -> Result<String, String> {
                 .map_err(|e| format!("{}: {e}", path.display()))?;
             let text = serde_json::to_string(&condition_json(&experiment, c)).expect("JSON values serialise");
             fs::write(&path, text + "\n").map_err(|e| format!("{}: {e}", path.display()))?;
+            // The numbers the page's captions quote: declared here (the paper's, in the presets)
+            // and measured here (ours), never typed again in the page.
+            let episodes: usize = c.runs.iter().map(Vec::len).sum();
+            let reward: f64 = c.runs.iter().flatten().map(|m| m.reward).sum();
             index.push(json!({
                 "reference": format!("{experiment}:{}", c.condition.name),
                 "seeds": c.seeds.len(),
                 "episodes": c.runs[0].len(),
+                "meanReward": round(reward / episodes as f64),
+                "paperTotal": c.condition.paper_total,
             }));
         }
     }

@@ -15,6 +15,7 @@
 //!   sec-experiment versus-authors [--out results/experiments] [--authors results/authors] [--to results]
 //!                                 [--quote REPRODUCTION.md]
 //!   sec-experiment verify [--out results/experiments]
+//!   sec-experiment warm-up --from OUT/EXPERIMENT/GROUP/MODEL --seed S --episodes N --to FILE.secmem
 //!   sec-experiment list
 //!   sec-experiment agents
 //!   sec-experiment record --config FILE.json --seed S --episodes N --events OUT.jsonl
@@ -45,6 +46,10 @@ const USAGE: &str = "usage:
                                 (our runs against the authors' per-run results, results/authors/)
   sec-experiment verify [--out DIR]   (every shorter run is the head of the longer runs of its
                                        configuration and seed)
+  sec-experiment warm-up --from OUT/EXPERIMENT/GROUP/MODEL --seed S --episodes N --to FILE.secmem
+                         (the memory seed S of those runs had after N episodes, replayed and checked
+                          against its log, for the page's Skip the warm-up; recorded in index.json
+                          beside FILE)
   sec-experiment list
   sec-experiment agents   (the agent table: key, RunConfig kind and section, what each can do)
   sec-experiment record --config FILE.json --seed S --episodes N --events OUT.jsonl
@@ -238,6 +243,22 @@ fn dispatch(args: &[String]) -> Result<(), String> {
                 v.runs,
                 out.display(),
                 v.pairs
+            );
+            Ok(())
+        }
+        "warm-up" => {
+            let (pos, o) = options(rest, &["from", "seed", "episodes", "to"])?;
+            if !pos.is_empty() {
+                return Err(format!("warm-up takes no positional argument\n{USAGE}"));
+            }
+            let from = o.get("from").ok_or("warm-up needs --from OUT/EXPERIMENT/GROUP/MODEL")?;
+            let seed = number("seed", o.get("seed").ok_or("warm-up needs --seed")?, 0u64, MAX_SEED)?;
+            let episodes = number("episodes", o.get("episodes").ok_or("warm-up needs --episodes")?, 1usize, 1_000_000)?;
+            let to = o.get("to").ok_or("warm-up needs --to FILE.secmem")?;
+            let e = sec_tools::warmup::write(Path::new(from), seed, episodes, Path::new(to))?;
+            println!(
+                "{to}: {} after {} episodes of seed {}: {} sequences in the LTM, 20-episode mean reward {:.3}",
+                e.run, e.episodes, e.seed, e.sequences, e.mean_reward
             );
             Ok(())
         }
