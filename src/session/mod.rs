@@ -78,6 +78,25 @@ impl Session {
         Ok(Session { run, extra, last: None, decisions: 0, trail })
     }
 
+    /// A session of the run `Run::resume` brings to `checkpoint`, its views counting `decisions`
+    /// so far (the last decision itself is not kept: the views show none until the next).
+    pub fn resume(
+        cfg: RunConfig,
+        seed: u64,
+        extra: Option<AgentFactory>,
+        checkpoint: &mut dyn std::io::Read,
+        decisions: u64,
+    ) -> Result<Self, Error> {
+        let run = Run::resume(cfg, seed, extra, checkpoint)?;
+        let trail = Trail::new(run.env().world().agent.pos);
+        Ok(Session { run, extra, last: None, decisions, trail })
+    }
+
+    /// Decisions taken so far (what the views count).
+    pub fn decisions(&self) -> u64 {
+        self.decisions
+    }
+
     /// A session of a JSON configuration (`RunConfig::from_json`).
     pub fn from_json(config: &str, seed: u64) -> Result<Self, Error> {
         Self::new(RunConfig::from_json(config)?, seed)

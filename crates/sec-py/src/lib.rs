@@ -11,12 +11,15 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rayon::prelude::*;
 use sec_playground::arena::yaml::load_task;
-use sec_playground::arena::{Action, Env, EnvConfig, Task, FRAMES_PER_STEP, FRAME_DT, TASK_NAMES};
+use sec_playground::arena::{
+    Action, ConfigError, Env, EnvConfig, StepOutcome, Task, FRAMES_PER_STEP, FRAME_DT, TASK_NAMES,
+};
 use sec_playground::encoder::{Perception, PerceptionKind, Scratch, EMBEDDING, IMAGE};
 use sec_playground::experiment::RunConfig;
 use sec_playground::render::{Frame, Trail};
 use sec_playground::seed::MAX_SEED;
 use sec_playground::session::Session;
+use std::io::Cursor;
 use std::sync::Mutex;
 
 const SIDE: usize = 84;
@@ -62,28 +65,130 @@ fn task_of(task: &str, yaml: Option<&str>) -> PyResult<Task> {
     }
 }
 
+/// An arena with what rebuilds it exactly: the seed of its last seeded reset, the unseeded resets
+/// since (its generator draws only at resets) and this episode's actions. `state` and `restore`
+/// are what pickling and `get_state`/`set_state` use: a restored arena replays them and goes on
+/// bit for bit as the original would.
+#[derive(Clone)]
+struct Tracked {
+    env: Env,
+    trail: Trail,
+    frame_skip: u32,
+    seed: u64,
+    resets: u64,
+    actions: Vec<u8>,
+    /// The last step touched a good goal.
+    success: bool,
+    /// Gymnasium's `max_episode_steps`: a limit in agent steps (calls to `advance`), which
+    /// truncates without rescaling the reward (the arena's own `t` counts env steps).
+    max_steps: Option<u64>,
+    /// Agent steps this episode.
+    agent_steps: u64,
+    /// The episode was cut at `max_steps`.
+    cut: bool,
+}
+
+/// What `Tracked::state` gives: seed, resets since, this episode's actions.
+type ArenaState = (u64, u64, Vec<u8>);
+
+impl Tracked {
+    fn new(task: Task, t: Option<u32>, frame_skip: u32, max_steps: Option<u64>) -> PyResult<Self> {
+        if !(1..=MAX_FRAME_SKIP).contains(&frame_skip) {
+            return Err(value_error(format!("frame_skip: {frame_skip} is out of range 1..={MAX_FRAME_SKIP}")));
+        }
+        if max_steps == Some(0) {
+            return Err(value_error("max_episode_steps: 0 is out of range 1.. (None: no limit)"));
+        }
+        // `Env::new` resets with seed 0.
+        let env = Env::new(EnvConfig { task, t }, 0).map_err(value_error)?;
+        let trail = Trail::new(env.world().agent.pos);
+        let actions = Vec::new();
+        Ok(Tracked {
+            env,
+            trail,
+            frame_skip,
+            seed: 0,
+            resets: 0,
+            actions,
+            success: false,
+            max_steps,
+            agent_steps: 0,
+            cut: false,
+        })
+    }
+
+    fn reset(&mut self, seed: Option<u64>) -> &Frame {
+        match seed {
+            Some(s) => (self.seed, self.resets) = (s, 0),
+            None => self.resets += 1,
+        }
+        self.actions.clear();
+        self.success = false;
+        (self.agent_steps, self.cut) = (0, false);
+        self.env.reset(seed);
+        self.trail.restart(self.env.world().agent.pos);
+        self.env.observation()
+    }
+
+    fn advance(&mut self, a: Action) -> Result<StepOutcome, ConfigError> {
+        if self.cut {
+            return Err(ConfigError::new("step", "the episode is over (max_episode_steps): call reset first"));
+        }
+        let mut out = self.env.advance(a, self.frame_skip)?;
+        self.actions.push(a.index() as u8);
+        self.trail.push(self.env.world().agent.pos);
+        self.success = out.good_goal;
+        self.agent_steps += 1;
+        if self.max_steps.is_some_and(|m| self.agent_steps >= m) && !out.terminated && !out.truncated {
+            out.truncated = true;
+            self.cut = true;
+        }
+        Ok(out)
+    }
+
+    fn state(&self) -> ArenaState {
+        (self.seed, self.resets, self.actions.clone())
+    }
+
+    /// Brings a fresh copy of this arena to `state` by replaying it; on error nothing changes.
+    fn restore(&mut self, (seed, resets, actions): ArenaState) -> PyResult<()> {
+        check_seed(seed)?;
+        if resets > MAX_REPLAYED_RESETS {
+            return Err(value_error(format!("state: {resets} resets is out of range 0..={MAX_REPLAYED_RESETS}")));
+        }
+        let mut next = self.clone();
+        next.reset(Some(seed));
+        for _ in 0..resets {
+            next.reset(None);
+        }
+        for (i, &a) in actions.iter().enumerate() {
+            let action = Action::new(a as u32).map_err(|e| value_error(format!("state: action {i}: {e}")))?;
+            next.advance(action).map_err(|e| value_error(format!("state: action {i}: {e}")))?;
+        }
+        *self = next;
+        Ok(())
+    }
+}
+
+/// Most unseeded resets a restored arena replays (each is a layout draw and a frame).
+const MAX_REPLAYED_RESETS: u64 = 10_000_000;
+
 /// One arena. The Python class `sec_playground.ArenaEnv` wraps it as a `gymnasium.Env`.
 #[pyclass(module = "sec_playground._core", name = "Env")]
 struct PyEnv {
-    env: Env,
-    frame_skip: u32,
-    trail: Trail,
+    arena: Tracked,
 }
 
 #[pymethods]
 impl PyEnv {
     /// `task`: a preset name (`TASKS`), or the name of the arena whose YAML text is `yaml`;
-    /// `t`: the episode limit in env steps (the task's own if None); `frame_skip`: env steps
-    /// each action is held for (SEC's 4).
+    /// `t`: the arena's episode limit in env steps (the task's own if None; each env step costs
+    /// 1/t); `frame_skip`: env steps each action is held for (SEC's 4); `max_steps`: a limit in
+    /// agent steps (Gymnasium's `max_episode_steps`).
     #[new]
-    #[pyo3(signature = (task, t=None, yaml=None, frame_skip=1))]
-    fn new(task: &str, t: Option<u32>, yaml: Option<&str>, frame_skip: u32) -> PyResult<Self> {
-        if !(1..=MAX_FRAME_SKIP).contains(&frame_skip) {
-            return Err(value_error(format!("frame_skip: {frame_skip} is out of range 1..={MAX_FRAME_SKIP}")));
-        }
-        let env = Env::new(EnvConfig { task: task_of(task, yaml)?, t }, 0).map_err(value_error)?;
-        let trail = Trail::new(env.world().agent.pos);
-        Ok(PyEnv { env, frame_skip, trail })
+    #[pyo3(signature = (task, t=None, yaml=None, frame_skip=1, max_steps=None))]
+    fn new(task: &str, t: Option<u32>, yaml: Option<&str>, frame_skip: u32, max_steps: Option<u64>) -> PyResult<Self> {
+        Ok(PyEnv { arena: Tracked::new(task_of(task, yaml)?, t, frame_skip, max_steps)? })
     }
 
     /// Starts an episode: with a seed the run restarts from it, without one the next layout.
@@ -92,67 +197,91 @@ impl PyEnv {
         if let Some(s) = seed {
             check_seed(s)?;
         }
-        self.env.reset(seed);
-        self.trail.restart(self.env.world().agent.pos);
-        Ok(observation(py, &mut self.env))
+        self.arena.reset(seed);
+        Ok(observation(py, &mut self.arena.env))
     }
 
     /// Holds `action` (3 * a0 + a1) for `frame_skip` env steps: (observation, reward,
     /// terminated, truncated).
     fn step<'py>(&mut self, py: Python<'py>, action: i64) -> PyResult<(Bound<'py, PyArray3<u8>>, f64, bool, bool)> {
         let a = check_action(action)?;
-        let out = self.env.advance(a, self.frame_skip).map_err(value_error)?;
-        self.trail.push(self.env.world().agent.pos);
-        Ok((observation(py, &mut self.env), out.reward, out.terminated, out.truncated))
+        let out = self.arena.advance(a).map_err(value_error)?;
+        Ok((observation(py, &mut self.arena.env), out.reward, out.terminated, out.truncated))
     }
 
-    /// What Gymnasium's `info` reports of the env.
+    /// What Gymnasium's `info` reports of the env (see `ArenaEnv`).
     fn info<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        let a = &self.env.world().agent;
-        d.set_item("layout", self.env.layout_name())?;
-        d.set_item("episode", self.env.episode())?;
-        d.set_item("env_steps", self.env.steps())?;
-        d.set_item("position", (a.pos.x, a.pos.y))?;
-        d.set_item("heading", a.heading)?;
-        Ok(d)
+        info(py, &self.arena)
     }
 
     /// The camera's view now (84x84x3 bytes).
     fn observation<'py>(&mut self, py: Python<'py>) -> Bound<'py, PyArray3<u8>> {
-        observation(py, &mut self.env)
+        observation(py, &mut self.arena.env)
     }
 
     /// The arena from above with the agent's trail, `size` x `size` RGB bytes.
     #[pyo3(signature = (size=256))]
     fn top_down<'py>(&mut self, py: Python<'py>, size: u32) -> PyResult<Bound<'py, PyArray3<u8>>> {
-        let rgba = self.trail.render(self.env.world(), size).map_err(value_error)?;
-        let n = size as usize;
-        let rgb: Vec<u8> = rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
-        Ok(Array3::from_shape_vec((n, n, 3), rgb).expect("size x size x 3").into_pyarray(py))
+        top_down(py, &mut self.arena, size)
+    }
+
+    /// (seed, resets since it, this episode's actions): what rebuilds the arena.
+    fn get_state(&self) -> ArenaState {
+        self.arena.state()
+    }
+
+    /// Replays a `get_state` on this arena; a bad state raises and changes nothing.
+    fn set_state(&mut self, state: ArenaState) -> PyResult<()> {
+        self.arena.restore(state)
     }
 
     /// Seconds of simulated time per `step`.
     #[getter]
     fn step_seconds(&self) -> f64 {
-        (FRAME_DT * FRAMES_PER_STEP as f32) as f64 * self.frame_skip as f64
+        step_seconds(self.arena.frame_skip)
     }
 
     #[getter]
     fn frame_skip(&self) -> u32 {
-        self.frame_skip
+        self.arena.frame_skip
     }
 
     /// The episode limit in env steps (0: none).
     #[getter]
     fn t(&self) -> u32 {
-        self.env.t()
+        self.arena.env.t()
     }
 
     #[getter]
     fn task(&self) -> String {
-        self.env.config().task.name.clone()
+        self.arena.env.config().task.name.clone()
     }
+}
+
+fn step_seconds(frame_skip: u32) -> f64 {
+    (FRAME_DT * FRAMES_PER_STEP as f32) as f64 * frame_skip as f64
+}
+
+/// An arena's `info`: layout, episode_index (not `episode`, which Gymnasium's
+/// RecordEpisodeStatistics owns), env_steps, agent_steps, position, heading and success.
+fn info<'py>(py: Python<'py>, arena: &Tracked) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let a = &arena.env.world().agent;
+    d.set_item("layout", arena.env.layout_name())?;
+    d.set_item("episode_index", arena.env.episode())?;
+    d.set_item("env_steps", arena.env.steps())?;
+    d.set_item("position", (a.pos.x, a.pos.y))?;
+    d.set_item("heading", a.heading)?;
+    d.set_item("success", arena.success)?;
+    d.set_item("agent_steps", arena.agent_steps)?;
+    Ok(d)
+}
+
+fn top_down<'py>(py: Python<'py>, arena: &mut Tracked, size: u32) -> PyResult<Bound<'py, PyArray3<u8>>> {
+    let rgba = arena.trail.render(arena.env.world(), size).map_err(value_error)?;
+    let n = size as usize;
+    let rgb: Vec<u8> = rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
+    Ok(Array3::from_shape_vec((n, n, 3), rgb).expect("size x size x 3").into_pyarray(py))
 }
 
 /// `n` arenas of one task stepped in one call, across cores, with the GIL released. Each resets
@@ -160,43 +289,46 @@ impl PyEnv {
 /// ignores its action and returns the new episode's first observation with reward 0.
 #[pyclass(module = "sec_playground._core", name = "VecEnv")]
 struct PyVecEnv {
-    envs: Vec<Env>,
-    frame_skip: u32,
+    arenas: Vec<Tracked>,
     ended: Vec<bool>,
 }
 
 #[pymethods]
 impl PyVecEnv {
     #[new]
-    #[pyo3(signature = (task, n, t=None, yaml=None, frame_skip=1))]
-    fn new(task: &str, n: usize, t: Option<u32>, yaml: Option<&str>, frame_skip: u32) -> PyResult<Self> {
+    #[pyo3(signature = (task, n, t=None, yaml=None, frame_skip=1, max_steps=None))]
+    fn new(
+        task: &str,
+        n: usize,
+        t: Option<u32>,
+        yaml: Option<&str>,
+        frame_skip: u32,
+        max_steps: Option<u64>,
+    ) -> PyResult<Self> {
         if !(1..=4096).contains(&n) {
             return Err(value_error(format!("num_envs: {n} is out of range 1..=4096")));
         }
-        if !(1..=MAX_FRAME_SKIP).contains(&frame_skip) {
-            return Err(value_error(format!("frame_skip: {frame_skip} is out of range 1..={MAX_FRAME_SKIP}")));
-        }
-        let env = Env::new(EnvConfig { task: task_of(task, yaml)?, t }, 0).map_err(value_error)?;
-        Ok(PyVecEnv { envs: vec![env; n], frame_skip, ended: vec![false; n] })
+        let arena = Tracked::new(task_of(task, yaml)?, t, frame_skip, max_steps)?;
+        Ok(PyVecEnv { arenas: vec![arena; n], ended: vec![false; n] })
     }
 
     /// Restarts every arena, arena i from `seeds[i]`: the observations, (n, 84, 84, 3).
     fn reset<'py>(&mut self, py: Python<'py>, seeds: Vec<u64>) -> PyResult<Bound<'py, PyArray4<u8>>> {
-        if seeds.len() != self.envs.len() {
-            return Err(value_error(format!("seeds: {} seeds for {} envs", seeds.len(), self.envs.len())));
+        if seeds.len() != self.arenas.len() {
+            return Err(value_error(format!("seeds: {} seeds for {} envs", seeds.len(), self.arenas.len())));
         }
         for &s in &seeds {
             check_seed(s)?;
         }
         let obs = py.detach(|| {
-            let mut obs = vec![0u8; self.envs.len() * IMAGE];
-            self.envs.par_iter_mut().zip(obs.par_chunks_mut(IMAGE)).zip(&seeds).for_each(|((env, o), &s)| {
-                rgb(env.reset(Some(s)), o);
+            let mut obs = vec![0u8; self.arenas.len() * IMAGE];
+            self.arenas.par_iter_mut().zip(obs.par_chunks_mut(IMAGE)).zip(&seeds).for_each(|((arena, o), &s)| {
+                rgb(arena.reset(Some(s)), o);
             });
             obs
         });
         self.ended.iter_mut().for_each(|e| *e = false);
-        Ok(Array4::from_shape_vec((self.envs.len(), SIDE, SIDE, 3), obs).expect("n x 84 x 84 x 3").into_pyarray(py))
+        Ok(Array4::from_shape_vec((self.arenas.len(), SIDE, SIDE, 3), obs).expect("n x 84 x 84 x 3").into_pyarray(py))
     }
 
     /// One action per arena: (observations, rewards, terminated, truncated).
@@ -212,28 +344,28 @@ impl PyVecEnv {
         Bound<'py, PyArray1<bool>>,
     )> {
         let actions = actions.as_slice().map_err(value_error)?;
-        if actions.len() != self.envs.len() {
-            return Err(value_error(format!("actions: {} actions for {} envs", actions.len(), self.envs.len())));
+        if actions.len() != self.arenas.len() {
+            return Err(value_error(format!("actions: {} actions for {} envs", actions.len(), self.arenas.len())));
         }
         let actions: Vec<Action> = actions.iter().map(|&a| check_action(a)).collect::<PyResult<_>>()?;
-        let (n, k) = (self.envs.len(), self.frame_skip);
+        let n = self.arenas.len();
         let (obs, outcomes) = py.detach(|| {
             let mut obs = vec![0u8; n * IMAGE];
             let outcomes: Vec<(f64, bool, bool)> = self
-                .envs
+                .arenas
                 .par_iter_mut()
                 .zip(obs.par_chunks_mut(IMAGE))
                 .zip(self.ended.par_iter_mut())
                 .zip(&actions)
-                .map(|(((env, o), ended), &a)| {
+                .map(|(((arena, o), ended), &a)| {
                     if *ended {
                         *ended = false;
-                        rgb(env.reset(None), o);
+                        rgb(arena.reset(None), o);
                         return (0.0, false, false);
                     }
-                    let out = env.advance(a, k).expect("a running episode takes a step");
+                    let out = arena.advance(a).expect("a running episode takes a step");
                     *ended = out.terminated || out.truncated;
-                    rgb(env.observation(), o);
+                    rgb(arena.env.observation(), o);
                     (out.reward, out.terminated, out.truncated)
                 })
                 .collect();
@@ -246,19 +378,61 @@ impl PyVecEnv {
         Ok((obs, rewards, terminated, truncated))
     }
 
-    /// Each arena's layout, episode and env steps.
-    fn infos(&self) -> Vec<(String, u64, u32)> {
-        self.envs.iter().map(|e| (e.layout_name().to_string(), e.episode(), e.steps())).collect()
+    /// Each arena's `info`, as the single env reports it.
+    fn infos<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        self.arenas.iter().map(|a| info(py, a)).collect()
+    }
+
+    /// Arena `i` from above with its trail, `size` x `size` RGB bytes.
+    #[pyo3(signature = (i, size=256))]
+    fn top_down<'py>(&mut self, py: Python<'py>, i: usize, size: u32) -> PyResult<Bound<'py, PyArray3<u8>>> {
+        let n = self.arenas.len();
+        let arena =
+            self.arenas.get_mut(i).ok_or_else(|| value_error(format!("i: {i} is out of range 0..={}", n - 1)))?;
+        top_down(py, arena, size)
+    }
+
+    /// Arena `i`'s camera now (84x84x3 bytes).
+    fn observation<'py>(&mut self, py: Python<'py>, i: usize) -> PyResult<Bound<'py, PyArray3<u8>>> {
+        let n = self.arenas.len();
+        let arena =
+            self.arenas.get_mut(i).ok_or_else(|| value_error(format!("i: {i} is out of range 0..={}", n - 1)))?;
+        Ok(observation(py, &mut arena.env))
+    }
+
+    /// Per arena (seed, resets since it, this episode's actions, whether its next step resets it).
+    fn get_state(&self) -> Vec<(u64, u64, Vec<u8>, bool)> {
+        self.arenas.iter().zip(&self.ended).map(|(a, &e)| (a.seed, a.resets, a.actions.clone(), e)).collect()
+    }
+
+    /// Replays a `get_state`; a bad state raises and changes nothing.
+    fn set_state(&mut self, state: Vec<(u64, u64, Vec<u8>, bool)>) -> PyResult<()> {
+        if state.len() != self.arenas.len() {
+            return Err(value_error(format!("state: {} arenas for {} envs", state.len(), self.arenas.len())));
+        }
+        let mut arenas = self.arenas.clone();
+        for (arena, (seed, resets, actions, _)) in arenas.iter_mut().zip(&state) {
+            arena.restore((*seed, *resets, actions.clone()))?;
+        }
+        self.arenas = arenas;
+        self.ended = state.iter().map(|s| s.3).collect();
+        Ok(())
     }
 
     #[getter]
     fn num_envs(&self) -> usize {
-        self.envs.len()
+        self.arenas.len()
     }
 
     #[getter]
     fn step_seconds(&self) -> f64 {
-        (FRAME_DT * FRAMES_PER_STEP as f32) as f64 * self.frame_skip as f64
+        step_seconds(self.arenas[0].frame_skip)
+    }
+
+    /// The episode limit in env steps (0: none).
+    #[getter]
+    fn t(&self) -> u32 {
+        self.arenas[0].env.t()
     }
 }
 
@@ -320,6 +494,25 @@ impl PyRun {
     /// The configuration, every field filled in, as JSON.
     fn config(&self) -> String {
         json(self.session().config())
+    }
+
+    /// The run as checkpoint bytes (`Run::save_checkpoint`) and its decisions so far; refused in
+    /// the middle of an episode and for agents that do not checkpoint (MFEC, the reactive walk).
+    fn checkpoint<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, pyo3::types::PyBytes>, u64)> {
+        let session = self.session();
+        let mut bytes = Vec::new();
+        session.run().save_checkpoint(&mut bytes).map_err(value_error)?;
+        Ok((pyo3::types::PyBytes::new(py, &bytes), session.decisions()))
+    }
+
+    /// The run of `config` and `seed` brought to `checkpoint` (from `checkpoint`); a checkpoint of
+    /// another configuration or seed, or a corrupt one, is refused.
+    #[staticmethod]
+    fn resume(config: &str, seed: u64, checkpoint: &[u8], decisions: u64) -> PyResult<Self> {
+        check_seed(seed)?;
+        let cfg = RunConfig::from_json(config).map_err(value_error)?;
+        let session = Session::resume(cfg, seed, None, &mut Cursor::new(checkpoint), decisions).map_err(value_error)?;
+        Ok(PyRun { session: Mutex::new(session) })
     }
 }
 

@@ -13,13 +13,46 @@ a run is a pure function of its configuration and seed, on every platform.
 
 import json as _json
 
+from . import _core
+from importlib.metadata import PackageNotFoundError as _NotFound
+from importlib.metadata import version as _version
+
 from ._core import AGENTS_JSON as _AGENTS_JSON
 from ._core import TASKS_JSON as _TASKS_JSON
-from ._core import MAX_SEED, TASKS, Encoder, fingerprint
-from .envs import ENV_IDS, ArenaEnv, ArenaVectorEnv
+from ._core import MAX_SEED, TASKS, fingerprint
+from .envs import ACTION_MEANINGS, ENV_IDS, ArenaEnv, ArenaVectorEnv, integer
 from .run import Run
 
-__all__ = ["ArenaEnv", "ArenaVectorEnv", "Encoder", "Run", "TASKS", "ENV_IDS", "MAX_SEED", "agents", "tasks", "fingerprint"]
+try:
+    __version__ = _version("sec-playground")
+except _NotFound:  # imported from a source tree without installing
+    __version__ = "0+unknown"
+
+__all__ = [
+    "ArenaEnv", "ArenaVectorEnv", "Encoder", "Run", "TASKS", "ENV_IDS", "MAX_SEED", "ACTION_MEANINGS",
+    "agents", "tasks", "fingerprint", "__version__",
+]
+
+
+class Encoder:
+    """A bundled encoder: `task`'s trained autoencoder (`perception="trained"`), or the untrained
+    one the authors' agent embedded with, drawn from `seed` (0..=MAX_SEED)."""
+
+    def __init__(self, task: str, perception: str = "trained", seed: int = 0):
+        if not isinstance(task, str):
+            raise ValueError(f"task: {task!r} is not a string")
+        if not isinstance(perception, str):
+            raise ValueError(f"perception: {perception!r} is not 'trained' or 'untrained'")
+        self._encoder = _core.Encoder(task, perception, integer("seed", seed, 0, MAX_SEED))
+
+    def encode(self, frame):
+        """The embedding of one camera frame ((84, 84, 3) uint8): 20 float32."""
+        import numpy as np
+
+        frame = np.asarray(frame)
+        if frame.dtype != np.uint8:
+            raise ValueError(f"frame: dtype {frame.dtype} is not uint8")
+        return self._encoder.encode(frame)
 
 
 def tasks() -> list:
@@ -40,14 +73,19 @@ def agents() -> list:
 def _register():
     from gymnasium.envs.registration import register, registry
 
+    from ._core import Env
+
     for env_id, task in ENV_IDS.items():
         if env_id not in registry:
             kwargs = {} if task is None else {"task": task}
+            # Gymnasium's limit in agent steps: the task's own t (env steps) at frame_skip=1.
+            limit = None if task is None else Env(task).t
             register(
                 id=env_id,
                 entry_point="sec_playground.envs:ArenaEnv",
                 vector_entry_point="sec_playground.envs:ArenaVectorEnv",
                 kwargs=kwargs,
+                max_episode_steps=limit,
             )
 
 

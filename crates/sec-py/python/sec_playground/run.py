@@ -4,6 +4,7 @@ import json
 from typing import Any, Optional
 
 from . import _core
+from .envs import integer
 
 
 class Run:
@@ -18,12 +19,14 @@ class Run:
             config = {}
         if not isinstance(config, dict):
             raise ValueError(f"config: {type(config).__name__} is not a dict (a RunConfig)")
-        if not isinstance(seed, int) or isinstance(seed, bool):
-            raise ValueError(f"seed: {seed!r} is not an integer")
-        if not 0 <= seed <= _core.MAX_SEED:
-            raise ValueError(f"seed: {seed} is out of range 0..={_core.MAX_SEED}")
+        seed = integer("seed", seed, 0, _core.MAX_SEED)
         self._run = _core.Run(_config_json(config), seed)
         self.seed = seed
+        # What rebuilds the run when its agent does not checkpoint: the first configuration and
+        # every call since (a run is a pure function of them), consecutive episodes counted.
+        self._first = _config_json(config)
+        self._base = None  # (configuration, checkpoint, decisions) the calls start from, if any
+        self._calls: list = []
 
     @property
     def config(self) -> dict[str, Any]:
@@ -36,25 +39,38 @@ class Run:
         (a new run with the same seed). A refused value raises ValueError and changes nothing."""
         if not isinstance(config, dict):
             raise ValueError(f"config: {type(config).__name__} is not a dict (a RunConfig)")
-        return self._run.configure(_config_json(config))
+        text = _config_json(config)
+        applied = self._run.configure(text)
+        self._calls.append(("configure", text))
+        return applied
 
     def episode(self) -> dict[str, Any]:
         """Plays the current episode to its end; its metrics (the runner's JSON line as a dict)."""
-        return json.loads(self._run.episode())
+        return json.loads(self.episode_json())
 
     def episode_json(self) -> str:
         """The episode's metrics as the runner writes them (one JSON line)."""
-        return self._run.episode()
+        line = self._run.episode()
+        self._count("episode", 1)
+        return line
+
+    def _count(self, call: str, n: int) -> None:
+        if self._calls and self._calls[-1][0] == call:
+            self._calls[-1] = (call, self._calls[-1][1] + n)
+        else:
+            self._calls.append((call, n))
 
     def episodes(self, n: int) -> list:
-        """Plays `n` episodes; their metrics."""
+        """Plays `n` episodes (0..=1000000); their metrics."""
+        n = integer("n", n, 0, 1_000_000)
         return [self.episode() for _ in range(n)]
 
     def decisions(self, n: int) -> list:
         """Runs `n` decisions (1..=100000); the metrics of the episodes they finished."""
-        if not isinstance(n, int) or isinstance(n, bool) or not 1 <= n <= 100_000:
-            raise ValueError(f"n: {n!r} is out of range 1..=100000")
-        return [json.loads(line) for line in self._run.decisions(n)]
+        n = integer("n", n, 1, 100_000)
+        done = [json.loads(line) for line in self._run.decisions(n)]
+        self._count("decisions", n)
+        return done
 
     def view(self) -> dict[str, Any]:
         """The last decision and the run's state, with the page's field names: action, layer
@@ -68,6 +84,40 @@ class Run:
         decision": couplets (sequence, position, g, t, rr, d, action, value), q and p per
         action, and tau, valueFunction, thetaAbs, thetaProp, sequentialBias."""
         return json.loads(self._run.explain())
+
+
+    def __getstate__(self) -> dict:
+        """Pickling (and `copy.deepcopy`): between two episodes a run whose agent checkpoints
+        (SEC, NSEC) travels as its checkpoint, the runner's own format; otherwise (mid-episode,
+        MFEC, the reactive walk) as its last checkpoint (or its first configuration) and the
+        calls since, replayed on unpickling (a run is a pure function of them). Either way it
+        continues bit for bit; only `view()`'s last decision is not kept (none until the next)."""
+        try:
+            checkpoint, decisions = self._run.checkpoint()
+            base, calls = (self._run.config(), checkpoint, decisions), []
+        except ValueError:
+            base, calls = self._base, list(self._calls)
+        return {"seed": self.seed, "first": self._first, "base": base, "calls": calls}
+
+    def __setstate__(self, state: dict) -> None:
+        self.seed, self._first, self._base = state["seed"], state["first"], state["base"]
+        if self._base is None:
+            self._run = _core.Run(self._first, self.seed)
+        else:
+            config, checkpoint, decisions = self._base
+            self._run = _core.Run.resume(config, self.seed, checkpoint, decisions)
+        self._calls = []
+        for call, arg in state["calls"]:
+            if call == "configure":
+                self._run.configure(arg)
+                self._calls.append((call, arg))
+            elif call == "episode":
+                for _ in range(arg):
+                    self._run.episode()
+                self._count(call, arg)
+            else:
+                self._run.decisions(arg)
+                self._count(call, arg)
 
 
 def _config_json(config: dict[str, Any]) -> str:
