@@ -242,3 +242,14 @@ def test_the_vector_env_refuses_unknown_keywords_and_bad_actions():
         v.step(np.zeros(2))
     with pytest.raises(ValueError, match="^seed: 3 seeds for 2 envs"):
         v.reset(seed=[1, 2, 3])
+
+
+def test_the_suite_runs_against_the_installed_wheel_without_rust():
+    import os
+    import shutil
+
+    if not os.environ.get("SEC_NO_RUST"):
+        pytest.skip("run by scripts/python-test.sh against the wheel, with no Rust on PATH")
+    assert shutil.which("cargo") is None and shutil.which("rustc") is None
+    assert "site-packages" in sec_playground.__file__
+    assert sec_playground.__version__ == "0.1.0"
