@@ -30,7 +30,9 @@ pub fn upscale(rgba: &[u8], width: usize, height: usize, k: usize) -> Vec<u8> {
 }
 
 pub mod authors;
+pub mod manifest;
 pub mod matching;
+pub mod merge;
 pub mod orderings;
 pub mod plot;
 pub mod quote;

@@ -48,6 +48,26 @@ pub struct ManifestCondition {
     pub config: RunConfig,
 }
 
+/// The shard a Slurm array task runs: task `SLURM_ARRAY_TASK_ID` of `SLURM_ARRAY_TASK_COUNT`
+/// (counted from `SLURM_ARRAY_TASK_MIN`, so `--array=0-3` and `--array=1-4` both give shards
+/// 1/4..4/4), or None outside an array job. `var` reads the environment.
+pub fn slurm_shard(var: impl Fn(&str) -> Option<String>) -> Result<Option<(usize, usize)>, String> {
+    let Some(id) = var("SLURM_ARRAY_TASK_ID") else { return Ok(None) };
+    let number = |name: &str, v: Option<String>| -> Result<usize, String> {
+        let v = v.ok_or(format!("{name} is not set, but SLURM_ARRAY_TASK_ID is"))?;
+        v.trim().parse().map_err(|_| format!("{name}: '{v}' is not a whole number"))
+    };
+    let id = number("SLURM_ARRAY_TASK_ID", Some(id))?;
+    let count = number("SLURM_ARRAY_TASK_COUNT", var("SLURM_ARRAY_TASK_COUNT"))?;
+    let min = number("SLURM_ARRAY_TASK_MIN", var("SLURM_ARRAY_TASK_MIN"))?;
+    if id < min || id - min >= count || count == 0 {
+        return Err(format!(
+            "SLURM_ARRAY_TASK_ID {id} is not among the {count} tasks from SLURM_ARRAY_TASK_MIN {min} (a contiguous --array=A-B)"
+        ));
+    }
+    Ok(Some((id - min + 1, count)))
+}
+
 /// `i/N` with 1 <= i <= N.
 pub fn parse_shard(s: &str) -> Result<(usize, usize), String> {
     let err = || format!("--shard: '{s}' is not i/N with 1 <= i <= N");
@@ -257,6 +277,7 @@ fn play(job: &Job, out: &Path, episodes: usize, every: usize, stop: usize, bar: 
 fn run_job(job: &Job, out: &Path, episodes: usize, every: usize, bar: &ProgressBar) -> Result<(), String> {
     let path = run_path(out, &job.condition, job.seed);
     let shorter = read_run_text(&path).ok().filter(|t| !t.is_empty());
+    let clock = crate::manifest::Clock::start();
     play(job, out, episodes, every, episodes, bar)?;
     let part = path.with_extension("part");
     let text = fs::read(&part).map_err(|e| format!("{}: {e}", part.display()))?;
@@ -273,6 +294,7 @@ fn run_job(job: &Job, out: &Path, episodes: usize, every: usize, bar: &ProgressB
         }
     }
     write_gzip(&path, &text)?;
+    crate::manifest::write(&path, &clock.finish(&job.config, job.seed, episodes))?;
     remove_leftovers(&path, &checkpoint_path(out, &job.condition, job.seed))
 }
 
@@ -408,6 +430,9 @@ fn copy_run(from: &Path, job: &Job, out: &Path, episodes: usize) -> Result<(), S
         let head: String = text.split_inclusive('\n').take(episodes).collect();
         write_gzip(&path, head.as_bytes())?;
     }
+    let mut manifest = crate::manifest::Clock::start().finish(&job.config, job.seed, episodes);
+    manifest.copied_from = Some(from.display().to_string());
+    crate::manifest::write(&path, &manifest)?;
     remove_leftovers(&path, &checkpoint_path(out, &job.condition, job.seed))
 }
 
@@ -546,8 +571,13 @@ mod tests {
         let log = read_run_text(&run_path(&cut, "c/dqn", 2)).unwrap();
         assert_eq!(log.lines().next().unwrap(), marked, "resumed, not restarted");
         assert_eq!(log.replacen("\"mark\":1,", "", 1), expected);
-        let left: Vec<_> = fs::read_dir(cut.join("c/dqn")).unwrap().map(|e| e.unwrap().file_name()).collect();
-        assert_eq!(left, ["seed-2.jsonl.gz"], "a finished run leaves only its log");
+        let mut left: Vec<_> = fs::read_dir(cut.join("c/dqn")).unwrap().map(|e| e.unwrap().file_name()).collect();
+        left.sort();
+        assert_eq!(
+            left,
+            ["seed-2.jsonl.gz", "seed-2.manifest.json"],
+            "a finished run leaves only its log and manifest"
+        );
 
         // A corrupt checkpoint is not used: the run starts again, to the same log.
         let bad = dir("bad");
@@ -594,7 +624,7 @@ mod tests {
         assert_eq!(fs::read_dir(e2.join("h/b")).unwrap().count(), 3);
         let (made, copied, skipped) = run_all(&[same.clone(), other.clone()], &e2, 4, 0, 1, Some(&finished)).unwrap();
         let left: Vec<_> = fs::read_dir(e2.join("h/b")).unwrap().map(|e| e.unwrap().file_name()).collect();
-        assert_eq!(left.len(), 2, "config.json and the log: {left:?}");
+        assert_eq!(left.len(), 3, "config.json, the log and its manifest (copied from): {left:?}");
         assert_eq!((made, copied, skipped), (1, 1, 0));
         let copy = fs::read(run_path(&e2, "h/b", 3)).unwrap();
         assert_eq!(copy, fs::read(run_path(&root.join("e1"), "g/a", 3)).unwrap());

@@ -15,6 +15,7 @@
 //!   sec-experiment versus-authors [--out results/experiments] [--authors results/authors] [--to results]
 //!                                 [--quote REPRODUCTION.md]
 //!   sec-experiment verify [--out results/experiments]
+//!   sec-experiment merge SRC... --into DIR
 //!   sec-experiment warm-up --from OUT/EXPERIMENT/GROUP/MODEL --seed S --episodes N --to FILE.secmem
 //!   sec-experiment list
 //!   sec-experiment agents
@@ -46,6 +47,8 @@ const USAGE: &str = "usage:
                                 (our runs against the authors' per-run results, results/authors/)
   sec-experiment verify [--out DIR]   (every shorter run is the head of the longer runs of its
                                        configuration and seed)
+  sec-experiment merge SRC... --into DIR   (result folders of several machines into one, checked
+                                            first; reports the seeds still missing)
   sec-experiment warm-up --from OUT/EXPERIMENT/GROUP/MODEL --seed S --episodes N --to FILE.secmem
                          (the memory seed S of those runs had after N episodes, replayed and checked
                           against its log, for the page's Skip the warm-up; recorded in index.json
@@ -54,7 +57,8 @@ const USAGE: &str = "usage:
   sec-experiment agents   (the agent table: key, RunConfig kind and section, what each can do)
   sec-experiment record --config FILE.json --seed S --episodes N --events OUT.jsonl
   sec-experiment trace --config FILE.json --seed S --events IN.jsonl [--trace OUT.jsonl]
-defaults: --seeds 1..20, --episodes 5000, --jobs all cores, --shard 1/1, --out results/experiments,
+defaults: --seeds 1..20, --episodes 5000, --jobs all cores, --shard 1/1 (in a Slurm array job:
+  task SLURM_ARRAY_TASK_ID of SLURM_ARRAY_TASK_COUNT), --out results/experiments,
   --checkpoint-every 50 (episodes; 0: never; SEC, DQN and ERLAM runs resume from it mid-run),
   --reuse yes (a run whose configuration, seed and episodes equal a finished run's under --out is
   copied from it, not played again: runs are deterministic; no plays every run),
@@ -246,6 +250,30 @@ fn dispatch(args: &[String]) -> Result<(), String> {
             );
             Ok(())
         }
+        "merge" => {
+            let (pos, o) = options(rest, &["into"])?;
+            let into = o.get("into").ok_or("merge needs --into DIR")?;
+            if pos.is_empty() {
+                return Err(format!("merge needs at least one SRC folder\n{USAGE}"));
+            }
+            let sources: Vec<PathBuf> = pos.iter().map(PathBuf::from).collect();
+            for s in &sources {
+                if !s.is_dir() {
+                    return Err(format!("merge: {} is not a folder", s.display()));
+                }
+            }
+            let m = sec_tools::merge::merge(&sources, Path::new(into))?;
+            println!("{into}: {} runs copied, {} already there", m.copied, m.kept);
+            if m.missing.is_empty() {
+                println!("complete: every seed of every condition its experiments list, at full length");
+            } else {
+                println!("{} runs missing or short:", m.missing.len());
+                for line in &m.missing {
+                    println!("  {line}");
+                }
+            }
+            Ok(())
+        }
         "warm-up" => {
             let (pos, o) = options(rest, &["from", "seed", "episodes", "to"])?;
             if !pos.is_empty() {
@@ -284,7 +312,11 @@ fn run(args: &[String]) -> Result<(), String> {
         Some(v) => number("jobs", v, 1usize, 4096)?,
         None => cores,
     };
-    let shard = runner::parse_shard(o.get("shard").copied().unwrap_or("1/1"))?;
+    // --shard wins; else a Slurm array task's own share; else the whole grid.
+    let shard = match o.get("shard") {
+        Some(s) => runner::parse_shard(s)?,
+        None => runner::slurm_shard(|k| std::env::var(k).ok())?.unwrap_or((1, 1)),
+    };
     let every = number("checkpoint-every", o.get("checkpoint-every").copied().unwrap_or("50"), 0usize, 1_000_000)?;
     let reuse = match o.get("reuse").copied().unwrap_or("yes") {
         "yes" => true,
