@@ -2,9 +2,52 @@
 
 use crate::error::FileError;
 
+/// The largest text file (an Animal-AI YAML arena, a RunConfig) any front end reads: checked
+/// while reading, so `/dev/zero` or a 10 GB file is refused at once, and again by the parsers.
+pub const MAX_TEXT_FILE_BYTES: usize = 1 << 20;
+
+/// `text` fits `MAX_TEXT_FILE_BYTES`, or an error naming `what`.
+pub fn check_text_size(text: &str, what: &str) -> Result<(), String> {
+    if text.len() > MAX_TEXT_FILE_BYTES {
+        return Err(format!(
+            "{what}: {} bytes is larger than {MAX_TEXT_FILE_BYTES}, the most a text file may be",
+            text.len()
+        ));
+    }
+    Ok(())
+}
+
+/// A user's text file read with the size limit enforced while reading and UTF-8 checked, each
+/// refusal naming `what` (the parameter or option the path came from).
+#[cfg(not(target_arch = "wasm32"))]
+pub fn read_text_file(path: &std::path::Path, what: &str) -> Result<String, String> {
+    use std::io::Read;
+    let file = std::fs::File::open(path).map_err(|e| format!("{what}: {}: {e}", path.display()))?;
+    let mut bytes = Vec::new();
+    file.take(MAX_TEXT_FILE_BYTES as u64 + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("{what}: {}: {e}", path.display()))?;
+    if bytes.len() > MAX_TEXT_FILE_BYTES {
+        return Err(format!(
+            "{what}: {} is larger than {MAX_TEXT_FILE_BYTES} bytes, the most a text file may be",
+            path.display()
+        ));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        format!("{what}: {} is not UTF-8 text (byte {}): not a text file", path.display(), e.utf8_error().valid_up_to())
+    })
+}
+
+/// FNV-1a 64's starting value.
+pub(crate) const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+
 /// 64-bit FNV-1a: frame fingerprints in traces and the weights file's checksum.
 pub fn fnv1a(bytes: &[u8]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    fnv1a_extend(FNV_OFFSET, bytes)
+}
+
+/// FNV-1a 64 of what `h` hashed followed by `bytes` (a checksum computed as a file streams).
+pub(crate) fn fnv1a_extend(mut h: u64, bytes: &[u8]) -> u64 {
     for &b in bytes {
         h ^= b as u64;
         h = h.wrapping_mul(0x0000_0100_0000_01b3);

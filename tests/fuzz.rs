@@ -1,8 +1,8 @@
 //! The fuzz suite: mutations of every format the crate parses (Animal-AI YAML arenas, memory
 //! files, weights files, RunConfig JSON, the URL hash's settings), each of which must be accepted
 //! or refused with an error, never a panic or a hang, and a refused memory file must leave the
-//! memory as it was; a run checkpoint too (a SEC run with sequences in its LTM), whose resumed
-//! run must play an episode. Mutations: byte flips, inserted bytes or format tokens, deletions and
+//! memory as it was; a run checkpoint too (a SEC run with sequences in its LTM, its checksum
+//! recomputed in three cases of four), whose resumed run must play an episode of finite numbers. Mutations: byte flips, inserted bytes or format tokens, deletions and
 //! duplicated spans; for the binary files half the cases get their checksum recomputed, so the
 //! parser behind the checksum is reached. Then the regression corpus (`tests/corpus/`, issue 20's
 //! reproducers), all refused.
@@ -291,12 +291,15 @@ proptest! {
     // Each case builds a run (its encoders), so fewer of them.
     #![proptest_config(Config { cases: cases().cases / 8, ..cases() })]
 
+    /// Three cases in four get their checksum recomputed, so the value checks behind it are
+    /// reached; a checkpoint that loads must play an episode of finite numbers.
     #[test]
-    fn run_checkpoints(edits in edits()) {
+    fn run_checkpoints(edits in edits(), fix in 0u8..4) {
         let (file, cfg) = CHECKPOINT.with(|c| c.clone());
-        let bytes = mutate(&file, &edits);
+        let bytes = mutate_checked(&file, &edits, fix != 0);
         if let Ok(mut run) = sec_playground::experiment::Run::resume(cfg, 3, None, &mut bytes.as_slice()) {
-            run.episode();
+            let m = run.episode();
+            prop_assert!(m.reward.is_finite() && m.entropy.is_finite() && m.contextual_share.is_finite());
         }
     }
 }

@@ -30,7 +30,7 @@ fn models() {
         file!("object-permanence"),
         file!("object-permanence-pits"),
     ] {
-        assert_eq!(sec_playground::web::register_model(bytes).unwrap(), task);
+        assert_eq!(sec_playground::web::register_model(u8s(bytes)).unwrap(), task);
     }
 }
 
@@ -42,6 +42,11 @@ fn wasm_matches_the_native_golden_trace() {
         assert_eq!(a, b, "trace line {} differs between wasm and native", i + 1);
     }
     assert_eq!(log.lines().count(), GOLDEN.lines().count());
+}
+
+/// Bytes as JS passes them.
+fn u8s(b: &[u8]) -> wasm_bindgen::JsValue {
+    js_sys::Uint8Array::from(b).into()
 }
 
 fn message(e: wasm_bindgen::JsError) -> String {
@@ -95,16 +100,21 @@ fn the_encoder_api_embeds_and_reconstructs_an_observation() {
     let mut enc = Encoder::new(v("detour")).unwrap();
     let mut env = ArenaEnv::new(v("detour"), v(1.0), None).unwrap();
     let obs = env.observation();
-    let e = enc.encode(&obs).unwrap();
+    let e = enc.encode(u8s(&obs)).unwrap();
     assert_eq!(e.len(), 20);
     assert!(e.iter().any(|&v| v > 0.0));
-    let rec = enc.reconstruct(&obs).unwrap();
+    let rec = enc.reconstruct(u8s(&obs)).unwrap();
     assert_eq!(rec.len(), obs.len());
-    let mse = enc.reconstruction_mse(&obs).unwrap();
+    let mse = enc.reconstruction_mse(u8s(&obs)).unwrap();
     assert!(mse > 0.0 && mse < 0.01, "a trained model reconstructs its first frame: mse {mse}");
-    let err = message(enc.encode(&obs[..100]).err().unwrap());
+    for bad in [wasm_bindgen::JsValue::NULL, wasm_bindgen::JsValue::UNDEFINED] {
+        assert!(message(enc.encode(bad.clone()).err().unwrap()).starts_with("rgba: "));
+        assert!(message(enc.reconstruct(bad.clone()).err().unwrap()).starts_with("rgba: "));
+        assert!(message(sec_playground::web::register_model(bad).err().unwrap()).starts_with("bytes: "));
+    }
+    let err = message(enc.encode(u8s(&obs[..100])).err().unwrap());
     assert!(err.starts_with("rgba:") && err.contains("28224"), "{err}");
-    assert_eq!(enc.encode(&obs).unwrap(), e, "a refused call changed nothing");
+    assert_eq!(enc.encode(u8s(&obs)).unwrap(), e, "a refused call changed nothing");
 }
 
 #[wasm_bindgen_test]
@@ -238,16 +248,16 @@ fn models_are_registered_and_checked() {
     assert!(has_model(v("detour")).unwrap());
     let mut bad = include_bytes!("../assets/encoders/detour.secae").to_vec();
     bad[1000] ^= 1;
-    let e = message(register_model(&bad).err().unwrap());
+    let e = message(register_model(u8s(&bad)).err().unwrap());
     assert!(e.starts_with("weights:") && e.contains("checksum"), "{e}");
-    let e = message(register_model(b"SECMEMRY not weights").err().unwrap());
+    let e = message(register_model(u8s(b"SECMEMRY not weights")).err().unwrap());
     assert!(e.starts_with("weights:") && e.contains("magic"), "{e}");
     assert!(has_model(v("detour")).unwrap(), "a refused file leaves the registered model");
     // A sound file of non-finite weights (issue 20: an infinite bias made every embedding
     // infinite) is refused by its tensor's name, and the registered model stays.
     let mut w = sec_playground::encoder::bundled::autoencoder("detour").unwrap().to_weights();
     w.tensors[1].data[0] = f32::INFINITY;
-    let e = message(register_model(&w.to_bytes(sec_playground::encoder::DType::F32)).err().unwrap());
+    let e = message(register_model(u8s(&w.to_bytes(sec_playground::encoder::DType::F32))).err().unwrap());
     assert!(e.starts_with(&format!("{}:", w.tensors[1].name)) && e.contains("inf"), "{e}");
     assert!(has_model(v("detour")).unwrap());
 }
@@ -262,22 +272,28 @@ fn memory_files_and_driving_through_the_js_api() {
     // The untrained encoder is the seed's: another seed's run refuses the file, a run of the same
     // seed (or, with the trained perception, of any seed) takes it.
     let mut other = SecRun::new(js(r#"{"task": "object-permanence"}"#), v(8.0)).unwrap();
-    let e = message(other.load_memory(&file).err().unwrap());
+    let e = message(other.load_memory(u8s(&file)).err().unwrap());
     assert!(e.starts_with("memory:") && e.contains("another encoder"), "{e}");
     let trained = r#"{"task": "object-permanence", "perception": "trained"}"#;
     let mut t = SecRun::new(js(trained), v(2.0)).unwrap();
     while metrics(t.step_episode().unwrap()).ltm < 1 {}
-    SecRun::new(js(trained), v(9.0)).unwrap().load_memory(&t.save_memory().unwrap()).unwrap();
+    SecRun::new(js(trained), v(9.0)).unwrap().load_memory(u8s(&t.save_memory().unwrap())).unwrap();
     let mut b = SecRun::new(js(r#"{"task": "object-permanence"}"#), v(2.0)).unwrap();
-    assert_eq!(b.load_memory(&file).unwrap(), metrics_ltm(&mut a));
+    assert_eq!(b.load_memory(u8s(&file)).unwrap(), metrics_ltm(&mut a));
     assert_eq!(b.save_memory().unwrap(), file);
     // Corrupt and foreign files: refused, the run unchanged and still running.
     let mut corrupt = file.clone();
     corrupt[file.len() - 30] ^= 4;
-    assert!(message(b.load_memory(&corrupt).err().unwrap()).contains("checksum"));
+    assert!(message(b.load_memory(u8s(&corrupt)).err().unwrap()).contains("checksum"));
     let mut c = SecRun::new(js(r#"{"task": "detour"}"#), v(1.0)).unwrap();
-    let e = message(c.load_memory(&file).err().unwrap());
+    let e = message(c.load_memory(u8s(&file)).err().unwrap());
     assert!(e.starts_with("memory:") && e.contains("object-permanence"), "{e}");
+    assert_eq!(b.save_memory().unwrap(), file);
+    // null, undefined or a string for bytes: refused by name, the run unchanged.
+    for bad in [wasm_bindgen::JsValue::NULL, wasm_bindgen::JsValue::UNDEFINED, v("SECMEMRY")] {
+        let e = message(b.load_memory(bad).err().unwrap());
+        assert!(e.starts_with("bytes:") && e.contains("is not a Uint8Array"), "{e}");
+    }
     assert_eq!(b.save_memory().unwrap(), file);
     b.step_episode().unwrap();
     // A person drives: actions are checked; the episode is marked.

@@ -1,6 +1,6 @@
 // The arena page: builds an environment, steps it in real time with the keyboard's action and
 // draws the camera and the top-down view. Errors show on the page and keep the last good run.
-import init, { ArenaEnv, taskNames, taskDescription, frameSize } from './wasm.js';
+import init, { ArenaEnv, taskNames, taskDescription, frameSize, maxTextFileBytes } from './wasm.js';
 import { drawRgba, drawStatus } from './views.js';
 import { keyboard } from './keys.js';
 
@@ -114,8 +114,20 @@ $('limit').addEventListener('change', () => {
 $('yaml').addEventListener('change', async (e) => {
   const file = e.target.files?.[0];
   if (!file) return;
-  const text = await file.text();
   e.target.value = '';
+  // The core's one limit for text files, checked before the file is read (a huge file is not loaded).
+  if (file.size > maxTextFileBytes()) {
+    showError(`yaml: ${file.name} is ${file.size} bytes, larger than ${maxTextFileBytes()}, the most an arena file may be`);
+    return;
+  }
+  const bytes = new Uint8Array(await file.arrayBuffer());
+  let text;
+  try {
+    text = new TextDecoder('utf-8', { fatal: true }).decode(bytes);
+  } catch {
+    showError(`yaml: ${file.name} is not UTF-8 text: not an Animal-AI YAML file`);
+    return;
+  }
   if (rebuild(({ seed }) => ArenaEnv.fromYaml(file.name, text, seed, undefined), `Custom arena ${file.name}`)) {
     source = { kind: 'yaml', name: file.name, text, ownT: true };
     $('limit').value = String(env.agent().t); // the file's t

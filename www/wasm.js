@@ -25,7 +25,7 @@ const glue = await import(GLUE[build]);
 
 export default glue.default;
 export const { SecRun, agents, parameters, parseSettings, applySettings, presetSettings, panicForTest, registerModel, hasModel,
-  taskNames, ArenaEnv, taskDescription, frameSize } = glue;
+  taskNames, ArenaEnv, taskDescription, frameSize, maxTextFileBytes } = glue;
 
 /** Starts downloading `task`'s model now (before the wasm is ready); `ensureModel` uses it. An
  * unknown task fetches nothing: the run refuses it by name. */

@@ -109,6 +109,7 @@ pub fn load_task(name: &str, src: &str) -> Result<Task, FileError> {
 
 /// Parses every `!Arena` of a file into layouts named `name` (or `name#k` when there are several).
 pub fn load_layouts(name: &str, src: &str) -> Result<Vec<Layout>, FileError> {
+    crate::util::check_text_size(src, "yaml").map_err(|e| FileError::new("arena", e))?;
     layouts(name, src).map_err(|e| FileError::value("arena", e))
 }
 

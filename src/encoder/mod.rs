@@ -48,6 +48,8 @@ impl ReconstructionGate {
     pub const INITIAL: f32 = 100.0;
     /// Env steps between measurements.
     pub const PERIOD: u64 = 16;
+    /// The most steps a checkpoint's gate may have counted (far beyond any run).
+    pub const MAX_STEPS: u64 = 1 << 50;
 
     /// A gate that has measured nothing yet.
     pub fn new() -> Self {
@@ -75,15 +77,28 @@ impl ReconstructionGate {
     }
 
     pub(crate) fn take_state(&mut self, r: &mut crate::util::ByteReader) -> Result<(), crate::error::FileError> {
+        let field = |what: &str, rule: String| crate::error::FileError::field("checkpoint", what.to_string(), rule);
         let (mse, steps, pending) = (r.f32()?, r.u64()?, r.bool()?);
+        if !(mse.is_finite() && mse >= 0.0) {
+            return Err(field("gate.mse", format!("{mse} is not a finite number >= 0")));
+        }
+        if steps > Self::MAX_STEPS {
+            return Err(field("gate.steps", format!("{steps} is out of range 0..={}", Self::MAX_STEPS)));
+        }
         let image = r.f32s(IMAGE, "gate.image")?;
         if image.len() != IMAGE {
-            return Err(crate::error::FileError::field("checkpoint", "gate.image", "is not a frame"));
+            return Err(field("gate.image", "is not a frame".into()));
+        }
+        if !image.iter().all(|v| (0.0..=1.0).contains(v)) {
+            return Err(field("gate.image", "holds a pixel outside [0, 1]".into()));
         }
         let known = r.bool()?;
         let mut e = [0.0f32; EMBEDDING];
         for v in &mut e {
             *v = r.f32()?;
+        }
+        if !e.iter().all(|v| v.is_finite()) {
+            return Err(field("gate.embedding", "holds a value that is not a finite number".into()));
         }
         *self = ReconstructionGate { mse, steps, pending, image, embedding: known.then_some(e), slot: None };
         Ok(())
@@ -98,7 +113,8 @@ impl ReconstructionGate {
     /// Called once per env step with the current image (and its entry in the run's frame
     /// cache); measures on every 16th call.
     pub fn watch(&mut self, image: &[f32], slot: Option<cache::Slot>) {
-        self.steps += 1;
+        // Saturating: a checkpoint's count is at most MAX_STEPS, and no run lives 2^50 steps.
+        self.steps = self.steps.saturating_add(1);
         if self.steps % Self::PERIOD == 0 {
             self.image.copy_from_slice(image);
             self.pending = true;

@@ -5,18 +5,28 @@
 //! its saved position, and the controller restores its own state (`Controller::save_state`).
 //! Resumed, the run gives the same episodes as one never interrupted.
 //!
-//! Layout: `SECCKPT2`, a little-endian u32 length, that many bytes of a JSON header (seed,
-//! configuration, episodes played, the agent stream's word position), a u64 length and that many
-//! bytes of the reconstruction gate's state, then the controller's state to the end. Version 1
-//! (`SECCKPT1`, the first DQN runs') had no gate section and still loads.
+//! Layout (version 3): `SECCKPT3`, a little-endian u32 length, that many bytes of a JSON header
+//! (seed, configuration, episodes played, the agent stream's word position), a u64 length and that
+//! many bytes of the reconstruction gate's state, the controller's state, and an FNV-1a 64 checksum
+//! (u64) of every byte before it, as the memory files have. Loading checks the checksum first, then
+//! every value with a live run's rules (finite rewards within the memory files' bounds, finite T,
+//! G, p and entropy, sizes that fit n and m, a gate MSE that is a number, counters in range), so an
+//! edited file is refused by name, never resumed into another run. Version 2 (`SECCKPT2`, no
+//! checksum: what the grid wrote before) and version 1 (`SECCKPT1`, also no gate section) still
+//! load, with the same value checks.
 
 use super::{AgentFactory, Run, RunConfig};
 use crate::error::{Error, FileError};
 use std::io::{Read, Write};
 
-const MAGIC: &[u8; 8] = b"SECCKPT2";
-/// The first version: no gate section (only agents without the gate wrote it).
+const MAGIC: &[u8; 8] = b"SECCKPT3";
+/// Version 2: no checksum.
+const MAGIC_V2: &[u8; 8] = b"SECCKPT2";
+/// The first version: no gate section (only agents without the gate wrote it) and no checksum.
 const MAGIC_V1: &[u8; 8] = b"SECCKPT1";
+/// The agent stream's word position stays below this: ChaCha's 64-bit block counter times 16
+/// words per block.
+const MAX_WORD_POS: u128 = 1 << 68;
 /// A gate section longer than this is not one (a frame of floats and a few numbers).
 const MAX_GATE: u64 = 1 << 20;
 /// A header longer than this is not one (configurations are a few KiB).
@@ -56,17 +66,22 @@ fn block(input: &mut dyn Read, width: usize, max: u64, field: &str) -> Result<Ve
 
 impl Header {
     /// Reads a checkpoint's header (and the gate's section), leaving `input` at the controller's
-    /// state.
+    /// state. The checksum of a version-3 checkpoint is not checked here (`Run::resume` does):
+    /// this is what a resume looks at first, before it replays anything.
     pub fn read(input: &mut dyn Read) -> Result<Header, Error> {
         let mut magic = [0u8; 8];
         input.read_exact(&mut magic).map_err(io)?;
-        if &magic != MAGIC && &magic != MAGIC_V1 {
-            return Err(FileError::new("checkpoint", "not a run checkpoint (or of another version)").into());
+        if ![MAGIC, MAGIC_V2, MAGIC_V1].contains(&&magic) {
+            return Err(FileError::new(
+                "checkpoint",
+                "not a run checkpoint, or of another version (re-run: it starts again from episode 0)",
+            )
+            .into());
         }
         let json = block(input, 4, MAX_HEADER as u64, "header")?;
         let mut header: Header =
             serde_json::from_slice(&json).map_err(|e| FileError::field("checkpoint", "header", e.to_string()))?;
-        if &magic == MAGIC {
+        if &magic != MAGIC_V1 {
             header.gate = Some(block(input, 8, MAX_GATE, "gate")?);
         }
         if header.episodes > MAX_EPISODES {
@@ -74,6 +89,41 @@ impl Header {
             return Err(FileError::field("checkpoint", "episodes", message).into());
         }
         Ok(header)
+    }
+
+    /// The header of the checkpoint `bytes` (for a resume that must agree with a log first).
+    pub fn peek(bytes: &[u8]) -> Result<Header, Error> {
+        Header::read(&mut &bytes[..])
+    }
+
+    /// The agent stream's word position, checked.
+    fn word_pos(&self) -> Result<u128, Error> {
+        match self.agent_stream.parse::<u128>() {
+            Ok(w) if w < MAX_WORD_POS => Ok(w),
+            _ => Err(FileError::field(
+                "checkpoint",
+                "agentStream",
+                format!("'{}' is not a word position below 2^68", self.agent_stream),
+            )
+            .into()),
+        }
+    }
+}
+
+/// FNV-1a 64 over the bytes written through it, so a checkpoint is hashed as it is streamed out.
+struct Hashing<'a> {
+    out: &'a mut dyn Write,
+    hash: u64,
+}
+
+impl Write for Hashing<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.out.write(buf)?;
+        self.hash = crate::util::fnv1a_extend(self.hash, &buf[..n]);
+        Ok(n)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.out.flush()
     }
 }
 
@@ -106,18 +156,37 @@ impl Run {
         let json = serde_json::to_vec(&header).expect("headers serialise");
         let mut gate = Vec::new();
         self.gate.put_state(&mut gate);
-        out.write_all(MAGIC).map_err(io)?;
-        out.write_all(&(json.len() as u32).to_le_bytes()).map_err(io)?;
-        out.write_all(&json).map_err(io)?;
-        out.write_all(&(gate.len() as u64).to_le_bytes()).map_err(io)?;
-        out.write_all(&gate).map_err(io)?;
-        self.controller.save_state(out).map_err(|e| FileError::field("checkpoint", "agent", e))?;
+        let mut w = Hashing { out, hash: crate::util::FNV_OFFSET };
+        w.write_all(MAGIC).map_err(io)?;
+        w.write_all(&(json.len() as u32).to_le_bytes()).map_err(io)?;
+        w.write_all(&json).map_err(io)?;
+        w.write_all(&(gate.len() as u64).to_le_bytes()).map_err(io)?;
+        w.write_all(&gate).map_err(io)?;
+        self.controller.save_state(&mut w).map_err(|e| FileError::field("checkpoint", "agent", e))?;
+        let sum = w.hash;
+        w.out.write_all(&sum.to_le_bytes()).map_err(io)?;
         Ok(())
     }
 
     /// The run of `cfg` and `seed` brought to the checkpoint `input`; a checkpoint of another
     /// configuration or seed, or a corrupt one, is refused.
     pub fn resume(cfg: RunConfig, seed: u64, extra: Option<AgentFactory>, input: &mut dyn Read) -> Result<Run, Error> {
+        let mut bytes = Vec::new();
+        input.read_to_end(&mut bytes).map_err(io)?;
+        let mut body: &[u8] = &bytes;
+        // Version 3: the checksum over all the rest, checked before anything is read.
+        if bytes.starts_with(MAGIC) {
+            if bytes.len() < MAGIC.len() + 8 {
+                return Err(FileError::new("checkpoint", "truncated").into());
+            }
+            let (rest, sum) = bytes.split_at(bytes.len() - 8);
+            let sum = u64::from_le_bytes(sum.try_into().expect("8 bytes"));
+            if crate::util::fnv1a(rest) != sum {
+                return Err(FileError::field("checkpoint", "checksum", "mismatch: the file was changed or cut").into());
+            }
+            body = rest;
+        }
+        let input = &mut body;
         let header = Header::read(input)?;
         if header.seed != seed {
             let message = format!("written by seed {}, not {seed}", header.seed);
@@ -126,10 +195,7 @@ impl Run {
         if header.config != cfg {
             return Err(FileError::field("checkpoint", "config", "written by a run of another configuration").into());
         }
-        let stream: u128 = header
-            .agent_stream
-            .parse()
-            .map_err(|_| FileError::field("checkpoint", "agentStream", "not a word position"))?;
+        let stream = header.word_pos()?;
         let mut run = Run::with_agents(cfg, seed, extra)?;
         if !run.can_checkpoint() {
             return Err(FileError::field("checkpoint", "kind", "this run's agent does not checkpoint").into());
@@ -201,7 +267,7 @@ mod tests {
         assert_eq!(field(Run::resume(reactive(), 8, None, &mut bytes.as_slice())), "seed");
         let other = RunConfig { t: Some(300), ..reactive() };
         assert_eq!(field(Run::resume(other, 7, None, &mut bytes.as_slice())), "config");
-        assert_eq!(field(Run::resume(reactive(), 7, None, &mut &bytes[..20])), "checkpoint");
+        assert_eq!(field(Run::resume(reactive(), 7, None, &mut &bytes[..20])), "checksum", "a cut file fails its checksum");
         let mut bad = bytes.clone();
         bad[0] = b'X';
         assert_eq!(field(Run::resume(reactive(), 7, None, &mut bad.as_slice())), "checkpoint");

@@ -113,6 +113,7 @@ impl RunConfig {
     /// the one parser of the page, Python and the CLI. A refused value is an error naming its
     /// field path (`agent.memory.tau`), or `config` for the text as a whole.
     pub fn from_json(text: &str) -> Result<RunConfig, ConfigError> {
+        crate::util::check_text_size(text, "config").map_err(|e| ConfigError::new("config", e))?;
         // serde reads a struct from a JSON array too; a RunConfig is an object only.
         if !text.trim_start().starts_with('{') {
             return Err(ConfigError::new(

@@ -255,9 +255,40 @@ impl Memory {
             && actions.len() == rows * n
             && rewards.len() == rows
             && [t.len(), sel.len(), sel_prev.len()].iter().all(|&l| l == rows * n)
+            && g.len() <= cells
+            && sim.len() <= cells
             && actions.iter().all(|&a| (a as usize) < ACTIONS);
         if !sound {
             return Err(bad("ltm"));
+        }
+        // Every value as a live run could hold it (the memory files' rules for rewards).
+        let value = |what: &str, rule: &str| FileError::field("checkpoint", what.to_string(), rule.to_string());
+        if !ltm.iter().all(|v| v.is_finite()) {
+            return Err(value("ltm", "holds a value that is not a finite number"));
+        }
+        if let Some(r) = rewards.iter().find(|r| !(r.is_finite() && **r > 0.0 && **r <= super::MAX_REWARD)) {
+            return Err(value(
+                "rewards",
+                &format!("a sequence's reward {r} is out of range (0, {}]", super::MAX_REWARD),
+            ));
+        }
+        if !t.iter().all(|v| v.is_finite() && *v >= 0.0) {
+            return Err(value("t", "holds a value that is not a finite number >= 0"));
+        }
+        if !g.iter().all(|v| v.is_finite()) || !sim.iter().all(|v| v.is_finite()) {
+            return Err(value("g", "holds a value that is not a finite number"));
+        }
+        if !selected.iter().all(|s| [s.g, s.t, s.rr, s.d, s.value].iter().all(|v| v.is_finite())) {
+            return Err(value("selected", "holds a value that is not a finite number"));
+        }
+        if !q.iter().all(|v| v.is_finite() && *v >= 0.0) {
+            return Err(value("q", "holds a value that is not a finite number >= 0"));
+        }
+        if !p.iter().all(|v| v.is_finite() && (0.0..=1.0).contains(v)) {
+            return Err(value("p", "holds a value outside [0, 1]"));
+        }
+        if !(entropy.is_finite() && (0.0..=(ACTIONS as f64).log2() + 1e-9).contains(&entropy)) {
+            return Err(value("entropy", &format!("{entropy} is out of range [0, log2 9]")));
         }
         (self.stm, self.stm_head, self.ltm, self.actions, self.rewards) = (stm, head, ltm, actions, rewards);
         (self.t, self.sel, self.sel_prev, self.g, self.forgot, self.sim) = (t, sel, sel_prev, g, forgot, sim);

@@ -31,6 +31,18 @@ pub fn string(v: &JsValue, name: &str) -> Result<String, JsError> {
     v.as_string().ok_or_else(|| JsError::new(&format!("{name}: {} is not a string", describe(v))))
 }
 
+/// Bytes: a `Uint8Array` or an `ArrayBuffer`; `null`, `undefined` or anything else is refused
+/// by name (wasm-bindgen's own conversion throws a TypeError naming nothing).
+pub fn bytes(v: &JsValue, name: &str) -> Result<Vec<u8>, JsError> {
+    if let Some(a) = v.dyn_ref::<js_sys::Uint8Array>() {
+        return Ok(a.to_vec());
+    }
+    if let Some(b) = v.dyn_ref::<js_sys::ArrayBuffer>() {
+        return Ok(js_sys::Uint8Array::new(b).to_vec());
+    }
+    Err(JsError::new(&format!("{name}: {} is not a Uint8Array", describe(v))))
+}
+
 /// A whole number in `lo..=hi` (an actual number: not a string, null or boolean).
 pub fn whole(v: &JsValue, name: &str, lo: u64, hi: u64) -> Result<u64, JsError> {
     match v.as_f64() {

@@ -3,27 +3,33 @@
 //! path. None of it is in the published build or its `.d.ts`.
 
 use super::run::SecRun;
-use super::{js_err, seed_from_js};
+use super::{args, js_err, seed_from_js};
 use crate::arena::{trace, Env, EnvConfig, Task};
 use crate::encoder::{bundled, Scratch, EMBEDDING, IMAGE};
 use wasm_bindgen::prelude::*;
 
+/// The most iterations a test-hook loop takes (a count from JS is checked like the public API's).
+const MAX_LOOP: u64 = 10_000_000;
+
 /// The scripted determinism run (see `arena::trace`), for cross-target checks.
 #[wasm_bindgen(js_name = scriptedRun)]
-pub fn scripted_run(task: &str, seed: f64, steps: u32) -> Result<String, JsError> {
+pub fn scripted_run(task: &str, seed: f64, steps: JsValue) -> Result<String, JsError> {
+    let steps = args::whole(&steps, "steps", 0, MAX_LOOP)? as u32;
     trace::scripted_run(task, seed_from_js(&JsValue::from_f64(seed))?, steps).map_err(js_err)
 }
 
 /// Benchmark helper: `n` physics-only env steps of the shared script (see `bench/wasm-bench.mjs`).
 #[wasm_bindgen(js_name = benchEnvSteps)]
-pub fn bench_env_steps(task: &str, n: u32) -> Result<f64, JsError> {
+pub fn bench_env_steps(task: &str, n: JsValue) -> Result<f64, JsError> {
+    let n = args::whole(&n, "n", 0, MAX_LOOP)? as u32;
     let mut env = Env::new(EnvConfig::new(Task::preset(task).map_err(js_err)?), 1).map_err(js_err)?;
     Ok(trace::bench_env_steps(&mut env, n))
 }
 
 /// Benchmark helper: `n` camera renders cycling through the benchmark poses of a task.
 #[wasm_bindgen(js_name = benchRenders)]
-pub fn bench_renders(task: &str, n: u32) -> Result<u32, JsError> {
+pub fn bench_renders(task: &str, n: JsValue) -> Result<u32, JsError> {
+    let n = args::whole(&n, "n", 0, MAX_LOOP)? as u32;
     let worlds = trace::bench_worlds(task).map_err(js_err)?;
     let mut cam = crate::render::Camera::new();
     let mut frame = crate::render::Frame::new();
@@ -38,7 +44,8 @@ pub fn bench_renders(task: &str, n: u32) -> Result<u32, JsError> {
 /// Benchmark helper: `n` encodes (`decode` false) or decodes of a T-maze frame with the bundled
 /// T-maze model; returns a checksum.
 #[wasm_bindgen(js_name = benchAutoencoder)]
-pub fn bench_autoencoder(n: u32, decode: bool) -> Result<f32, JsError> {
+pub fn bench_autoencoder(n: JsValue, decode: bool) -> Result<f32, JsError> {
+    let n = args::whole(&n, "n", 0, MAX_LOOP)? as u32;
     let mut env = Env::new(EnvConfig::new(Task::preset("double-t-maze").map_err(js_err)?), 3).map_err(js_err)?;
     let mut img = vec![0.0; IMAGE];
     env.observation().to_rgb_f32(&mut img);
@@ -71,7 +78,9 @@ impl SecRun {
     /// Benchmark helper: fills the LTM with `rows` sequences of real embeddings (see
     /// `experiment::fixtures::fill_ltm`), so decisions can be timed over a full memory.
     #[wasm_bindgen(js_name = benchFillMemory)]
-    pub fn bench_fill_memory(&mut self, rows: u32) {
-        crate::experiment::fixtures::fill_ltm(self.session.run_mut(), rows as usize);
+    pub fn bench_fill_memory(&mut self, rows: JsValue) -> Result<(), JsError> {
+        let rows = args::whole(&rows, "rows", 0, crate::memory::M_RANGE.1 as u64)? as usize;
+        crate::experiment::fixtures::fill_ltm(self.session.run_mut(), rows);
+        Ok(())
     }
 }

@@ -193,6 +193,13 @@ pub fn task_description(#[wasm_bindgen(unchecked_param_type = "string")] task: J
     Ok(Task::preset(&args::string(&task, "task")?).map_err(js_err)?.description)
 }
 
+/// The largest text file (a YAML arena) the page may read, in bytes: checked on the file's size
+/// before it is read.
+#[wasm_bindgen(js_name = maxTextFileBytes)]
+pub fn max_text_file_bytes() -> u32 {
+    crate::util::MAX_TEXT_FILE_BYTES as u32
+}
+
 /// Camera image side in pixels (84).
 #[wasm_bindgen(js_name = frameSize)]
 pub fn frame_size() -> u32 {
@@ -233,16 +240,22 @@ impl Encoder {
     }
 
     /// The 20 embedding values of an 84x84 RGBA image (e.g. `ArenaEnv.observation()`).
-    pub fn encode(&mut self, rgba: &[u8]) -> Result<Vec<f32>, JsError> {
-        self.load(rgba)?;
+    pub fn encode(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "Uint8Array")] rgba: JsValue,
+    ) -> Result<Vec<f32>, JsError> {
+        self.load(&args::bytes(&rgba, "rgba")?)?;
         let mut e = [0.0; EMBEDDING];
         self.ae.encode(&self.img, &mut self.scratch, &mut e);
         Ok(e.to_vec())
     }
 
     /// The autoencoder's reconstruction of an 84x84 RGBA image, as RGBA bytes.
-    pub fn reconstruct(&mut self, rgba: &[u8]) -> Result<Vec<u8>, JsError> {
-        self.load(rgba)?;
+    pub fn reconstruct(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "Uint8Array")] rgba: JsValue,
+    ) -> Result<Vec<u8>, JsError> {
+        self.load(&args::bytes(&rgba, "rgba")?)?;
         let mut e = [0.0; EMBEDDING];
         self.ae.encode(&self.img, &mut self.scratch, &mut e);
         self.ae.decode(&e, &mut self.scratch, &mut self.rec);
@@ -253,7 +266,11 @@ impl Encoder {
 
     /// Mean squared reconstruction error (inputs in [0, 1]): the gate's measure.
     #[wasm_bindgen(js_name = reconstructionMse)]
-    pub fn reconstruction_mse(&mut self, rgba: &[u8]) -> Result<f32, JsError> {
+    pub fn reconstruction_mse(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "Uint8Array")] rgba: JsValue,
+    ) -> Result<f32, JsError> {
+        let rgba = &args::bytes(&rgba, "rgba")?[..];
         self.load(rgba)?;
         Ok(self.ae.reconstruction_mse(&self.img, &mut self.scratch))
     }

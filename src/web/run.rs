@@ -338,8 +338,12 @@ impl SecRun {
     /// foreign or mismatched file (another task, encoder, n, or more sequences than m) throws an
     /// Error naming what is wrong, and the memory is left as it was.
     #[wasm_bindgen(js_name = loadMemory)]
-    pub fn load_memory(&mut self, bytes: &[u8]) -> Result<u32, JsError> {
-        self.session.load_memory(bytes).map(|n| n as u32).map_err(js_err)
+    pub fn load_memory(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "Uint8Array")] bytes: JsValue,
+    ) -> Result<u32, JsError> {
+        let bytes = args::bytes(&bytes, "bytes")?;
+        self.session.load_memory(&bytes).map(|n| n as u32).map_err(js_err)
     }
 
     /// STM length n: the heat map's row length.
@@ -426,8 +430,8 @@ pub fn apply_settings(current: JsValue, changes: JsValue) -> Result<JsValue, JsE
 /// the task. The wasm build holds no model: register the task's before a run in it. A corrupt
 /// file or one of an unknown task throws.
 #[wasm_bindgen(js_name = registerModel)]
-pub fn register_model(bytes: &[u8]) -> Result<String, JsError> {
-    crate::encoder::bundled::register(bytes).map_err(js_err)
+pub fn register_model(#[wasm_bindgen(unchecked_param_type = "Uint8Array")] bytes: JsValue) -> Result<String, JsError> {
+    crate::encoder::bundled::register(&args::bytes(&bytes, "bytes")?).map_err(js_err)
 }
 
 /// Whether the model of `task` is registered.

@@ -88,3 +88,15 @@ test("a loaded YAML arena shows in the task menu, and its t does not carry over 
   assert.equal(await page.locator('#task option[value="(custom)"]').count(), 0, 'the file leaves the menu');
   assert.deepEqual(problems, []);
 });
+
+test('an arena file that is too large or not text is refused by name before it is read', async () => {
+  const steps = await page.evaluate(() => window.secPlayground.env.agent().steps);
+  await page.setInputFiles('#yaml', { name: 'huge.yaml', mimeType: 'text/yaml', buffer: Buffer.alloc((1 << 20) + 1, 0x20) });
+  assert.match(await page.textContent('#error'), /^yaml: huge\.yaml is 1048577 bytes, larger than 1048576/);
+  await page.setInputFiles('#yaml', { name: 'picture.yaml', mimeType: 'text/yaml', buffer: Buffer.from([0x89, 0x50, 0xff, 0xfe]) });
+  await page.waitForFunction(() => document.getElementById('error').textContent.includes('picture.yaml'));
+  assert.match(await page.textContent('#error'), /^yaml: picture\.yaml is not UTF-8 text/);
+  await page.waitForTimeout(200);
+  assert.notEqual(await page.evaluate(() => window.secPlayground.env.agent().steps), steps, 'the arena goes on');
+  assert.deepEqual(problems, []);
+});

@@ -327,12 +327,12 @@ fn a_dqn_run_resumed_from_a_checkpoint_plays_as_if_never_interrupted() {
         ..RunConfig::default()
     };
     let bytes = resumed_equals_uninterrupted(cfg.clone(), 3, 2, 3);
-    // A checkpoint is refused by a run of another agent, and a truncated one by its own.
+    // A checkpoint is refused by a run of another agent, and a truncated one by its checksum.
     let erlam = RunConfig { kind: AgentKind::Erlam, ..cfg.clone() };
     let e = Run::resume(erlam, 3, Some(factory), &mut bytes.as_slice()).err().unwrap();
     assert_eq!(e.field(), "config");
     let e = Run::resume(cfg, 3, Some(factory), &mut &bytes[..bytes.len() / 2]).err().unwrap();
-    assert_eq!(e.field(), "agent");
+    assert_eq!(e.field(), "checksum");
 }
 
 #[test]

@@ -574,6 +574,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fingerprint, m)?)?;
     m.add("TASKS", TASK_NAMES.to_vec())?;
     m.add("MAX_SEED", MAX_SEED)?;
+    m.add("MAX_TEXT_FILE_BYTES", sec_playground::util::MAX_TEXT_FILE_BYTES)?;
     m.add("TASKS_JSON", serde_json::to_string(&sec_playground::arena::TASKS).expect("the task table serialises"))?;
     m.add("AGENTS_JSON", serde_json::to_string(sec_playground::agent::AGENTS).expect("the agent table serialises"))?;
     Ok(())

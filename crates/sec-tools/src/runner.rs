@@ -17,7 +17,7 @@ use sec_playground::experiment::presets::Condition;
 use sec_playground::experiment::{Run, RunConfig};
 use sec_playground::seed::MAX_SEED;
 use std::fs;
-use std::io::{BufReader, BufWriter, Read, Seek, SeekFrom, Write};
+use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
@@ -210,24 +210,29 @@ pub fn checkpoint_path(out: &Path, condition: &str, seed: u64) -> PathBuf {
 /// the head of its `.part` file: from the checkpoint an interrupted run left (any lines written
 /// after it are played again), or a fresh run (0, 0).
 fn start(job: &Job, part: &Path, ckpt: &Path) -> Result<(Run, usize, u64), String> {
-    if let (Ok(file), Ok(text)) = (fs::File::open(ckpt), fs::read_to_string(part)) {
-        match Run::resume(job.config.clone(), job.seed, Some(sec_dqn::factory), &mut BufReader::new(file)) {
-            Ok(run) => {
-                let played = run.env().episode() as usize;
-                // Whole lines only: a last line cut by the interruption does not count.
-                let head: Vec<&str> =
-                    text.split_inclusive('\n').take(played).take_while(|l| l.ends_with('\n')).collect();
-                let lines = head.len();
-                if lines == played {
-                    eprintln!("{}: resumed after episode {played}", ckpt.display());
-                    return Ok((run, played, head.iter().map(|l| l.len() as u64).sum()));
+    if let (Ok(bytes), Ok(text)) = (fs::read(ckpt), fs::read_to_string(part)) {
+        // The log must hold every episode the checkpoint claims before anything is replayed: a
+        // forged count is refused at once, never replayed. Whole lines only: a last line cut by
+        // the interruption does not count.
+        let claimed = sec_playground::experiment::checkpoint::Header::peek(&bytes).map(|h| h.episodes as usize);
+        let head =
+            |n: usize| -> Vec<&str> { text.split_inclusive('\n').take(n).take_while(|l| l.ends_with('\n')).collect() };
+        match claimed {
+            Ok(played) if head(played).len() == played => {
+                match Run::resume(job.config.clone(), job.seed, Some(sec_dqn::factory), &mut bytes.as_slice()) {
+                    Ok(run) => {
+                        eprintln!("{}: resumed after episode {played}", ckpt.display());
+                        return Ok((run, played, head(played).iter().map(|l| l.len() as u64).sum()));
+                    }
+                    Err(e) => eprintln!("{}: not resumed ({e}); the run starts again", ckpt.display()),
                 }
-                eprintln!(
-                    "{}: not resumed (its log {} holds {lines} of the checkpoint's {played} episodes); the run starts again",
-                    ckpt.display(),
-                    part.display(),
-                );
             }
+            Ok(played) => eprintln!(
+                "{}: not resumed (its log {} holds {} of the checkpoint's {played} episodes); the run starts again",
+                ckpt.display(),
+                part.display(),
+                head(played).len(),
+            ),
             Err(e) => eprintln!("{}: not resumed ({e}); the run starts again", ckpt.display()),
         }
     }
@@ -585,7 +590,30 @@ mod tests {
         fs::write(checkpoint_path(&bad, "c/dqn", 2), b"SECCKPT1garbage").unwrap();
         run_job(&job, &bad, 6, 2, &bar).unwrap();
         assert_eq!(read_run_text(&run_path(&bad, "c/dqn", 2)).unwrap(), expected);
-        for d in [whole, cut, bad] {
+
+        // A checkpoint claiming ten million episodes, its checksum recomputed, against a log of
+        // three: refused before any replay (no reset is played), and the run starts again.
+        let forged = dir("forged");
+        play(&job, &forged, 6, 2, 3, &bar).unwrap();
+        let ckpt = checkpoint_path(&forged, "c/dqn", 2);
+        let bytes = fs::read(&ckpt).unwrap();
+        let hlen = u32::from_le_bytes(bytes[8..12].try_into().unwrap()) as usize;
+        let mut h: serde_json::Value = serde_json::from_slice(&bytes[12..12 + hlen]).unwrap();
+        h["episodes"] = 10_000_000.into();
+        let json = serde_json::to_vec(&h).unwrap();
+        let mut out = bytes[..8].to_vec();
+        out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+        out.extend_from_slice(&json);
+        out.extend_from_slice(&bytes[12 + hlen..bytes.len() - 8]);
+        let sum = sec_playground::render::fnv1a(&out);
+        out.extend_from_slice(&sum.to_le_bytes());
+        fs::write(&ckpt, out).unwrap();
+        let part = run_path(&forged, "c/dqn", 2).with_extension("part");
+        let (_, played, kept) = start(&job, &part, &ckpt).unwrap();
+        assert_eq!((played, kept), (0, 0), "not resumed");
+        run_job(&job, &forged, 6, 2, &bar).unwrap();
+        assert_eq!(read_run_text(&run_path(&forged, "c/dqn", 2)).unwrap(), expected);
+        for d in [whole, cut, bad, forged] {
             fs::remove_dir_all(d).unwrap();
         }
     }

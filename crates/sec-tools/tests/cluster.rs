@@ -149,3 +149,17 @@ fn merge_refuses_a_differing_duplicate_and_another_configuration_by_name() {
     let (ok, out) = merge(&[&d], &temp("target3"));
     assert!(!ok && out.contains("seed-1.jsonl.gz: its manifest names configuration 0123456789abcdef"), "{out}");
 }
+
+#[test]
+fn a_config_file_that_is_endless_or_binary_is_refused_by_name() {
+    let dir = temp("config");
+    std::fs::create_dir_all(&dir).unwrap();
+    let binary = dir.join("binary.json");
+    std::fs::write(&binary, [0x7bu8, 0xff, 0xfe, 0x00]).unwrap();
+    for (path, want) in [("/dev/zero", "is larger than 1048576 bytes"), (binary.to_str().unwrap(), "is not UTF-8 text")]
+    {
+        let o = Command::new(BIN).args(["run", "--config", path, "--name", "a/b", "--out"]).arg(&dir).output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.contains("--config: ") && err.contains(want), "{path}: {err}");
+    }
+}

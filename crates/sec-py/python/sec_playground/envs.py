@@ -41,8 +41,9 @@ ACTION_MEANINGS = [
     "NOOP", "RIGHT", "LEFT", "FORWARD", "FORWARD_RIGHT", "FORWARD_LEFT", "BACK", "BACK_RIGHT", "BACK_LEFT",
 ]
 
-#: Largest Animal-AI YAML file read (bytes): a bigger one is refused before it is read whole.
-MAX_YAML_BYTES = 1 << 20
+#: Largest Animal-AI YAML file read (bytes, the core's limit for every text file a user hands in):
+#: a bigger one is refused before it is read whole.
+MAX_YAML_BYTES = _core.MAX_TEXT_FILE_BYTES
 MAX_FRAME_SKIP = 100
 MAX_T = 100_000
 MAX_EPISODE_STEPS = 10_000_000

@@ -111,7 +111,7 @@ fn number<T: std::str::FromStr + PartialOrd + std::fmt::Display>(
 }
 
 fn read_config(path: &str) -> Result<RunConfig, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("--config {path}: {e}"))?;
+    let text = sec_playground::util::read_text_file(Path::new(path), "--config")?;
     // The field is named as well as the line and column (`agent.memory.tau: invalid type ...`).
     let cfg = RunConfig::from_json(&text).map_err(|e| format!("--config {path}: {e}"))?;
     // Building a run checks what only a run can (the task's model; DQN's settings).
