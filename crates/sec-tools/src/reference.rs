@@ -97,7 +97,8 @@ pub fn references(out: &Path, to: &Path) -> Result<String, String> {
                 "reference": format!("{experiment}:{}", c.condition.name),
                 "seeds": c.seeds.len(),
                 "episodes": c.runs[0].len(),
-                "meanReward": round(reward / episodes as f64),
+                // Six significant digits: the captions divide these, so the curves' four would show.
+                "meanReward": format!("{:.6e}", reward / episodes as f64).parse::<f64>().expect("a number"),
                 "paperTotal": c.condition.paper_total,
             }));
         }
