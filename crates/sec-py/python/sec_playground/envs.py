@@ -105,7 +105,35 @@ def _render_options(render_mode, render_view, render_size) -> int:
     return integer("render_size", render_size, 16, MAX_RENDER_SIZE)
 
 
-class ArenaEnv(gym.Env):
+def _generator_state(env) -> Optional[dict]:
+    """The env's own generator (`np_random`) as its state, or None before it was made."""
+    return env.np_random.bit_generator.state if env._np_random is not None else None
+
+
+def _restore_generator(env, state: Optional[dict]) -> None:
+    if state is not None:
+        env._np_random = np.random.Generator(np.random.PCG64())
+        env._np_random.bit_generator.state = state
+
+
+class _Pickled:
+    """Pickling and `copy.deepcopy` through `get_state`/`set_state`: the Rust side is made again
+    by `_make_core()` from the constructor's arguments and brought to the state by replay."""
+
+    def __getstate__(self):
+        d = {k: v for k, v in self.__dict__.items() if k not in ("_env", "_np_random")}
+        d["_core_state"] = self.get_state()
+        return d
+
+    def __setstate__(self, d):
+        core_state = d.pop("_core_state")
+        self.__dict__.update(d)
+        self._np_random = None
+        self._env = self._make_core()
+        self.set_state(core_state)
+
+
+class ArenaEnv(_Pickled, gym.Env):
     """One arena, seen through the agent's 84x84 camera.
 
     Observations are the camera's RGB bytes, (84, 84, 3) uint8; actions are Animal-AI's nine,
@@ -144,7 +172,7 @@ class ArenaEnv(gym.Env):
         self.max_episode_steps = _optional("max_episode_steps", max_episode_steps, 1, MAX_EPISODE_STEPS)
         name, text = _arena(task, yaml_path)
         self._args = (name, t, text, frame_skip)
-        self._env = _core.Env(name, t=t, yaml=text, frame_skip=frame_skip, max_steps=self.max_episode_steps)
+        self._env = self._make_core()
         self.observation_space = OBSERVATION_SPACE
         self.action_space = ACTION_SPACE
         self.render_mode = render_mode
@@ -152,6 +180,10 @@ class ArenaEnv(gym.Env):
         self.metadata = dict(self.metadata, render_fps=round(1 / self._env.step_seconds))
         self._seeded = False
         self._over = False
+
+    def _make_core(self):
+        name, t, text, frame_skip = self._args
+        return _core.Env(name, t=t, yaml=text, frame_skip=frame_skip, max_steps=self.max_episode_steps)
 
     @property
     def task(self) -> str:
@@ -214,7 +246,7 @@ class ArenaEnv(gym.Env):
             "arena": (seed, resets, bytes(actions)),
             "seeded": self._seeded,
             "over": self._over,
-            "np_random": self.np_random.bit_generator.state if self._np_random is not None else None,
+            "np_random": _generator_state(self),
         }
 
     def set_state(self, state: dict) -> None:
@@ -225,25 +257,10 @@ class ArenaEnv(gym.Env):
         seed, resets, actions = state["arena"]
         self._env.set_state((seed, resets, list(actions)))
         self._seeded, self._over = bool(state["seeded"]), bool(state["over"])
-        if state["np_random"] is not None:
-            self._np_random = np.random.Generator(np.random.PCG64())
-            self._np_random.bit_generator.state = state["np_random"]
-
-    def __getstate__(self):
-        d = {k: v for k, v in self.__dict__.items() if k not in ("_env", "_np_random")}
-        d["_core_state"] = self.get_state()
-        return d
-
-    def __setstate__(self, d):
-        core_state = d.pop("_core_state")
-        self.__dict__.update(d)
-        self._np_random = None
-        name, t, text, frame_skip = self._args
-        self._env = _core.Env(name, t=t, yaml=text, frame_skip=frame_skip, max_steps=self.max_episode_steps)
-        self.set_state(core_state)
+        _restore_generator(self, state["np_random"])
 
 
-class ArenaVectorEnv(VectorEnv):
+class ArenaVectorEnv(_Pickled, VectorEnv):
     """`num_envs` arenas of one task, stepped in one Rust call across cores with the GIL
     released. Autoreset is Gymnasium's next-step mode: the step after an episode ends resets
     that arena (its action ignored, reward 0) and returns the new episode's first observation.
@@ -280,7 +297,7 @@ class ArenaVectorEnv(VectorEnv):
         self.max_episode_steps = _optional("max_episode_steps", max_episode_steps, 1, MAX_EPISODE_STEPS)
         name, text = _arena(task, yaml_path)
         self._args = (name, num_envs, t, text, frame_skip)
-        self._env = _core.VecEnv(name, num_envs, t=t, yaml=text, frame_skip=frame_skip, max_steps=self.max_episode_steps)
+        self._env = self._make_core()
         self.num_envs = num_envs
         self.render_mode = render_mode
         self.render_view = render_view
@@ -289,6 +306,10 @@ class ArenaVectorEnv(VectorEnv):
         self.observation_space = spaces.Box(0, 255, (num_envs, 84, 84, 3), np.uint8)
         self.action_space = spaces.MultiDiscrete(np.full(num_envs, 9))
         self._seeded = False
+
+    def _make_core(self):
+        name, num_envs, t, text, frame_skip = self._args
+        return _core.VecEnv(name, num_envs, t=t, yaml=text, frame_skip=frame_skip, max_steps=self.max_episode_steps)
 
     def get_action_meanings(self) -> list:
         """The nine actions' names, by index."""
@@ -349,7 +370,7 @@ class ArenaVectorEnv(VectorEnv):
         return {
             "arenas": [(s, r, bytes(a), e) for s, r, a, e in self._env.get_state()],
             "seeded": self._seeded,
-            "np_random": self.np_random.bit_generator.state if self._np_random is not None else None,
+            "np_random": _generator_state(self),
         }
 
     def set_state(self, state: dict) -> None:
@@ -358,19 +379,4 @@ class ArenaVectorEnv(VectorEnv):
             raise ValueError("state: not an ArenaVectorEnv.get_state() dict")
         self._env.set_state([(s, r, list(a), bool(e)) for s, r, a, e in state["arenas"]])
         self._seeded = bool(state["seeded"])
-        if state["np_random"] is not None:
-            self._np_random = np.random.Generator(np.random.PCG64())
-            self._np_random.bit_generator.state = state["np_random"]
-
-    def __getstate__(self):
-        d = {k: v for k, v in self.__dict__.items() if k not in ("_env", "_np_random")}
-        d["_core_state"] = self.get_state()
-        return d
-
-    def __setstate__(self, d):
-        core_state = d.pop("_core_state")
-        self.__dict__.update(d)
-        self._np_random = None
-        name, num_envs, t, text, frame_skip = self._args
-        self._env = _core.VecEnv(name, num_envs, t=t, yaml=text, frame_skip=frame_skip, max_steps=self.max_episode_steps)
-        self.set_state(core_state)
+        _restore_generator(self, state["np_random"])
