@@ -267,7 +267,11 @@ mod tests {
         assert_eq!(field(Run::resume(reactive(), 8, None, &mut bytes.as_slice())), "seed");
         let other = RunConfig { t: Some(300), ..reactive() };
         assert_eq!(field(Run::resume(other, 7, None, &mut bytes.as_slice())), "config");
-        assert_eq!(field(Run::resume(reactive(), 7, None, &mut &bytes[..20])), "checksum", "a cut file fails its checksum");
+        assert_eq!(
+            field(Run::resume(reactive(), 7, None, &mut &bytes[..20])),
+            "checksum",
+            "a cut file fails its checksum"
+        );
         let mut bad = bytes.clone();
         bad[0] = b'X';
         assert_eq!(field(Run::resume(reactive(), 7, None, &mut bad.as_slice())), "checkpoint");

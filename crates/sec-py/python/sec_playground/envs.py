@@ -116,6 +116,17 @@ def _restore_generator(env, state: Optional[dict]) -> None:
         env._np_random.bit_generator.state = state
 
 
+def _render(env, observation, top_down):
+    """A frame as `render_view` says (`observation()`, `top_down(size)`), or None without a render_mode."""
+    if env.render_mode is None:
+        gym.logger.warn("render() without render_mode: make the env with render_mode='rgb_array'")
+        return None
+    if env.render_view == "first-person":
+        scale = max(1, env.render_size // 84)
+        return np.repeat(np.repeat(observation(), scale, axis=0), scale, axis=1)
+    return top_down(env.render_size)
+
+
 class _Pickled:
     """Pickling and `copy.deepcopy` through `get_state`/`set_state`: the Rust side is made again
     by `_make_core()` from the constructor's arguments and brought to the state by replay."""
@@ -229,13 +240,7 @@ class ArenaEnv(_Pickled, gym.Env):
 
     def render(self):
         """The top-down view with the trail, or the camera enlarged (`render_view`), as RGB."""
-        if self.render_mode is None:
-            gym.logger.warn("render() without render_mode: make the env with render_mode='rgb_array'")
-            return None
-        if self.render_view == "first-person":
-            scale = max(1, self.render_size // 84)
-            return np.repeat(np.repeat(self._env.observation(), scale, axis=0), scale, axis=1)
-        return self._env.top_down(self.render_size)
+        return _render(self, self._env.observation, self._env.top_down)
 
     def get_state(self) -> dict:
         """Everything that makes this env what it is now: `set_state` on an env of the same
@@ -355,14 +360,11 @@ class ArenaVectorEnv(_Pickled, VectorEnv):
     def render(self):
         """One RGB frame per arena (`render_view` as `ArenaEnv`'s), or None without render_mode."""
         if self.render_mode is None:
-            gym.logger.warn("render() without render_mode: make the env with render_mode='rgb_array'")
-            return None
-        if self.render_view == "first-person":
-            scale = max(1, self.render_size // 84)
-            return tuple(
-                np.repeat(np.repeat(self._env.observation(i), scale, axis=0), scale, axis=1) for i in range(self.num_envs)
-            )
-        return tuple(self._env.top_down(i, self.render_size) for i in range(self.num_envs))
+            return _render(self, None, None)
+        return tuple(
+            _render(self, lambda i=i: self._env.observation(i), lambda size, i=i: self._env.top_down(i, size))
+            for i in range(self.num_envs)
+        )
 
     def get_state(self) -> dict:
         """Every arena's state (as `ArenaEnv.get_state`'s) and the env's own generator: a
