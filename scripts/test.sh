@@ -9,7 +9,7 @@ echo "== the fast gate (scripts/lint.sh)"
 ./scripts/setup.sh
 echo "== native tests (cargo test --workspace)"
 cargo test --workspace
-echo "== the Python package (scripts/python-test.sh: maturin develop, pytest)"
+echo "== the Python package (scripts/python-test.sh: the manylinux wheel, pytest in a venv without Rust)"
 ./scripts/python-test.sh
 echo "== release wasm build for the page"
 ./scripts/build.sh
