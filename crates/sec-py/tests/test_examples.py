@@ -37,3 +37,23 @@ def test_the_seed_grid_runs_on_worker_processes():
 def test_record_episode_statistics_logs_every_episode():
     logged = load("record_stats").main(["--num-envs", "2", "--steps", "60", "--max-episode-steps", "25"])
     assert len(logged) >= 4 and all(length <= 25 for _, length in logged)
+
+
+def test_the_submitit_example_runs_the_shards_to_the_clis_files(tmp_path):
+    import os
+
+    import pytest
+
+    binary = os.environ.get("SEC_EXPERIMENT_BIN")
+    if not binary or not Path(binary).exists():
+        pytest.skip("needs the sec-experiment binary (SEC_EXPERIMENT_BIN, set by scripts/python-test.sh)")
+    pytest.importorskip("submitit")
+    out = tmp_path / "grid"
+    args = ["smoke", "--bin", binary, "--shards", "2", "--seeds", "2", "--episodes", "3", "--out", str(out),
+            "--cpus", "1", "--logs", str(tmp_path / "logs"), "--local"]
+    load("submitit_grid").main(args)
+    whole = tmp_path / "whole"
+    subprocess.run([binary, "run", "smoke", "--seeds", "2", "--episodes", "3", "--jobs", "1", "--out", str(whole)], check=True,
+                   capture_output=True)
+    logs = lambda root: {p.relative_to(root): p.read_bytes() for p in root.rglob("*.jsonl.gz")}
+    assert logs(out) and logs(out) == logs(whole)
