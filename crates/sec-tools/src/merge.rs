@@ -6,7 +6,7 @@
 //! the merge the seeds the experiments list that are missing or short are reported.
 
 use crate::manifest::{self, config_hash};
-use crate::runner::{first_difference, prepare, read_run_text, run_path, Manifest};
+use crate::runner::{finished_runs, first_difference, prepare, read_run_text, run_path, Manifest};
 use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -35,20 +35,6 @@ fn experiments(root: &Path) -> Result<Vec<(String, Manifest)>, String> {
         out.push((e.file_name().to_string_lossy().into_owned(), m));
     }
     Ok(out)
-}
-
-/// The finished runs of a condition directory, by seed.
-fn runs(dir: &Path) -> BTreeMap<u64, PathBuf> {
-    let mut out = BTreeMap::new();
-    for e in fs::read_dir(dir).into_iter().flatten().flatten() {
-        let name = e.file_name().to_string_lossy().into_owned();
-        if let Some(seed) = name.strip_prefix("seed-").and_then(|s| s.strip_suffix(".jsonl.gz")) {
-            if let Ok(seed) = seed.parse() {
-                out.insert(seed, e.path());
-            }
-        }
-    }
-    out
 }
 
 /// Merges every experiment under each of `sources` into `into` (see the module's doc).
@@ -100,7 +86,7 @@ pub fn merge(sources: &[PathBuf], into: &Path) -> Result<Merged, String> {
             let hash = config_hash(&c.config);
             let mut by_seed: BTreeMap<u64, Vec<PathBuf>> = BTreeMap::new();
             for folder in &folders {
-                for (seed, path) in runs(&folder.join(name).join(&c.name)) {
+                for (seed, path) in finished_runs(&folder.join(name).join(&c.name)) {
                     if let Some(mf) = manifest::read(&path)? {
                         if mf.config_hash != hash || mf.seed != seed {
                             return Err(format!(

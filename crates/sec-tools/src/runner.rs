@@ -366,6 +366,20 @@ impl Finished {
     }
 }
 
+/// The finished runs (`seed-S.jsonl.gz`) of a condition directory, by seed.
+pub fn finished_runs(dir: &Path) -> std::collections::BTreeMap<u64, PathBuf> {
+    let mut out = std::collections::BTreeMap::new();
+    for e in fs::read_dir(dir).into_iter().flatten().flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        if let Some(seed) = name.strip_prefix("seed-").and_then(|s| s.strip_suffix(".jsonl.gz")) {
+            if let Ok(seed) = seed.parse() {
+                out.insert(seed, e.path());
+            }
+        }
+    }
+    out
+}
+
 /// What `verify` found: the runs it read, the pairs of one configuration and seed it compared,
 /// and each pair whose shorter log is not the longer one's head.
 #[derive(Debug, Default)]
@@ -384,12 +398,8 @@ pub fn verify(root: &Path) -> Result<Verified, String> {
     let mut by_run: std::collections::BTreeMap<(String, u64), Vec<PathBuf>> = Default::default();
     for (dir, config) in &finished.dirs {
         let key = serde_json::to_string(config).expect("configurations serialise");
-        let Ok(entries) = fs::read_dir(dir) else { continue };
-        for e in entries.filter_map(|e| e.ok()) {
-            let name = e.file_name().to_string_lossy().into_owned();
-            let Some(seed) = name.strip_prefix("seed-").and_then(|s| s.strip_suffix(".jsonl.gz")) else { continue };
-            let Ok(seed) = seed.parse::<u64>() else { continue };
-            by_run.entry((key.clone(), seed)).or_default().push(e.path());
+        for (seed, path) in finished_runs(dir) {
+            by_run.entry((key.clone(), seed)).or_default().push(path);
         }
     }
     let mut v = Verified::default();
