@@ -47,6 +47,17 @@ async function open(path, problems = []) {
 const ready = (page) => page.waitForFunction(() => window.secPlayground?.settings && window.secPlayground.view);
 
 /** Pixels of `hex` on the compare chart: opaque (lines) and translucent (bands). */
+/** Polls `read` until `ok` holds of its value or `ms` pass; returns the last value read. */
+async function until(read, ok, ms) {
+  const end = Date.now() + ms;
+  let value = await read();
+  while (!ok(value) && Date.now() < end) {
+    await new Promise((r) => setTimeout(r, 200));
+    value = await read();
+  }
+  return value;
+}
+
 function armPixels(page, hex) {
   return page.evaluate((hex) => {
     const n = parseInt(hex.slice(1), 16);
@@ -126,9 +137,10 @@ test('compare mode: a preset starts its runs; two configurations draw two series
       const d = window.secPlayground.compare.drawn;
       return d.series === 2 && d.bands === 2 && d.episodes >= 30;
     }, null, { timeout: 120000, polling: 500 });
-    await page.waitForTimeout(300); // the next redraw
-    const first = await armPixels(page, '#0072b2');
-    const second = await armPixels(page, '#d55e00');
+    // Pixels show at the chart's next redraw, which a slow machine may take seconds to reach.
+    const drawn = (a) => a.line > 30 && a.band > 100;
+    const first = await until(() => armPixels(page, '#0072b2'), drawn, 20000);
+    const second = await until(() => armPixels(page, '#d55e00'), drawn, 20000);
     assert.ok(first.line > 30 && second.line > 30, `lines: ${first.line}, ${second.line}`);
     assert.ok(first.band > 100 && second.band > 100, `bands: ${first.band}, ${second.band}`);
     await page.locator('#compare').screenshot({ path: fileURLToPath(new URL('compare.png', ARTIFACTS)) });
@@ -161,8 +173,12 @@ test('a preset draws its reference runs at once, made at the settings its arms r
     assert.equal(c.drawn.episodes, Math.max(...spans), 'the x axis spans the longest reference run');
     const sec = c.references[0];
     assert.ok(c.referenceNote.includes(`${sec.seeds} seeds × ${sec.episodes} episodes`), c.referenceNote);
-    await page.waitForTimeout(300); // the next redraw
-    assert.ok((await armPixels(page, '#0072b2')).band > 500, "SEC's reference band is drawn");
+    // Over the reference runs' whole span (the live runs' first episodes may have narrowed the x
+    // axis already), at the chart's next redraw, which a slow machine may take seconds to reach.
+    await page.click('#compare-full');
+    await page.waitForFunction(() => window.secPlayground.compare.drawn.x[1] > 1000, null, { timeout: 5000 });
+    const band = await until(async () => (await armPixels(page, '#0072b2')).band, (n) => n > 500, 20000);
+    assert.ok(band > 500, `SEC's reference band is drawn (${band} band pixels)`);
     // The reference runs were made with exactly the settings the live arms run.
     await page.waitForFunction(() => window.secPlayground.compare.resolved.every((s) => s), null, { timeout: 60000 });
     const { resolved, references } = await page.evaluate(() => ({ ...window.secPlayground.compare }));
