@@ -140,6 +140,21 @@ fn inference_matches_an_f64_reference() {
 }
 
 #[test]
+fn f16_byte_planes_load_the_same_values_as_plain_f16() {
+    let w = sec_playground::encoder::bundled::autoencoder("double-t-maze").unwrap().to_weights();
+    let plain = w.to_bytes(DType::F16);
+    let planes = w.to_bytes(DType::F16Planes);
+    assert_eq!(plain.len(), planes.len());
+    assert_ne!(plain, planes);
+    assert_eq!(Weights::from_bytes(&plain).unwrap(), Weights::from_bytes(&planes).unwrap());
+    // The committed models are stored in planes (what the page downloads).
+    assert_eq!(
+        include_bytes!("../assets/encoders/double-t-maze.secae")[12..16],
+        (DType::F16Planes as u32).to_le_bytes()
+    );
+}
+
+#[test]
 fn weights_round_trip_and_f16_keeps_embeddings_within_1e_3() {
     let mut ae = Autoencoder::glorot(4);
     ae.task = "cylinder".into();

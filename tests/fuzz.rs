@@ -228,7 +228,7 @@ proptest! {
 
 thread_local! {
     /// The smallest bundled model's file (f16).
-    static WEIGHTS: Vec<u8> = bundled::autoencoder("detour").unwrap().to_weights().to_bytes(DType::F16);
+    static WEIGHTS: Vec<u8> = bundled::autoencoder("detour").unwrap().to_weights().to_bytes(DType::F16Planes);
 }
 
 /// Issue 20's reproducers, kept as files: every one is refused with an error naming its line and

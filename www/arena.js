@@ -1,6 +1,8 @@
 // The arena page: builds an environment, steps it in real time with the keyboard's action and
 // draws the camera and the top-down view. Errors show on the page and keep the last good run.
-import init, { ArenaEnv, taskNames, taskDescription, frameSize, maxTextFileBytes } from './wasm.js';
+// Its own build (scripts/build.sh): the scalar flavour with the YAML parser the playground's
+// builds leave out.
+import init, { ArenaEnv, taskNames, taskDescription, frameSize, maxTextFileBytes } from '../pkg/arena/sec_playground.js';
 import { drawRgba, drawStatus } from './views.js';
 import { keyboard } from './keys.js';
 

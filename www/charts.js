@@ -1,7 +1,7 @@
 // Live learning curves with uPlot: reward per episode with the paper's 20-episode window, policy
 // entropy, decisions per episode, LTM fill and the share of contextual actions. Redrawn at most
 // 10 times a second whatever the simulation speed; every parameter change is marked on the x axis.
-import uPlot from './vendor/uPlot.esm.js';
+import uPlot from './vendor/uPlot.esm.min.js';
 
 /** The paper's sliding window (episodes). */
 export const WINDOW = 20;

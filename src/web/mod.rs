@@ -1,7 +1,7 @@
 //! The JavaScript API (wasm32 only). Every value from JS is validated; a bad one is a JS
 //! `Error` whose message names the parameter and its range, and leaves the state as it was.
 
-use crate::arena::{yaml, Action, Env, EnvConfig, Task, MAX_T, TASK_NAMES};
+use crate::arena::{Action, Env, EnvConfig, Task, MAX_T, TASK_NAMES};
 use crate::encoder::{bundled, reconstruction_to_rgba, Autoencoder, Scratch, EMBEDDING, IMAGE};
 use crate::render::{Frame, Trail, WIDTH};
 use crate::seed::MAX_SEED;
@@ -81,7 +81,9 @@ impl ArenaEnv {
         Self::build(task, &seed, t)
     }
 
-    /// An environment from the text of an Animal-AI YAML arena file.
+    /// An environment from the text of an Animal-AI YAML arena file. Only in builds with the
+    /// `yaml-arenas` feature (the default; the playground page's own build leaves it out).
+    #[cfg(feature = "yaml-arenas")]
     #[wasm_bindgen(js_name = fromYaml)]
     pub fn from_yaml(
         #[wasm_bindgen(unchecked_param_type = "string")] name: JsValue,
@@ -90,7 +92,7 @@ impl ArenaEnv {
         #[wasm_bindgen(unchecked_optional_param_type = "number")] t: Option<JsValue>,
     ) -> Result<ArenaEnv, JsError> {
         let (name, source) = (args::string(&name, "name")?, args::string(&source, "source")?);
-        let task = yaml::load_task(&name, &source).map_err(js_err)?;
+        let task = crate::arena::yaml::load_task(&name, &source).map_err(js_err)?;
         Self::build(task, &seed, t)
     }
 

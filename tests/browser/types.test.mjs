@@ -53,6 +53,16 @@ test('the published build has no test or benchmark hooks', () => {
   assert.equal(wasm.SecRun.prototype.benchFillMemory, undefined);
 });
 
+test("the playground's build leaves the YAML parser out; the arena page's build has it", async () => {
+  assert.equal(wasm.ArenaEnv.fromYaml, undefined);
+  assert.ok(!dts.includes('fromYaml'));
+  const arena = await import(`${root}pkg/arena/sec_playground.js`);
+  arena.initSync({ module: readFileSync(`${root}pkg/arena/sec_playground_bg.wasm`) });
+  const env = arena.ArenaEnv.fromYaml('mine', 'arenas:\n  0:\n    t: 250\n    items:\n    - name: GoodGoal\n', 1);
+  assert.equal(env.observation().length, 84 * 84 * 4); // RGBA
+  assert.throws(() => arena.ArenaEnv.fromYaml('mine', 'arenas: [', 1), /yaml|YAML/);
+});
+
 test("the page's list of tasks (www/tasks.js, used before the wasm loads) is the wasm's", async () => {
   const { TASKS } = await import(`${root}www/tasks.js`);
   assert.deepEqual(TASKS, wasm.taskNames());

@@ -136,7 +136,7 @@ fn run() -> Result<(), String> {
         if keep {
             best = best.min(e.validation_mse);
             kept = Some(ae.clone());
-            let _ = std::fs::write(&weights_path, ae.to_weights().to_bytes(DType::F16));
+            let _ = std::fs::write(&weights_path, ae.to_weights().to_bytes(DType::F16Planes));
         }
         let _ = std::fs::write(&curve_path, &csv);
     });

@@ -346,7 +346,7 @@ fn run() -> Result<(), String> {
         let r = measure(&task, &ae, args.pairs)?;
         if args.calibrate {
             ae.embedding_scale = r.scale as f32;
-            std::fs::write(&path, ae.to_weights().to_bytes(DType::F16)).map_err(|e| e.to_string())?;
+            std::fs::write(&path, ae.to_weights().to_bytes(DType::F16Planes)).map_err(|e| e.to_string())?;
         }
         gallery(&task, &ae, &args.docs.join(format!("{name}-gallery.png")))?;
         eprintln!(
