@@ -4,6 +4,7 @@
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use sec_playground::arena::Action;
 use sec_playground::encoder::EMBEDDING;
 use sec_playground::memory::{Couplet, Memory, MemoryConfig};
 
@@ -17,7 +18,7 @@ fn retrieval(c: &mut Criterion) {
     while m.len() < 500 {
         for _ in 0..50 {
             let e = random_embedding(&mut rng);
-            m.update(Couplet { embedding: e, action: rng.gen_range(0..9) });
+            m.update(Couplet { embedding: e, action: Action::ALL[rng.gen_range(0..9)] });
         }
         m.store(rng.gen_range(0.5..3.0), &mut rng);
     }
@@ -34,7 +35,7 @@ criterion_group!(benches, retrieval);
 /// >= 1,000 decisions/s on one core).
 fn full_decision(c: &mut Criterion) {
     use sec_playground::agent::{Sec, SecConfig};
-    use sec_playground::arena::{Action, Env, EnvConfig, Task};
+    use sec_playground::arena::{Env, EnvConfig, Task};
     use sec_playground::encoder::{bundled, Scratch, IMAGE};
     let mut rng = ChaCha8Rng::seed_from_u64(2);
     let task = Task::preset("double-t-maze").unwrap();
@@ -51,7 +52,7 @@ fn full_decision(c: &mut Criterion) {
         let mut e = [0.0; EMBEDDING];
         encoder.encode(&image, &mut scratch, &mut e);
         let d = agent.decide(&e, 0.0, &mut rng);
-        action = Action::new(d.action as u32).unwrap();
+        action = d.action;
         if rng.gen_bool(0.2) {
             agent.goal(rng.gen_range(0.5..3.0), &mut rng);
         }
@@ -63,7 +64,7 @@ fn full_decision(c: &mut Criterion) {
             let mut e = [0.0; EMBEDDING];
             encoder.encode(&image, &mut scratch, &mut e);
             let d = agent.decide(black_box(&e), 0.0, &mut rng);
-            action = Action::new(d.action as u32).unwrap();
+            action = d.action;
         })
     });
 }

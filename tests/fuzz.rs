@@ -159,7 +159,7 @@ fn memory_and_file() -> (Memory, Vec<u8>, Identity) {
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     for k in 0..12u32 {
         let embedding = std::array::from_fn(|i| ((k as usize * 7 + i) % 11) as f32 / 11.0);
-        mem.push(Couplet { embedding, action: (k % 9) as u8 });
+        mem.push(Couplet { embedding, action: sec_playground::arena::Action::ALL[k as usize % 9] });
         if k % 4 == 3 {
             mem.store(1.0 + k as f64, &mut rng);
         }

@@ -2,6 +2,7 @@
 //! rewarded episode is stored in SEC's LTM only when recorded, and a memory file loads only into
 //! a run whose embeddings mean the same; anything else is refused and changes nothing.
 
+use sec_playground::arena::Action;
 use sec_playground::encoder::PerceptionKind;
 use sec_playground::experiment::{AgentKind, Driver, EpisodeMetrics, Run, RunConfig};
 
@@ -11,14 +12,14 @@ fn permanence() -> RunConfig {
 }
 
 /// Steers the agent to (x, z) like a person with arrow keys: turn towards it, then forward.
-fn steer(run: &Run, x: f32, z: f32) -> u8 {
+fn steer(run: &Run, x: f32, z: f32) -> Action {
     let a = &run.env().world().agent;
     let want = libm::atan2f(x - a.pos.x, z - a.pos.y).to_degrees();
     let diff = (want - a.heading + 540.0).rem_euclid(360.0) - 180.0;
     match diff {
-        d if d > 12.0 => 1,  // right (clockwise)
-        d if d < -12.0 => 2, // left
-        _ => 3,              // forward
+        d if d > 12.0 => Action::RIGHT, // clockwise
+        d if d < -12.0 => Action::LEFT,
+        _ => Action::FORWARD,
     }
 }
 
@@ -26,7 +27,7 @@ fn steer(run: &Run, x: f32, z: f32) -> u8 {
 fn drive_episode(run: &mut Run, record: bool) -> EpisodeMetrics {
     loop {
         let action = steer(run, 20.0, 25.0);
-        run.set_driver(Some(Driver { action, record })).unwrap();
+        run.set_driver(Some(Driver { action, record }));
         if let Some(m) = run.decision().finished {
             return m;
         }
@@ -53,9 +54,9 @@ fn a_recorded_rewarded_drive_is_stored_like_any_sequence() {
     // The stored sequence ends with the person's last actions (forward, towards the goal).
     let memory = run.inspect().memory.unwrap();
     let n = memory.config().n;
-    assert_eq!(memory.ltm_action(before, n - 1), 3);
+    assert_eq!(memory.ltm_action(before, n - 1), Action::FORWARD);
     // The agent takes over again.
-    run.set_driver(None).unwrap();
+    run.set_driver(None);
     let next = run.episode();
     assert!(!next.human);
 }
@@ -78,9 +79,15 @@ fn an_unrecorded_drive_leaves_the_memory_untouched() {
 
 #[test]
 fn a_bad_action_is_refused() {
-    let mut run = Run::new(permanence(), 3).unwrap();
-    let e = run.set_driver(Some(Driver { action: 9, record: true })).unwrap_err().to_string();
+    // An action index out of range never becomes an `Action`, so no driver can hold one; as a
+    // number in a file or from serde it is refused by name.
+    let e = Action::new(9).unwrap_err().to_string();
     assert!(e.contains("action") && e.contains("0..=8"), "{e}");
+    let e = serde_json::from_str::<Action>("9").unwrap_err().to_string();
+    assert!(e.contains("action") && e.contains("0..=8"), "{e}");
+    assert_eq!(serde_json::from_str::<Action>("3").unwrap(), Action::FORWARD);
+    assert_eq!(serde_json::to_string(&Action::LEFT).unwrap(), "2");
+    let run = Run::new(permanence(), 3).unwrap();
     assert_eq!(run.driver(), None);
 }
 

@@ -3,6 +3,7 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use sec_playground::arena::Action;
 use sec_playground::encoder::EMBEDDING;
 use sec_playground::memory::{Couplet, Forgetting, Memory, MemoryConfig, ValueFn};
 
@@ -12,8 +13,13 @@ fn emb(v: f32) -> [f32; EMBEDDING] {
     [v; EMBEDDING]
 }
 
+/// The action of index `i`.
+fn a(i: usize) -> Action {
+    Action::ALL[i]
+}
+
 fn couplet(v: f32, action: u8) -> Couplet {
-    Couplet { embedding: emb(v), action }
+    Couplet { embedding: emb(v), action: a(action as usize) }
 }
 
 fn rng() -> ChaCha8Rng {
@@ -53,11 +59,11 @@ fn both_thresholds_are_strict() {
         let mut m = with_sequence(MemoryConfig { theta_abs, theta_prop, ..cfg(1) }, &[0.0], 1, 1.0);
         m.retrieve(&emb(0.015625), &mut rng())
     };
-    assert_eq!(probe(0.984, 0.995), Some(1));
+    assert_eq!(probe(0.984, 0.995), Some(a(1)));
     assert_eq!(probe(0.984375, 0.995), None, "G equal to theta_abs must not pass");
     // G / Gmax = 1 for the only couplet: theta_prop = 1 must not pass, just below must.
     assert_eq!(probe(0.98, 1.0), None, "G equal to theta_prop * Gmax must not pass");
-    assert_eq!(probe(0.98, 0.999), Some(1));
+    assert_eq!(probe(0.98, 0.999), Some(a(1)));
 }
 
 #[test]
@@ -215,7 +221,7 @@ fn the_stored_sequence_is_the_stm_oldest_first_and_t_resets_at_episode_end() {
     }
     assert!(m.store(2.5, &mut rng()));
     assert_eq!((0..3).map(|j| m.ltm_embedding(0, j)[7]).collect::<Vec<_>>(), [0.5, 0.75, 1.0]);
-    assert_eq!((0..3).map(|j| m.ltm_action(0, j)).collect::<Vec<_>>(), [2, 3, 4]);
+    assert_eq!((0..3).map(|j| m.ltm_action(0, j)).collect::<Vec<_>>(), [a(2), a(3), a(4)]);
     assert_eq!(m.rewards(), &[2.5]);
     m.retrieve(&emb(0.5), &mut rng());
     m.update(couplet(0.0, 0));
@@ -239,7 +245,7 @@ fn filled(forgetting: Forgetting, rs: &[f64]) -> Memory {
 }
 
 fn actions(m: &Memory) -> Vec<u8> {
-    (0..m.len()).map(|i| m.ltm_action(i, 0)).collect()
+    (0..m.len()).map(|i| m.ltm_action(i, 0).into()).collect()
 }
 
 #[test]
@@ -337,11 +343,11 @@ fn invariants_hold_over_random_runs() {
             if let Some(a) = a {
                 let sum: f64 = m.p().iter().sum();
                 assert!((sum - 1.0).abs() < 1e-12, "p sums to {sum}");
-                let stored: Vec<u8> =
+                let stored: Vec<Action> =
                     m.selected().iter().map(|s| m.ltm_action(s.row as usize, s.col as usize)).collect();
-                assert!(stored.contains(&a), "chose {a}, stored {stored:?}");
+                assert!(stored.contains(&a), "chose {a:?}, stored {stored:?}");
             }
-            m.update(Couplet { embedding: e, action: a.unwrap_or(src.gen_range(0..9)) });
+            m.update(Couplet { embedding: e, action: a.unwrap_or(Action::ALL[src.gen_range(0..9)]) });
             if step % 17 == 16 {
                 m.store(src.gen_range(-1.0..3.0), &mut r);
             }
@@ -362,7 +368,7 @@ fn reconfiguring_keeps_the_memory_and_refuses_a_new_stm_length() {
     let cfg = MemoryConfig { n: 3, m: 10, ..MemoryConfig::default() };
     let mut mem = Memory::new(cfg.clone()).unwrap();
     for r in 1..=4 {
-        mem.push(Couplet { embedding: [r as f32; 20], action: r as u8 });
+        mem.push(Couplet { embedding: [r as f32; 20], action: a(r as usize) });
         assert!(mem.store(r as f64, &mut rng));
     }
     // The bias switched off and on starts again from T = 1.
@@ -380,9 +386,9 @@ fn reconfiguring_keeps_the_memory_and_refuses_a_new_stm_length() {
     // A smaller m forgets the oldest sequences; a larger one makes room.
     mem.reconfigure(MemoryConfig { m: 2, ..cfg.clone() }).unwrap();
     assert_eq!(mem.rewards(), &[3.0, 4.0]);
-    assert_eq!(mem.ltm_action(0, 2), 3, "row 0 is now the third sequence stored");
+    assert_eq!(mem.ltm_action(0, 2), a(3), "row 0 is now the third sequence stored");
     mem.reconfigure(MemoryConfig { m: 3, ..cfg }).unwrap();
-    mem.push(Couplet { embedding: [5.0; 20], action: 5 });
+    mem.push(Couplet { embedding: [5.0; 20], action: a(5) });
     assert!(mem.store(5.0, &mut rng));
     assert_eq!(mem.rewards(), &[3.0, 4.0, 5.0]);
 }
@@ -391,7 +397,7 @@ fn reconfiguring_keeps_the_memory_and_refuses_a_new_stm_length() {
 fn single(x: [f32; EMBEDDING], bias: bool, f: Forgetting, m: usize) -> Memory {
     let cfg = MemoryConfig { n: 1, m, sequential_bias: bias, forgetting: f, ..MemoryConfig::default() };
     let mut mem = Memory::new(cfg).unwrap();
-    mem.update(Couplet { embedding: x, action: 1 });
+    mem.update(Couplet { embedding: x, action: a(1) });
     assert!(mem.store(1.0, &mut rng()));
     mem
 }
@@ -445,7 +451,7 @@ fn without_the_bias_g_over_gmax_is_rounded_to_f32_as_numpy_does() {
     let at = |v: f32| {
         let mut x = [0.0; EMBEDDING];
         x[0] = v;
-        Couplet { embedding: x, action: 1 }
+        Couplet { embedding: x, action: Action::RIGHT }
     };
     mem.update(at(a));
     mem.update(at(b));
@@ -470,7 +476,7 @@ fn after_any_forgetting_the_similarity_is_computed_in_f64() {
         mem.retrieve(&q, &mut rng());
         assert_eq!(mem.biased_similarity(), &[f32_sim as f64], "before forgetting: f32");
         // A second store fills the LTM (m = 2): FIFO drops the oldest; the LTM is now floats.
-        mem.update(Couplet { embedding: x, action: 1 });
+        mem.update(Couplet { embedding: x, action: a(1) });
         assert!(mem.store(1.0, &mut rng()));
         assert_eq!(mem.len(), 1);
         mem.retrieve(&q, &mut rng());
@@ -478,7 +484,7 @@ fn after_any_forgetting_the_similarity_is_computed_in_f64() {
     }
     // Without forgetting a full LTM stays f32.
     let mut mem = single(x, false, Forgetting::None, 1);
-    mem.update(Couplet { embedding: x, action: 1 });
+    mem.update(Couplet { embedding: x, action: a(1) });
     assert!(!mem.store(1.0, &mut rng()));
     mem.retrieve(&q, &mut rng());
     assert_eq!(mem.biased_similarity(), &[f32_sim as f64]);
@@ -492,7 +498,7 @@ fn the_similarity_sums_in_numpys_pairwise_order() {
     let mut mem = Memory::new(cfg).unwrap();
     let stored: Vec<[f32; EMBEDDING]> = (0..n).map(|_| std::array::from_fn(|_| r.gen_range(0.0..4.0))).collect();
     for x in &stored {
-        mem.update(Couplet { embedding: *x, action: 1 });
+        mem.update(Couplet { embedding: *x, action: a(1) });
     }
     assert!(mem.store(1.0, &mut rng()));
     for _ in 0..50 {
@@ -518,7 +524,7 @@ fn after_forgetting_the_similarity_sums_in_f64_in_numpys_order_for_long_rows_too
     let mut mem = Memory::new(cfg).unwrap();
     let stored: Vec<[f32; EMBEDDING]> = (0..n).map(|_| std::array::from_fn(|_| r.gen_range(0.0..4.0))).collect();
     for x in &stored {
-        mem.update(Couplet { embedding: *x, action: 1 });
+        mem.update(Couplet { embedding: *x, action: a(1) });
     }
     mem.store(1.0, &mut rng());
     mem.store(1.0, &mut rng());

@@ -4,6 +4,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use sec_playground::agent::mfec::{softmax_entropy_bits, Bookkeeping, Mfec, MfecConfig, RandomProjection};
 use sec_playground::agent::Layer;
+use sec_playground::arena::Action;
 use sec_playground::encoder::{EMBEDDING, IMAGE};
 
 /// Greedy from the first decision, with the per-episode bookkeeping (one episode's decisions are
@@ -53,7 +54,7 @@ fn a_fresh_agent_values_everything_at_minus_ten_and_is_maximally_uncertain() {
     let mut m = Mfec::new(greedy(50, 10, 0.99), &mut r).unwrap();
     let d = m.decide(&state(3.0), false, &mut r);
     assert_eq!(m.q(), &[-10.0; 9]);
-    assert_eq!((d.action, d.layer), (0, Layer::Contextual), "argmax takes the first of equals");
+    assert_eq!((d.action, d.layer), (Action::NOOP, Layer::Contextual), "argmax takes the first of equals");
     assert!((m.entropy() - 9f64.log2()).abs() < 1e-12);
     assert_eq!(m.len(), 9, "one initial entry per action");
 }

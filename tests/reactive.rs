@@ -3,10 +3,11 @@
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use sec_playground::agent::reactive::{Reactive, FORWARD, TURN_1, TURN_2};
+use sec_playground::arena::Action;
 
 /// Run lengths of equal actions in a sequence.
-fn runs(actions: &[u8]) -> Vec<(u8, usize)> {
-    let mut out: Vec<(u8, usize)> = Vec::new();
+fn runs(actions: &[Action]) -> Vec<(Action, usize)> {
+    let mut out: Vec<(Action, usize)> = Vec::new();
     for &a in actions {
         match out.last_mut() {
             Some((b, n)) if *b == a => *n += 1,
@@ -21,7 +22,7 @@ fn cycles_of_straight_runs_then_turns_in_place() {
     for seed in 0..20 {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let mut r = Reactive::new(&mut rng);
-        let acts: Vec<u8> = (0..5000).map(|_| r.step(&mut rng)).collect();
+        let acts: Vec<Action> = (0..5000).map(|_| r.step(&mut rng)).collect();
         assert!(acts.iter().all(|a| [FORWARD, TURN_1, TURN_2].contains(a)), "never backward, never move and turn");
         let rs = runs(&acts);
         // First cycle: 1..=19 forward (the counter starts at 1), 1..=19 turns with direction 0.
@@ -43,7 +44,7 @@ fn cycles_of_straight_runs_then_turns_in_place() {
 fn both_turn_directions_and_all_lengths_occur() {
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     let mut r = Reactive::new(&mut rng);
-    let acts: Vec<u8> = (0..100_000).map(|_| r.step(&mut rng)).collect();
+    let acts: Vec<Action> = (0..100_000).map(|_| r.step(&mut rng)).collect();
     let rs = runs(&acts);
     let fwd: std::collections::BTreeSet<usize> = rs[2..].iter().filter(|x| x.0 == FORWARD).map(|x| x.1).collect();
     assert_eq!(fwd.into_iter().collect::<Vec<_>>(), (2..=21).collect::<Vec<_>>());

@@ -62,7 +62,7 @@ fn the_explanation_adds_up_and_the_views_show_the_memory() {
     let e = found.expect("memory selects couplets within 20000 decisions (golden seed 2 acts from episode 16)");
     let mut q = [0.0; 9];
     for c in &e.couplets {
-        q[c.action as usize] += c.value;
+        q[c.action.index()] += c.value;
     }
     for (a, (&sum, &q)) in q.iter().zip(&e.q).enumerate() {
         assert!((sum - q).abs() <= 1e-12 * sum.abs().max(1.0), "Q[{a}]: {sum} vs {q}");

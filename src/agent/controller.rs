@@ -5,7 +5,7 @@
 use super::dqn::{DqnConfig, ErlamConfig};
 use super::mfec::MfecConfig;
 use super::{Decision, SecConfig};
-use crate::arena::ConfigError;
+use crate::arena::{Action, ConfigError};
 use crate::encoder::EMBEDDING;
 use crate::error::Error;
 use crate::memory::file::Identity;
@@ -55,7 +55,7 @@ pub struct Observation<'a> {
     pub terminal: bool,
     /// The action a person chose, to be followed and learned from (only for a controller that
     /// `learns_from_person`).
-    pub person: Option<u8>,
+    pub person: Option<Action>,
 }
 
 /// How an episode ended.

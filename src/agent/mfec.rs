@@ -10,7 +10,7 @@
 
 use super::controller::{Controller, EpisodeEnd, Input, MemoryUse, Observation, Step};
 use super::{Decision, Layer, Reactive};
-use crate::arena::ConfigError;
+use crate::arena::{Action, ConfigError};
 use crate::encoder::{EMBEDDING, IMAGE};
 use crate::memory::ACTIONS;
 use rand::Rng;
@@ -198,7 +198,7 @@ impl Buffer {
 #[derive(Clone, Copy, Debug)]
 struct Transition {
     e: [f32; EMBEDDING],
-    action: u8,
+    action: Action,
     reward: f64,
 }
 
@@ -234,7 +234,7 @@ impl Mfec {
         }
         let open = (cfg.bookkeeping == Bookkeeping::Authors).then_some(Transition {
             e: [0.0; EMBEDDING],
-            action: 0,
+            action: Action::NOOP,
             reward: 0.0,
         });
         Ok(Mfec {
@@ -342,7 +342,7 @@ impl Mfec {
                 self.value(e);
             }
             let best = (0..ACTIONS).fold(0, |b, a| if self.q[a] > self.q[b] { a } else { b });
-            (best as u8, Layer::Contextual)
+            (Action::ALL[best], Layer::Contextual)
         };
         self.decisions += 1;
         let next = Transition { e: *e, action, reward: 0.0 };
@@ -376,7 +376,7 @@ impl Mfec {
         }
         let kept = self.kept();
         let mut write = |t: &Transition, stamp: &mut u64| {
-            self.buffers[t.action as usize].write(&t.e, t.reward, kept, *stamp);
+            self.buffers[t.action.index()].write(&t.e, t.reward, kept, *stamp);
             *stamp += 1;
         };
         let mut stamp = self.stamp;

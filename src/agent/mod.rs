@@ -9,6 +9,7 @@ pub mod reactive;
 mod sec;
 pub mod table;
 
+use crate::arena::Action;
 pub use reactive::Reactive;
 pub use sec::{Sec, SecConfig};
 pub use table::{AgentInfo, AgentKind, AGENTS};
@@ -30,8 +31,8 @@ pub enum Layer {
 /// One decision's outcome.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Decision {
-    /// The action taken, 0..=8 (`arena::Action`'s index).
-    pub action: u8,
+    /// The action taken.
+    pub action: Action,
     /// The layer that chose it.
     pub layer: Layer,
     /// Whether the contextual layer selected couplets (so its entropy is fresh).

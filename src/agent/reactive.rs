@@ -8,12 +8,12 @@ use crate::arena::Action;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
-/// The walk's actions as indices: forward (1, 0), and the two turns in place (0, 1) and (0, 2).
-pub const FORWARD: u8 = Action::FORWARD.index() as u8;
-/// The walk's turn one way (right).
-pub const TURN_1: u8 = Action::RIGHT.index() as u8;
-/// The walk's turn the other way (left).
-pub const TURN_2: u8 = Action::LEFT.index() as u8;
+/// The walk's straight run: forward (1, 0).
+pub const FORWARD: Action = Action::FORWARD;
+/// The walk's turn in place one way (0, 1), right.
+pub const TURN_1: Action = Action::RIGHT;
+/// The walk's turn in place the other way (0, 2), left.
+pub const TURN_2: Action = Action::LEFT;
 
 /// The walk's state: a counter through `straight` forward steps then `turns` turns.
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -44,7 +44,7 @@ impl Reactive {
 
     /// The next action. After the first cycle each one is `straight + 1` forward steps then
     /// `turns` turns, with lengths from 1..=20 and a direction drawn anew.
-    pub fn step(&mut self, rng: &mut ChaCha8Rng) -> u8 {
+    pub fn step(&mut self, rng: &mut ChaCha8Rng) -> Action {
         self.c += 1;
         if self.c > self.straight + self.turns {
             self.c = 0;

@@ -5,7 +5,7 @@
 
 use super::controller::{AgentSettings, AgentView, Controller, EpisodeEnd, Input, MemoryUse, Observation, Step};
 use super::{Decision, Layer, Reactive};
-use crate::arena::ConfigError;
+use crate::arena::{Action, ConfigError};
 use crate::encoder::EMBEDDING;
 use crate::error::Error;
 use crate::memory::file::Identity;
@@ -154,7 +154,7 @@ impl Sec {
     /// A person chose `action` at this decision (the page's "drive it yourself" with record on):
     /// the memory goes through the same steps as for `decide`, but the couplet holds the
     /// person's action, so a rewarded episode is stored like any other sequence.
-    pub fn follow(&mut self, e: &[f32; EMBEDDING], action: u8, rng: &mut ChaCha8Rng) -> Decision {
+    pub fn follow(&mut self, e: &[f32; EMBEDDING], action: Action, rng: &mut ChaCha8Rng) -> Decision {
         self.act(e, || f32::INFINITY, Some(action), rng)
     }
 
@@ -162,7 +162,7 @@ impl Sec {
         &mut self,
         e: &[f32; EMBEDDING],
         rec_mse: impl FnOnce() -> f32,
-        forced: Option<u8>,
+        forced: Option<Action>,
         rng: &mut ChaCha8Rng,
     ) -> Decision {
         if !self.previous_pushed {
@@ -260,7 +260,7 @@ impl Controller for Sec {
         for v in self.previous.embedding {
             b.extend_from_slice(&v.to_le_bytes());
         }
-        b.push(self.previous.action);
+        b.push(self.previous.action.into());
         b.push(self.previous_pushed as u8);
         self.memory.put_state(&mut b);
         out.write_all(&b).map_err(|e| e.to_string())
@@ -276,11 +276,9 @@ impl Controller for Sec {
             for v in &mut embedding {
                 *v = r.f32()?;
             }
-            let action = r.take(1)?[0];
+            let action = Action::new(r.take(1)?[0].into())
+                .map_err(|_| crate::error::FileError::field("checkpoint", "previous", "not an action"))?;
             let pushed = r.bool()?;
-            if action as usize >= crate::memory::ACTIONS {
-                return Err(crate::error::FileError::field("checkpoint", "previous", "not an action"));
-            }
             self.memory.take_state(&mut r)?;
             self.reactive = Reactive::from_words(words);
             (self.previous, self.previous_pushed) = (Couplet { embedding, action }, pushed);

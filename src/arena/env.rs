@@ -8,9 +8,24 @@ use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
 /// One of the 9 flat actions, index `3*a0 + a1`: a0 0 none / 1 forward / 2 backward,
-/// a1 0 none / 1 right / 2 left (the index SEC's baselines use).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+/// a1 0 none / 1 right / 2 left (the index SEC's baselines use). Serialised as its index, so
+/// logs and files hold plain numbers; a number out of range does not deserialise.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "u32", into = "u8")]
 pub struct Action(u8);
+
+impl TryFrom<u32> for Action {
+    type Error = ConfigError;
+    fn try_from(index: u32) -> Result<Action, ConfigError> {
+        Action::new(index)
+    }
+}
+
+impl From<Action> for u8 {
+    fn from(a: Action) -> u8 {
+        a.0
+    }
+}
 
 impl Action {
     /// Stand still.
@@ -25,6 +40,9 @@ impl Action {
     pub const LEFT: Action = Action(2);
     /// Actions there are: 3 movements x 3 rotations.
     pub const COUNT: usize = 9;
+    /// Every action, in index order (an index below `COUNT` picks one without a check).
+    pub const ALL: [Action; Action::COUNT] =
+        [Action(0), Action(1), Action(2), Action(3), Action(4), Action(5), Action(6), Action(7), Action(8)];
 
     /// The action of index 0..=8; another index is refused by name.
     pub fn new(index: u32) -> Result<Action, ConfigError> {

@@ -32,7 +32,7 @@ pub fn fill_ltm(run: &mut Run, rows: usize) {
         let mut e = [0.0; EMBEDDING];
         run.perception.embed(&image, &mut scratch, &mut e);
         action = Action::new(rng.gen_range(0..9)).expect("actions are 0..9");
-        memory.push(crate::memory::Couplet { embedding: e, action: action.index() as u8 });
+        memory.push(crate::memory::Couplet { embedding: e, action });
         if rng.gen_bool(0.2) {
             memory.store(rng.gen_range(0.5..3.0), &mut rng);
             stores += 1;

@@ -14,7 +14,7 @@ use crate::encoder::{
     cache, Autoencoder, FrameCache, Perception, PerceptionKind, ReconstructionGate, Scratch, EMBEDDING, IMAGE,
 };
 use crate::error::Error;
-use crate::memory::{self, ACTIONS};
+use crate::memory;
 use crate::render::Frame;
 use crate::seed::{self, Stream};
 pub mod checkpoint;
@@ -225,8 +225,8 @@ struct Episode {
 /// neither sees nor learns from them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Driver {
-    /// The action held, 0..=8.
-    pub action: u8,
+    /// The action held.
+    pub action: Action,
     /// Whether the agent learns from the person's decisions.
     pub record: bool,
 }
@@ -330,16 +330,9 @@ impl Run {
         self.gate.has_measured().then(|| self.gate.mse(self.perception.trained(), &mut self.scratch, &mut self.cache))
     }
 
-    /// A person takes (`Some`) or gives back (`None`) the controls; see `Driver`. An action
-    /// outside 0..=8 is refused.
-    pub fn set_driver(&mut self, driver: Option<Driver>) -> Result<(), ConfigError> {
-        if let Some(d) = driver {
-            if d.action as usize >= ACTIONS {
-                return Err(ConfigError::new("action", format!("{} is out of range 0..={}", d.action, ACTIONS - 1)));
-            }
-        }
+    /// A person takes (`Some`) or gives back (`None`) the controls; see `Driver`.
+    pub fn set_driver(&mut self, driver: Option<Driver>) {
         self.driver = driver;
-        Ok(())
     }
 
     /// Who drives, if a person does.
@@ -495,7 +488,7 @@ impl Run {
         let mut decision = None;
         if decides {
             let d = self.decide(self.env.is_over());
-            ep.action = Action::new(d.action as u32).expect("actions are 0..9");
+            ep.action = d.action;
             ep.metrics.record(&d, self.controller.entropy());
             decision = Some(d);
         }

@@ -13,6 +13,7 @@
 //! the authors log it (stale when nothing was selected).
 
 use crate::agent::{Layer, Sec, SecConfig};
+use crate::arena::Action;
 use crate::encoder::{PerceptionKind, EMBEDDING};
 use crate::error::{Error, FileError};
 use crate::seed::Stream;
@@ -65,7 +66,7 @@ pub struct TraceLine {
     /// The decision's number.
     pub decision: u64,
     /// The action taken.
-    pub action: u8,
+    pub action: Action,
     /// The layer that took it (R, C or H).
     pub layer: String,
     /// Sequences in the LTM.
@@ -139,7 +140,7 @@ pub fn parse_event(text: &str, line: usize) -> Result<Event, FileError> {
 }
 
 /// The internals of `agent` after decision number `decision`.
-pub fn trace_line(agent: &Sec, decision: u64, action: u8, layer: Layer) -> TraceLine {
+pub fn trace_line(agent: &Sec, decision: u64, action: Action, layer: Layer) -> TraceLine {
     let memory = agent.memory();
     let n = memory.config().n;
     let t = memory

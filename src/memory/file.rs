@@ -14,6 +14,7 @@
 //! T and the selection masks are not kept: they restart at 1 and empty, as after an episode.
 
 use super::{Couplet, Memory, Selected};
+use crate::arena::Action;
 use crate::encoder::EMBEDDING;
 use crate::error::FileError;
 use crate::memory::ACTIONS;
@@ -41,7 +42,7 @@ fn put_couplet(b: &mut Vec<u8>, c: &Couplet) {
     for v in c.embedding {
         b.extend_from_slice(&v.to_le_bytes());
     }
-    b.push(c.action);
+    b.push(c.action.into());
 }
 
 fn couplet(r: &mut ByteReader) -> Result<Couplet, FileError> {
@@ -52,10 +53,9 @@ fn couplet(r: &mut ByteReader) -> Result<Couplet, FileError> {
             return Err(err("an embedding value is not a finite number"));
         }
     }
-    let action = r.take(1)?[0];
-    if action as usize >= ACTIONS {
-        return Err(err(format!("action {action} is out of range 0..={}", ACTIONS - 1)));
-    }
+    let index = r.take(1)?[0];
+    let action =
+        Action::new(index.into()).map_err(|_| err(format!("action {index} is out of range 0..={}", ACTIONS - 1)))?;
     Ok(Couplet { embedding, action })
 }
 
@@ -190,7 +190,7 @@ impl Memory {
             put_couplet(b, c);
         }
         put_f32s(b, &self.ltm);
-        put_bytes(b, &self.actions);
+        put_bytes(b, &self.actions.iter().map(|&a| a.into()).collect::<Vec<u8>>());
         put_f64s(b, &self.rewards);
         put_f64s(b, &self.t);
         put_bytes(b, &self.sel.iter().map(|&x| x as u8).collect::<Vec<_>>());
@@ -205,7 +205,7 @@ impl Memory {
             for v in [s.g, s.t, s.rr, s.d, s.value] {
                 b.extend_from_slice(&v.to_le_bytes());
             }
-            b.push(s.action);
+            b.push(s.action.into());
         }
         for v in self.q.iter().chain(&self.p).chain([&self.entropy]) {
             b.extend_from_slice(&v.to_le_bytes());
@@ -239,8 +239,8 @@ impl Memory {
         for _ in 0..count {
             let (row, col) = (r.u32()?, r.u32()?);
             let [g, t, rr, d, value] = [r.f64()?, r.f64()?, r.f64()?, r.f64()?, r.f64()?];
-            let action = r.take(1)?[0];
-            if row as usize >= rows || col as usize >= n || action as usize >= ACTIONS {
+            let action = Action::new(r.take(1)?[0].into()).map_err(|_| bad("selected"))?;
+            if row as usize >= rows || col as usize >= n {
                 return Err(bad("selected"));
             }
             selected.push(Selected { row, col, g, t, rr, d, action, value });
@@ -290,6 +290,7 @@ impl Memory {
         if !(entropy.is_finite() && (0.0..=(ACTIONS as f64).log2() + 1e-9).contains(&entropy)) {
             return Err(value("entropy", &format!("{entropy} is out of range [0, log2 9]")));
         }
+        let actions = actions.into_iter().map(|a| Action::ALL[a as usize]).collect();
         (self.stm, self.stm_head, self.ltm, self.actions, self.rewards) = (stm, head, ltm, actions, rewards);
         (self.t, self.sel, self.sel_prev, self.g, self.forgot, self.sim) = (t, sel, sel_prev, g, forgot, sim);
         (self.selected, self.q, self.p, self.entropy) = (selected, q, p, entropy);

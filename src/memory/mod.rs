@@ -17,7 +17,7 @@ mod similarity;
 pub use config::*;
 pub use similarity::{pairwise20, pairwise9};
 
-use crate::arena::ConfigError;
+use crate::arena::{Action, ConfigError};
 use crate::encoder::EMBEDDING;
 use rand_chacha::ChaCha8Rng;
 use retrieval::sample;
@@ -31,12 +31,12 @@ pub struct Couplet {
     /// The frame's embedding.
     pub embedding: [f32; EMBEDDING],
     /// The action taken at it.
-    pub action: u8,
+    pub action: Action,
 }
 
 impl Couplet {
     /// The STM's initial content: a zero embedding with action [0, 0].
-    pub const ZERO: Couplet = Couplet { embedding: [0.0; EMBEDDING], action: 0 };
+    pub const ZERO: Couplet = Couplet { embedding: [0.0; EMBEDDING], action: Action::NOOP };
 }
 
 /// A selected couplet (docs/ALGORITHM.md, retrieval): LTM row, column, its G (bias included)
@@ -60,7 +60,7 @@ pub struct Selected {
     /// Distance to the goal, (n - col) / n.
     pub d: f64,
     /// The action it votes for.
-    pub action: u8,
+    pub action: Action,
     /// Its value, added to Q of `action`.
     pub value: f64,
 }
@@ -75,7 +75,7 @@ pub struct Memory {
     /// Per LTM row: n x 20 embeddings transposed (`[k][j]`).
     ltm: Vec<f32>,
     /// Per LTM row: n actions, oldest first.
-    actions: Vec<u8>,
+    actions: Vec<Action>,
     rewards: Vec<f64>,
     /// T, rows x n (f64 like the authors' numpy array).
     t: Vec<f64>,
@@ -193,7 +193,7 @@ impl Memory {
     }
 
     /// The action of couplet `j` of LTM sequence `i`.
-    pub fn ltm_action(&self, i: usize, j: usize) -> u8 {
+    pub fn ltm_action(&self, i: usize, j: usize) -> Action {
         self.actions[i * self.cfg.n + j]
     }
 

@@ -3,6 +3,7 @@
 
 use super::similarity::{biased, biased_f64, pairwise9, similarity, similarity_f64};
 use super::{Memory, Selected, ACTIONS};
+use crate::arena::Action;
 use crate::encoder::EMBEDDING;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -34,7 +35,7 @@ impl Memory {
     /// in f64 after (their LTM is then a list of Python floats); times T in f64 with the bias,
     /// while without it G stays f32 and is compared with theta_abs and G / Gmax with theta_prop
     /// as f32 (numpy casts a Python float to the array's type).
-    pub fn retrieve(&mut self, e: &[f32; EMBEDDING], rng: &mut ChaCha8Rng) -> Option<u8> {
+    pub fn retrieve(&mut self, e: &[f32; EMBEDDING], rng: &mut ChaCha8Rng) -> Option<Action> {
         self.selected.clear();
         let (n, rows) = (self.cfg.n, self.len());
         if rows == 0 {
@@ -98,7 +99,7 @@ impl Memory {
             let dist = libm::exp(-s.d / self.cfg.tau);
             s.action = self.actions[idx];
             s.value = self.cfg.value_function.value(s.g, s.rr, dist);
-            self.q[s.action as usize] += s.value;
+            self.q[s.action.index()] += s.value;
         }
         // numpy's sums of 9 (pairwise); a p of 0 adds nothing (the authors' nan_to_num term is -0).
         let total = pairwise9(&self.q);
@@ -115,7 +116,7 @@ impl Memory {
             }
         }
         self.entropy = 0.0 - pairwise9(&terms);
-        Some(sample(&self.p, rng) as u8)
+        Some(Action::ALL[sample(&self.p, rng)])
     }
 }
 
@@ -154,7 +155,7 @@ fn refine(mask: &mut [bool], keep: impl Fn(usize) -> bool, mut kept: impl FnMut(
 
 fn push(selected: &mut Vec<Selected>, n: usize, idx: usize, g: f64) {
     let (row, col) = ((idx / n) as u32, (idx % n) as u32);
-    selected.push(Selected { row, col, g, t: 1.0, rr: 0.0, d: 0.0, action: 0, value: 0.0 });
+    selected.push(Selected { row, col, g, t: 1.0, rr: 0.0, d: 0.0, action: Action::NOOP, value: 0.0 });
 }
 
 /// Calls `f` with the index of every true in `mask`, ascending. Few couplets are selected, so

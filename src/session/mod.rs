@@ -228,7 +228,7 @@ impl Session {
     }
 
     /// A person takes (`Some`) or gives back (`None`) the controls (`Run::set_driver`).
-    pub fn set_driver(&mut self, driver: Option<Driver>) -> Result<(), ConfigError> {
+    pub fn set_driver(&mut self, driver: Option<Driver>) {
         self.run.set_driver(driver)
     }
 

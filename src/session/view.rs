@@ -3,6 +3,7 @@
 //! every front end shows the same numbers under the same names.
 
 use crate::agent::{Decision, Layer};
+use crate::arena::Action;
 use crate::experiment::Run;
 use crate::memory::{Selected, ValueFn, ACTIONS};
 use serde::Serialize;
@@ -12,7 +13,7 @@ use serde::Serialize;
 #[serde(rename_all = "camelCase")]
 pub struct DecisionView {
     /// The action taken at the last decision (none before the first).
-    pub action: Option<u8>,
+    pub action: Option<Action>,
     /// The layer that chose it.
     pub layer: Option<Layer>,
     /// Couplets the contextual layer selected at the last decision.

@@ -5,6 +5,7 @@
 //! value leaves the run as it was.
 
 use super::{args, js_err, seed_from_js};
+use crate::arena::Action;
 use crate::encoder::{reconstruction_to_rgba, Scratch, EMBEDDING, IMAGE};
 use crate::experiment::settings::{self, Settings};
 use crate::experiment::{Driver, EpisodeMetrics, RunConfig};
@@ -324,8 +325,9 @@ impl SecRun {
         record: bool,
     ) -> Result<(), JsError> {
         let action = args::optional_whole(&action, "action", 0, ACTIONS as u64 - 1)?;
-        let driver = action.map(|a| Driver { action: a as u8, record });
-        self.session.set_driver(driver).map_err(js_err)
+        let driver = action.map(|a| Action::new(a as u32).map(|action| Driver { action, record })).transpose();
+        self.session.set_driver(driver.map_err(js_err)?);
+        Ok(())
     }
 
     /// SEC's memory (STM and LTM) as a versioned file (`memory::file`): bytes to download.

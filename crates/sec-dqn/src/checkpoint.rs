@@ -13,7 +13,6 @@ use burn::store::ModuleRecord;
 use burn::tensor::Bytes;
 use sec_playground::encoder::{EMBEDDING, IMAGE};
 use sec_playground::experiment::RunConfig;
-use sec_playground::memory::ACTIONS;
 use serde_bytes::ByteBuf;
 use std::io::{BufReader, BufWriter, Read, Write};
 
@@ -100,12 +99,12 @@ pub(crate) fn load(dqn: &mut Dqn, input: &mut dyn Read) -> Result<(), String> {
         _ => return Err("the checkpoint is of the other agent (dqn or erlam)".into()),
     }
     let (low, high) = (dqn.cfg.epsilon_end.min(dqn.cfg.epsilon_start), dqn.cfg.epsilon_end.max(dqn.cfg.epsilon_start));
-    let Progress { epsilon, action, pending, entropy, .. } = progress;
+    let Progress { epsilon, pending, entropy, .. } = progress;
     if !(low..=high).contains(&epsilon) {
         return Err(format!("epsilon: {epsilon} is out of range {low}..={high}"));
     }
-    if action as usize >= ACTIONS || !pending.is_finite() || !entropy.is_finite() {
-        return Err("the last action, the pending reward or the entropy is not sound".into());
+    if !pending.is_finite() || !entropy.is_finite() {
+        return Err("the pending reward or the entropy is not sound".into());
     }
     dqn.net = Some(network_from(dqn.network().clone(), online, "online network")?);
     dqn.target = network_from(dqn.target.clone(), target, "target network")?;

@@ -38,7 +38,7 @@ use sec_playground::agent::dqn::DqnConfig;
 use sec_playground::agent::dqn::ErlamConfig;
 use sec_playground::agent::mfec::softmax_entropy_bits;
 use sec_playground::agent::{Decision, Layer, Reactive};
-use sec_playground::arena::ConfigError;
+use sec_playground::arena::{Action, ConfigError};
 use sec_playground::encoder::{Perception, Scratch, EMBEDDING};
 use sec_playground::experiment::{AgentKind, RunConfig};
 use sec_playground::memory::ACTIONS;
@@ -117,7 +117,7 @@ struct Progress {
     epsilon: f64,
     decisions: u64,
     /// The action of the last decision, which the next transition records.
-    action: u8,
+    action: Action,
     /// Rewards since the last transition (for `sumRewards`).
     pending: f64,
     entropy: f64,
@@ -137,7 +137,7 @@ impl Dqn {
                 reactive: Reactive::new(rng),
                 epsilon: cfg.epsilon_start,
                 decisions: 0,
-                action: 0,
+                action: Action::NOOP,
                 pending: 0.0,
                 entropy: 0.0,
             },
@@ -320,7 +320,7 @@ impl Controller for Dqn {
             step.reward
         };
         let bytes = to_bytes(frame);
-        let action = self.progress.action;
+        let action = u8::from(self.progress.action);
         let stored = match &mut self.memory {
             Memory::Replay(r) if !r.started() => {
                 r.start(bytes);
@@ -373,7 +373,7 @@ impl Controller for Dqn {
             let q = self.q(obs.image);
             self.progress.entropy = softmax_entropy_bits(&q);
             let best = (0..ACTIONS).fold(0, |b, a| if q[a] > q[b] { a } else { b });
-            (best as u8, Layer::Contextual)
+            (Action::ALL[best], Layer::Contextual)
         };
         self.progress.epsilon = self.cfg.next_epsilon(self.progress.epsilon);
         self.progress.action = action;

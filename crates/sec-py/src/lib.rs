@@ -135,7 +135,7 @@ impl Tracked {
             return Err(ConfigError::new("step", "the episode is over (max_episode_steps): call reset first"));
         }
         let mut out = self.env.advance(a, self.frame_skip)?;
-        self.actions.push(a.index() as u8);
+        self.actions.push(a.into());
         self.trail.push(self.env.world().agent.pos);
         self.success = out.good_goal;
         self.agent_steps += 1;

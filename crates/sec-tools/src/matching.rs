@@ -15,7 +15,7 @@ use crate::stats::{mean, spearman};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use sec_playground::agent::Reactive;
-use sec_playground::arena::{Action, Env, EnvConfig, Task};
+use sec_playground::arena::{Env, EnvConfig, Task};
 use sec_playground::encoder::{Perception, Scratch, EMBEDDING, IMAGE};
 use sec_playground::experiment::presets;
 use std::fmt::Write as _;
@@ -63,7 +63,7 @@ fn walk(task: &str, frames: usize, seed: u64) -> Vec<(Vec<f32>, (f64, f64))> {
         if env.is_over() {
             env.reset(None);
         }
-        let a = Action::new(reactive.step(&mut rng) as u32).expect("reactive actions are valid");
+        let a = reactive.step(&mut rng);
         env.advance(a, 4).expect("the episode is not over");
         let mut image = vec![0.0; IMAGE];
         env.observation().to_rgb_f32(&mut image);
