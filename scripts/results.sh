@@ -5,12 +5,14 @@
 # there) and the page's reference curves (assets/reference/), after checking that every pair of
 # runs of one configuration and seed agrees. Run it before committing new runs, so that runs and
 # reports agree.
+#   BIN=/some/copy/of/sec-experiment ./scripts/results.sh   # no rebuild
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
 OUT="${OUT:-results/experiments}"
-cargo build --release -p sec-tools --bin sec-experiment
-bin=./target/release/sec-experiment
+# BIN=/a/pinned/sec-experiment: the binary the grid runs with, without a rebuild.
+if [ -z "${BIN:-}" ]; then cargo build --release -p sec-tools --bin sec-experiment; fi
+bin="${BIN:-./target/release/sec-experiment}"
 "$bin" verify --out "$OUT"
 for exp in "$OUT"/*/; do
     exp=$(basename "$exp")

@@ -2,7 +2,7 @@
 // same seeds, their curves overlaid in one chart with standard-error bands; one-click presets
 // for the paper's experiments 1-4.
 import { ARM_COLOURS, CompareChart, WINDOW } from './charts.js';
-import { COMPARE_PRESETS, PRESET_BASE, exp1In } from './presets.js';
+import { COMPARE_PRESETS, PRESET_BASE, exp1In, referenceMap } from './presets.js';
 
 /** Most configurations at once (each is a worker). */
 const MAX_ARMS = 8;
@@ -14,8 +14,8 @@ let index = null;
 function referenceIndex() {
   index ??= fetch(new URL('../assets/reference/index.json', import.meta.url))
     .then((r) => (r.ok ? r.json() : { references: [] }))
-    .then((j) => new Map(j.references.map((r) => [r.reference, r])))
-    .catch(() => new Map());
+    .then(referenceMap)
+    .catch(() => referenceMap({}));
   return index;
 }
 

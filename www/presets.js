@@ -3,7 +3,9 @@
 // results/experiments, reduced to assets/reference/ by `sec-experiment reference`), which the
 // chart draws faint behind the live runs. Each has a summary in view (the paper's finding, the
 // reference runs', and what the first minutes can show: at most 60 words) and the details
-// behind "more" (REPRODUCTION.md has the tables).
+// behind "more" (REPRODUCTION.md has the tables). Summaries and details are templates over the
+// reference index (assets/reference/index.json, written by `sec-experiment reference` from the
+// committed runs): no measured number is typed here, so new runs rewrite the captions.
 
 /** Most words of a preset's summary, the part of its caption in view before "more". */
 export const SUMMARY_WORDS = 60;
@@ -23,6 +25,40 @@ const paper = (refs, name) => {
 const times = (a, b) => (a > 0 && b > 0 ? (a / b).toFixed(2) : null);
 /** `x` to `d` decimals, or null. */
 const fixed = (x, d = 2) => (Number.isFinite(x) ? x.toFixed(d) : null);
+/**
+ * The reference index as the presets read it: its entries by reference name, with the tests of
+ * the paper's claims on our runs (results/orderings.md) as `orderings`.
+ */
+export function referenceMap(json) {
+  const refs = new Map((json?.references ?? []).map((r) => [r.reference, r]));
+  return Object.assign(refs, { orderings: json?.orderings ?? [] });
+}
+/** The test of one claim (`family` and `ordering` as results/orderings.md names them). */
+const claim = (refs, family, ordering) => refs.orderings?.find((o) => o.family === family && o.ordering === ordering);
+/** A claim's corrected p as the reports print it, with its verdict at 0.05. */
+const tested = (refs, family, ordering) => sig(claim(refs, family, ordering)?.p);
+/** The median of `xs`. */
+const median = (xs) => {
+  const v = [...xs].sort((a, b) => a - b);
+  const h = v.length >> 1;
+  return v.length % 2 ? v[h] : (v[h - 1] + v[h]) / 2;
+};
+/** In how many seeds `a`'s run beat `b`'s (runs in seed order, as the index lists them). */
+const wins = (a, b) => a.filter((x, i) => x > b[i]).length;
+/** A corrected p as the reports print it, with its verdict at 0.05. */
+const sig = (p) => {
+  if (p == null) return 'not tested';
+  const shown = p < 0.001 ? p.toExponential(1) : p.toFixed(3);
+  return `${p < 0.05 ? 'significant' : 'not significant'}, p ${shown}`;
+};
+/** The episodes at which the runs' LTMs filled: how many filled, and the first and last. */
+const fills = (entry) => {
+  const f = (entry?.ltmFull ?? []).filter((e) => e != null);
+  return { filled: f.length, of: entry?.ltmFull?.length, first: Math.min(...f), last: Math.max(...f) };
+};
+/** Each run's reward per episode, to two decimals, joined. */
+const listed = (xs) => xs.map((x) => fixed(x)).join(', ');
+
 /** The sentence on our runs, or a note that this build has none of them. */
 const oursSaid = (parts) => (parts.every((p) => p != null) ? null : 'Our reference runs are not in this build.');
 
@@ -40,25 +76,38 @@ export const COMPARE_PRESETS = {
           + 'episodes; MFEC does not learn here. ')
         + 'Live, all curves lie together at first: SEC acts from memory only once it holds 5 sequences.';
     },
-    caption: 'The paper (figure 4, table 1): in the double T-maze SEC collects the most reward, 2.3 times NSEC\'s, '
-      + 'with a low policy entropy; NSEC, the same model without the sequential bias, collects less with a higher '
-      + 'entropy; MFEC far less. The reference runs at these settings (the authors\' untrained encoder; SEC and NSEC '
-      + '20 seeds x 5000 episodes, MFEC 10 x 5000): SEC and NSEC are together while the reactive walk explores, and SEC pulls '
-      + 'ahead once its memory acts (from episode 96 in the median run): 0.51 against 0.36 per episode at episode '
-      + '100, 1.08 against 0.64 at 200, 1.94 against 1.33 at the end; SEC beats NSEC on all 20 seeds, by 1.54 times '
-      + 'over the run, less than the paper\'s 2.3: our SEC is a fifth below the authors\' runs (1.96 median per episode '
-      + 'against 2.40) and our NSEC above theirs (1.36 against 1.00). Both settle by episode 2000. MFEC does not '
-      + 'reproduce: six of its ten runs per variant loop with no goal after '
-      + 'episode 2000, a few escape late, and over 5000 episodes it gets 0.04-0.07 per episode, below the reactive '
-      + 'walk (0.11), where the paper\'s got a third of SEC\'s (REPRODUCTION.md). Live, the first minutes cover the first few dozen '
-      + 'episodes, where all three curves still lie together: SEC acts from memory only once 5 sequences are stored. '
-      + 'DQN and ERLAM, the paper\'s deep baselines, train with burn and run only natively, so the chart has their '
-      + 'reference runs alone: the paper has DQN at about half SEC\'s reward, but our three DQN runs (1000 episodes '
-      + 'each) got 1.94, 1.24 and 0.47 per episode (1.22 on average, the paper\'s 1.24) against SEC\'s 1.54 over the '
-      + 'same episodes, not significantly below it; DQN learns fast and unstably (two of the three runs collapsed '
-      + 'after episode 500). ERLAM\'s three runs got 0.11, 0.16 and 0.15 per episode, far below both; two of them began '
-      + 'to learn only in their last 100-200 episodes, about when their graphs filled. With propagation stopped at '
-      + 'the goals (a one-seed test of why), ERLAM got 0.49 per episode and 0.91 over its last 200 (REPRODUCTION.md).',
+    caption: (refs) => {
+      const get = (m) => refs.get(`exp1:double-t-maze/${m}`);
+      const [s, n, ae, rp, walk, dqn, erlam, stopped] =
+        ['SEC', 'NSEC', 'MFEC-ae', 'MFEC-rp', 'reactive', 'DQN', 'ERLAM', 'ERLAM-noPastTerminals'].map(get);
+      const P = (m) => paper(refs, `exp1:double-t-maze/${m}`);
+      const at = (k) => `${fixed(s.curveAt[k])} against ${fixed(n.curveAt[k])}${k === 'end' ? ' at the end' : ` at ${k}`}`;
+      return `The paper (figure 4, table 1): in the double T-maze SEC collects the most reward, ${times(P('SEC'), P('NSEC'))} `
+        + 'times NSEC\'s, with a low policy entropy; NSEC, the same model without the sequential bias, collects less '
+        + `with a higher entropy; MFEC far less. The reference runs at these settings (the authors' untrained encoder; `
+        + `SEC and NSEC ${s.seeds} seeds x ${s.episodes} episodes, MFEC ${ae.seeds} x ${ae.episodes}): SEC and NSEC are `
+        + 'together while the reactive walk explores, and SEC pulls ahead once its memory acts: '
+        + `${fixed(s.curveAt['100'])} against ${fixed(n.curveAt['100'])} per episode at episode 100 (20-episode means), `
+        + `${at('200')}, ${at('end')}; SEC beats NSEC on `
+        + `${wins(s.runs, n.runs)} of ${s.seeds} seeds, by ${times(s.meanReward, n.meanReward)} times over the run, less `
+        + `than the paper's ${times(P('SEC'), P('NSEC'))}. Against the authors' own runs, our SEC's median run got `
+        + `${fixed(median(s.runs))} per episode to their ${fixed(median(s.authorsRuns))}, our NSEC's ${fixed(median(n.runs))} `
+        + `to their ${fixed(median(n.authorsRuns))}. Both have settled by episode 2000 (SEC ${fixed(s.curveAt['2000'])} there, `
+        + `NSEC ${fixed(n.curveAt['2000'])}). MFEC does not reproduce: ${ae.learned} of ${ae.seeds} MFEC-ae runs and `
+        + `${rp.learned} of ${rp.seeds} MFEC-rp runs learned (above the reactive walk's 95th percentile, `
+        + `${fixed(ae.learnedBar, 3)} per episode); they got ${fixed(ae.meanReward)} and ${fixed(rp.meanReward)} per episode `
+        + `against the walk's ${fixed(walk.meanReward)}, where the paper's MFEC-ae got ${times(P('MFEC-ae'), P('SEC'))} times `
+        + 'SEC\'s (REPRODUCTION.md). Live, the first minutes cover the first few dozen episodes, where all three curves '
+        + 'still lie together: SEC acts from memory only once 5 sequences are stored. DQN and ERLAM, the paper\'s deep '
+        + 'baselines, train with burn and run only natively, so the chart has their reference runs alone: the paper has '
+        + `DQN at ${times(P('DQN'), P('SEC'))} times SEC's reward, but our ${dqn.seeds} DQN runs (${dqn.episodes} episodes `
+        + `each) got ${listed(dqn.runs)} per episode (${fixed(dqn.meanReward)} on average, the paper's ${fixed(P('DQN'))}) `
+        + `against SEC's ${fixed(s.over[dqn.episodes])} over the same episodes (${tested(refs, 'exp1 double-t-maze', 'SEC > DQN (over DQN\'s episodes)')}); DQN learns fast and `
+        + `unstably. ERLAM's ${erlam.seeds} runs got ${listed(erlam.runs)} per episode, far below both; they began to `
+        + 'learn only near their end, about when their graphs filled. With propagation stopped at the goals (a '
+        + `one-seed test of why), ERLAM got ${fixed(stopped.meanReward)} per episode and ${fixed(stopped.late)} over its `
+        + `last ${stopped.episodes / 10} episodes (REPRODUCTION.md).`;
+    },
     arms: [
       { label: 'SEC', settings: { ...SEC }, reference: 'exp1:double-t-maze/SEC' },
       { label: 'NSEC', settings: { ...NSEC }, reference: 'exp1:double-t-maze/NSEC' },
@@ -79,14 +128,34 @@ export const COMPARE_PRESETS = {
         + (oursSaid([r(125, ours), r(1000, ours)]) ?? `Our reference runs: ${r(125, ours)} times at 125, ${r(1000, ours)} at 1000. `)
         + 'Live, the arms stay together: capacity matters only once a memory is full, hundreds of episodes in.';
     },
-    caption: 'The paper (figures 5 and 6): SEC beats NSEC at every memory size, and the gap grows as memory '
-      + 'shrinks (1.6 times with 1000 sequences, 2.4 times with 125); SEC with 125 sequences gets 1.2 times the '
-      + 'reward of NSEC with 1000. The reference runs (10 seeds x 2000 episodes per arm, the authors\' untrained '
-      + 'encoder) show SEC above NSEC at every size, 1.36 against 0.84 per episode with 125 sequences and 1.71 against '
-      + '1.05 with 1000, but by the same 1.63 times at every size, not falling with memory as the paper\'s, and with '
-      + '10 runs per arm none of these gaps is significant after correction; SEC with 125 gets 1.30 times NSEC with '
-      + '1000 (REPRODUCTION.md). The capacity matters only once the memory is full, which takes SEC about 380 '
-      + 'episodes for 125 sequences; live, the first minutes show the arms together.',
+    caption: (refs) => {
+      const sizes = [125, 250, 500, 1000];
+      const get = (model, m) => refs.get(`exp2:m${m}/${model}`);
+      const r = (m, f) => times(f(refs, `exp2:m${m}/SEC`), f(refs, `exp2:m${m}/NSEC`));
+      const ratios = sizes.map((m) => get('SEC', m).meanReward / get('NSEC', m).meanReward);
+      const falls = /^holds/.test(claim(refs, 'exp2', 'SEC/NSEC at equal memory falls as m grows (125 / 250 / 500 / 1000)')?.verdict);
+      const ps = sizes.map((m) => claim(refs, 'exp2', `SEC > NSEC at m=${m}`)?.p);
+      const [small, large] = [get('SEC', 125), get('SEC', 1000)];
+      const span = (f) => `${f.first} to ${f.last}`;
+      const fillSmall = fills(small);
+      const fillLarge = fills(large);
+      return 'The paper (figures 5 and 6): SEC beats NSEC at every memory size, and the gap grows as memory shrinks '
+        + `(${r(1000, paper)} times with 1000 sequences, ${r(125, paper)} times with 125); SEC with 125 sequences gets `
+        + `${times(paper(refs, 'exp2:m125/SEC'), paper(refs, 'exp2:m1000/NSEC'))} times the reward of NSEC with 1000. `
+        + `The reference runs (${small.seeds} seeds x ${small.episodes} episodes per arm, the authors' untrained encoder) `
+        + `show SEC above NSEC at every size, ${fixed(small.meanReward)} against ${fixed(get('NSEC', 125).meanReward)} `
+        + `per episode with 125 sequences and ${fixed(large.meanReward)} against ${fixed(get('NSEC', 1000).meanReward)} `
+        + `with 1000: ${ratios.map((x) => x.toFixed(2)).join(', ')} times from 125 to 1000 sequences, `
+        + (falls ? 'falling with memory as the paper\'s (the claim holds), but far less'
+          : 'not falling with memory as the paper\'s')
+        + `; with ${small.seeds} runs per arm ${ps.some((p) => p < 0.05) ? 'some' : 'none'} of these gaps `
+        + `${ps.some((p) => p < 0.05) ? 'are' : 'is'} significant after correction (p ${fixed(Math.min(...ps), 3)} to `
+        + `${fixed(Math.max(...ps), 3)}); SEC with 125 gets ${times(small.meanReward, get('NSEC', 1000).meanReward)} `
+        + `times NSEC with 1000 (${tested(refs, 'exp2', 'SEC m=125 > NSEC m=1000')}; REPRODUCTION.md). `
+        + 'The capacity matters only once the memory is full: SEC\'s filled '
+        + `after ${span(fillSmall)} episodes with 125 sequences and ${span(fillLarge)} with 1000 (in ${fillLarge.filled} `
+        + `of ${fillLarge.of} runs); live, the first minutes show the arms together.`;
+    },
     arms: [
       { label: 'SEC m=125', settings: { ...SEC, m: '125' }, reference: 'exp2:m125/SEC' },
       { label: 'NSEC m=125', settings: { ...NSEC, m: '125' }, reference: 'exp2:m125/NSEC' },
@@ -104,12 +173,23 @@ export const COMPARE_PRESETS = {
       return 'The paper: removing one term of the value costs no significant reward. ' + said
         + 'Live, the arms stay together: they can differ only once memory holds many sequences.';
     },
-    caption: 'The paper (figure 7): removing one term of the value (noGi, noRR, noDist) costs no significant reward. '
-      + 'The reference runs at the code preset (the protocol\'s 10 seeds x 2000 episodes per arm, the authors\' '
-      + 'untrained encoder) agree: the six variants got 1.58 to 1.73 per episode against the default\'s 1.65, none '
-      + 'significantly different, though 10 runs per arm could not detect a difference under about a quarter '
-      + '(REPRODUCTION.md). Live, they stay together: they differ only once the memory holds many sequences, '
-      + 'hundreds of episodes in.',
+    caption: (refs) => {
+      const get = (v) => refs.get(`exp3:value-function/SEC-${v}`);
+      const variants = ['noGi', 'noDist', 'noRR', 'soloGi', 'soloDist', 'soloRR'].map(get);
+      const base = get('default');
+      const rewards = variants.map((v) => v.meanReward);
+      const ps = ['noGi', 'noDist', 'noRR', 'soloGi', 'soloDist', 'soloRR']
+        .map((v) => claim(refs, 'exp3', `SEC-${v} = SEC-default`)?.p);
+      const some = ps.some((p) => p < 0.05);
+      return 'The paper (figure 7): removing one term of the value (noGi, noRR, noDist) costs no significant reward. '
+        + `The reference runs at the code preset (the protocol's ${base.seeds} seeds x ${base.episodes} episodes per arm, `
+        + `the authors' untrained encoder) ${some ? 'disagree in part' : 'agree'}: the six variants got `
+        + `${fixed(Math.min(...rewards))} to ${fixed(Math.max(...rewards))} per episode against the default's `
+        + `${fixed(base.meanReward)}, ${some ? 'some' : 'none'} significantly different (corrected p from `
+        + `${fixed(Math.min(...ps), 3)}), though ${base.seeds} runs per arm detect only a large difference `
+        + '(REPRODUCTION.md). Live, they stay together: they differ only once the memory holds many sequences, '
+        + 'hundreds of episodes in.';
+    },
     arms: ['default', 'noGi', 'noDist', 'noRR', 'soloGi', 'soloDist', 'soloRR']
       .map((v) => ({ label: `SEC ${v}`, settings: { ...SEC, value: v }, reference: `exp3:value-function/SEC-${v}` })),
   },
@@ -118,14 +198,21 @@ export const COMPARE_PRESETS = {
     summary: () => 'The paper: once the LTM is full, forgetting helps both models a little. Our reference runs point '
       + 'the same way once the memory fills, not significantly. Live, each arm is one run with its seed\'s '
       + 'no-forgetting arm until the memory fills, hundreds of episodes in.',
-    caption: 'The paper (figure 8): once the LTM is full, forgetting (FIFO, or the lowest reward first) helps '
-      + 'both models a little; the sequential bias matters more than forgetting. The reference runs at the code preset '
-      + '(m = 500, as the paper) are 10 x 2000 per arm, the arms without forgetting exp1\'s runs (REPRODUCTION.md). '
-      + 'Forgetting acts only on a full memory: in the reference runs SEC\'s filled after 711 to 1886 episodes, '
-      + 'NSEC\'s in 5 of 10 runs, and until then a run '
-      + 'with forgetting is the same run as its seed\'s without. From the episode the memory filled, forgetting got '
-      + '4 to 5 % more reward for SEC and 5 to 9 % for NSEC on the same seeds, the paper\'s direction; over whole '
-      + 'runs no difference is significant. Live, the arms are one for a long while.',
+    caption: (refs) => {
+      const get = (m) => refs.get(`exp4:forgetting/${m}`);
+      const [sec, nsec] = [fills(get('SEC-none')), fills(get('NSEC-none'))];
+      const gain = (m, f) => times(get(`${m}-${f}`).meanReward, get(`${m}-none`).meanReward);
+      return 'The paper (figure 8): once the LTM is full, forgetting (FIFO, or the lowest reward first) helps '
+        + 'both models a little; the sequential bias matters more than forgetting. The reference runs at the code '
+        + `preset (m = 500, as the paper) are ${get('SEC-none').seeds} x ${get('SEC-none').episodes} per arm, the arms `
+        + 'without forgetting exp1\'s runs (REPRODUCTION.md). Forgetting acts only on a full memory: in the reference '
+        + `runs SEC's filled in ${sec.filled} of ${sec.of} runs, after ${sec.first} to ${sec.last} episodes, NSEC's in `
+        + `${nsec.filled} of ${nsec.of}, and until then a run with forgetting is the same run as its seed's without. Over `
+        + `whole runs, SEC with FIFO got ${gain('SEC', 'fifo')} times SEC without forgetting, with the lowest reward `
+        + `first ${gain('SEC', 'rwd')}; NSEC with the lowest reward first ${gain('NSEC', 'rwd')} times NSEC without; `
+        + 'REPRODUCTION.md tests them, and compares them from the episode the memory filled. Live, the arms are one '
+        + 'for a long while.';
+    },
     arms: [
       { label: 'SEC none', settings: { ...SEC, forgetting: 'none' }, reference: 'exp4:forgetting/SEC-none' },
       { label: 'SEC fifo', settings: { ...SEC, forgetting: 'fifo' }, reference: 'exp4:forgetting/SEC-fifo' },
@@ -140,30 +227,30 @@ export const COMPARE_PRESETS = {
 export const PRESET_BASE = { task: 'double-t-maze' };
 
 /**
- * Exp1's other tasks: how the paper's table 1 reads there, and the significance tests of our
- * reference runs (results/experiments/exp1/report.md, results/orderings.md); the numbers
- * themselves come from the reference index.
+ * Exp1's other tasks: how the paper's table 1 reads there, in words; every number comes from the
+ * reference index (results/experiments/exp1/report.md has the tables).
  */
 const TABLE1 = {
   detour: {
     name: 'the detour',
     note: 'only SEC learned it',
-    found: 'SEC collected 1.90 times NSEC\'s reward (significant, p 0.002) and 2.26 times MFEC-ae\'s (not '
-      + 'significant, p 0.37); but NSEC and MFEC-ae collect reward here too, where the paper\'s got almost none',
+    remark: 'but NSEC and MFEC-ae collect reward here too, where the paper\'s got almost none',
   },
-  cylinder: {
-    name: 'the cylinder',
-    note: 'SEC ahead by a little',
-    found: 'SEC collected 2.24 times NSEC\'s reward (p 0.005) and 2.15 times MFEC-ae\'s (p 0.034), both '
-      + 'significant and wider gaps than the paper\'s 1.14 and 1.43',
-  },
-  'object-permanence': {
-    name: 'object permanence',
-    note: 'SEC ahead of both',
-    found: 'SEC is ahead of both, but by 1.24 times NSEC and 1.27 times MFEC-ae, neither significant with 10 runs '
-      + '(the paper: 1.90 and 1.38)',
-  },
+  cylinder: { name: 'the cylinder', note: 'SEC ahead by a little' },
+  'object-permanence': { name: 'object permanence', note: 'SEC ahead of both' },
 };
+
+/** What the reference runs found in a task of table 1: SEC over NSEC and MFEC-ae, tested. */
+function found(refs, task) {
+  const get = (m) => refs.get(`exp1:${task}/${m}`);
+  const [s, n, ae] = ['SEC', 'NSEC', 'MFEC-ae'].map(get);
+  const family = `exp1 ${task}`;
+  return `SEC collected ${times(s.meanReward, n.meanReward)} times NSEC's reward (${tested(refs, family, 'SEC > NSEC')}) and `
+    + `${times(s.meanReward, ae.meanReward)} times MFEC-ae's (${tested(refs, family, 'SEC > MFEC-ae')})`
+    + (TABLE1[task].remark ? `; ${TABLE1[task].remark}`
+      : `, where the paper's SEC collected ${times(paper(refs, `exp1:${task}/SEC`), paper(refs, `exp1:${task}/NSEC`))} `
+        + `and ${times(paper(refs, `exp1:${task}/SEC`), paper(refs, `exp1:${task}/MFEC-ae`))} times theirs`);
+}
 
 /**
  * Experiment 1 in `task`: the double T-maze's preset, or the same three arms in another task of the
@@ -187,9 +274,11 @@ export function exp1In(task) {
     },
     caption: (refs) => {
       const { paper: [sec, nsec, mfec], ours: o } = numbers(refs);
+      const first = refs.get(models[0]);
       return `The paper (table 1): in ${t.name} SEC collected ${sec} per episode over 5000 episodes, NSEC ${nsec} and `
-        + `MFEC-ae ${mfec} (${t.note}). The reference runs here (10 seeds x 1000 episodes, the authors' untrained `
-        + `encoder) got ${o.join(', ')} per episode: ${t.found}. SEC's policy entropy ends below NSEC's, as in the `
+        + `MFEC-ae ${mfec} (${t.note}). The reference runs here (${first.seeds} seeds x ${first.episodes} episodes, `
+        + 'the authors\' untrained '
+        + `encoder) got ${o.join(', ')} per episode: ${found(refs, task)}. SEC's policy entropy ends below NSEC's, as in the `
         + 'paper (REPRODUCTION.md). Live, the first minutes show the reactive walk: SEC acts from memory only once 5 '
         + 'sequences are stored.';
     },

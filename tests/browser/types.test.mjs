@@ -69,11 +69,10 @@ test("the page's list of tasks (www/tasks.js, used before the wasm loads) is the
 });
 
 test("every compare preset's summary is two or three sentences of at most 60 words, with details behind 'more'", async () => {
-  const { COMPARE_PRESETS, SUMMARY_WORDS, exp1In } = await import(`${root}www/presets.js`);
+  const { COMPARE_PRESETS, SUMMARY_WORDS, exp1In, referenceMap } = await import(`${root}www/presets.js`);
   const presets = [...Object.values(COMPARE_PRESETS), ...['detour', 'cylinder', 'object-permanence'].map(exp1In)];
   assert.equal(presets.length, 7);
-  const index = JSON.parse(readFileSync(`${root}assets/reference/index.json`, 'utf8'));
-  const refs = new Map(index.references.map((r) => [r.reference, r]));
+  const refs = referenceMap(JSON.parse(readFileSync(`${root}assets/reference/index.json`, 'utf8')));
   for (const preset of presets) {
     const p = { title: preset.title, summary: preset.summary(refs),
       caption: typeof preset.caption === 'function' ? preset.caption(refs) : preset.caption };
@@ -86,4 +85,25 @@ test("every compare preset's summary is two or three sentences of at most 60 wor
     assert.ok(p.caption.length > p.summary.length, `${p.title} has details`);
   }
 
+});
+
+test('no measured number is typed in the presets: their captions are templates over the reference index', async () => {
+  // Every string literal of www/presets.js (template expressions left out): a decimal or a
+  // percentage there would be a number copied from a report, which new runs would leave stale.
+  const source = readFileSync(`${root}www/presets.js`, 'utf8').replace(/^\s*(\/\/|\*|\/\*\*).*$/gm, '');
+  const literals = source.match(/'(?:[^'\\\n]|\\.)*'|`(?:[^`\\]|\\.)*`/g) ?? [];
+  const typed = literals.map((l) => l.replace(/\$\{[^}]*\}/g, '')).filter((l) => /\d\.\d|\d ?%/.test(l));
+  assert.deepEqual(typed, [], 'measured numbers typed in www/presets.js');
+  // And the captions do change with the index: scale every run's reward and the text follows.
+  const { COMPARE_PRESETS, referenceMap } = await import(`${root}www/presets.js`);
+  const index = JSON.parse(readFileSync(`${root}assets/reference/index.json`, 'utf8'));
+  const refs = referenceMap(index);
+  // Neighbouring entries (the arms of one preset) get different factors.
+  const factor = (i) => 1 + (i % 3) * 0.25;
+  const scaled = referenceMap({ ...index, references: index.references.map((r, i) => ({
+    ...r, meanReward: r.meanReward * factor(i), runs: r.runs.map((x) => x * factor(i)),
+  })) });
+  for (const [name, p] of Object.entries(COMPARE_PRESETS)) {
+    assert.notEqual(p.caption(scaled), p.caption(refs), `${name}'s caption reads the index`);
+  }
 });

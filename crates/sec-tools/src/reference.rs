@@ -2,11 +2,15 @@
 //! compare chart draws (per episode, the mean across seeds of each seed's 20-episode trailing mean,
 //! and its standard error), sampled so a file stays small. One JSON file per condition,
 //! `<to>/<experiment>/<group>/<model>.json`, and `<to>/index.json` listing them with their mean
-//! reward per episode and the paper's total (over 5000 episodes, where it gives one), which the
-//! page's captions quote; the page fetches the curves its presets name.
+//! reward per episode and the paper's total (over 5000 episodes, where it gives one), and the
+//! other numbers the page's captions quote (`facts`): the captions are templates over this file,
+//! so no measured number is typed in the page. The page fetches the curves its presets name.
 
+use crate::authors::{load_authors, LearnedBar};
 use crate::report::{load, ConditionRuns, WINDOW};
+use crate::stats::mean;
 use sec_playground::experiment::settings::to_settings;
+use sec_playground::experiment::AgentKind;
 use sec_playground::experiment::EpisodeMetrics;
 use serde_json::{json, Value};
 use std::fs;
@@ -71,8 +75,102 @@ fn condition_json(experiment: &str, c: &ConditionRuns) -> Value {
     })
 }
 
-/// Writes the reference files of every experiment under `out` into `to`; returns a summary.
+/// Rounds for the index: four decimals, what the captions show at most.
+fn dec4(x: f64) -> Value {
+    if x.is_finite() {
+        json!((x * 1e4).round() / 1e4)
+    } else {
+        Value::Null
+    }
+}
+
+/// Six significant digits: the captions divide these, so the curves' four would show.
+fn sig6(x: f64) -> Value {
+    json!(format!("{x:.6e}").parse::<f64>().expect("a number"))
+}
+
+/// The episodes at which a caption quotes the curve (the 20-episode trailing mean across runs).
+const CURVE_AT: [usize; 3] = [100, 200, 2000];
+/// The prefixes over which a caption compares runs of different lengths (DQN's 1000 episodes).
+const OVER: [usize; 2] = [1000, 2000];
+
+/// What the captions quote of a condition beyond its mean: each run's reward per episode (seed
+/// order), runs that learned (above the reactive walk's bar in its task), the authors' runs where
+/// their notebooks keep them, the episode each run's LTM filled (SEC's kinds), the curve at a few
+/// episodes and at the end, the last 10 % and the mean over a prefix.
+fn facts(c: &ConditionRuns, bar: Option<LearnedBar>, authors: Option<(&[f64], usize)>) -> Value {
+    let len = c.runs[0].len();
+    let per_run: Vec<f64> = c.totals().iter().map(|t| t / len as f64).collect();
+    let mut f = serde_json::Map::new();
+    f.insert("runs".into(), json!(per_run.iter().map(|&v| dec4(v)).collect::<Vec<_>>()));
+    if let Some(bar) = bar {
+        f.insert("learned".into(), json!(bar.count(&per_run)));
+        f.insert("learnedBar".into(), dec4(bar.per_episode));
+    }
+    if let Some((totals, episodes)) = authors {
+        f.insert("authorsRuns".into(), json!(totals.iter().map(|t| dec4(t / episodes as f64)).collect::<Vec<_>>()));
+    }
+    if c.condition.config.kind == AgentKind::Sec {
+        let m = c.condition.config.agent.memory.m;
+        let full: Vec<Option<usize>> = c.runs.iter().map(|r| r.iter().position(|e| e.ltm >= m)).collect();
+        f.insert("ltmFull".into(), json!(full));
+    }
+    let (curve, _) = c.curve(|m| m.reward);
+    let mut at = serde_json::Map::new();
+    for e in CURVE_AT.into_iter().filter(|&e| e < len) {
+        at.insert(e.to_string(), dec4(curve[e]));
+    }
+    at.insert("end".into(), dec4(curve[len - 1]));
+    f.insert("curveAt".into(), Value::Object(at));
+    f.insert("late".into(), dec4(mean(&c.span_means(0.9, 1.0, |m| m.reward))));
+    let mut over = serde_json::Map::new();
+    for n in OVER.into_iter().filter(|&n| n < len) {
+        over.insert(n.to_string(), dec4(mean(&c.totals_over(n)) / n as f64));
+    }
+    f.insert("over".into(), Value::Object(over));
+    Value::Object(f)
+}
+
+/// The tests of the paper's claims on our runs (the `code` tree of `orderings.csv`, which
+/// `sec-experiment orderings` writes): family, ordering, verdict, ratio and corrected p.
+fn claims(csv: &str) -> Result<Vec<Value>, String> {
+    let mut out = Vec::new();
+    for line in csv.lines().skip(1) {
+        // family,"ordering",paper,tree,verdict,ratio,p: the ordering is quoted; the verdict may
+        // hold commas, the fields around it do not.
+        let bad = || format!("orderings.csv: '{line}' is not family,\"ordering\",paper,tree,verdict,ratio,p");
+        let (family, rest) = line.split_once(",\"").ok_or_else(bad)?;
+        let (ordering, rest) = rest.split_once("\",").ok_or_else(bad)?;
+        let mut head = rest.splitn(3, ',');
+        let (_paper, tree, rest) = (head.next(), head.next().ok_or_else(bad)?, head.next().ok_or_else(bad)?);
+        let mut tail = rest.rsplitn(3, ',');
+        let (p, ratio, verdict) = (tail.next(), tail.next().ok_or_else(bad)?, tail.next().ok_or_else(bad)?);
+        if tree != "code" {
+            continue;
+        }
+        let number = |s: Option<&str>| s.and_then(|s| s.parse::<f64>().ok()).map_or(Value::Null, sig6);
+        out.push(json!({
+            "family": family,
+            "ordering": ordering,
+            "verdict": verdict,
+            "ratio": number(Some(ratio)),
+            "p": number(p),
+        }));
+    }
+    Ok(out)
+}
+
+/// Writes the reference files of every experiment under `out` into `to`; returns a summary. The
+/// authors' numbers come from `authors/` beside `out`, and the claims' tests from
+/// `orderings.csv` beside it, when they are there (`scripts/results.sh` writes it first).
 pub fn references(out: &Path, to: &Path) -> Result<String, String> {
+    let authors_dir = out.parent().map(|p| p.join("authors")).filter(|d| d.is_dir());
+    let authors = match &authors_dir {
+        Some(d) => load_authors(d)?,
+        None => Vec::new(),
+    };
+    // The learned bar of each task (it loads exp1's reactive runs).
+    let mut bars = std::collections::HashMap::new();
     let mut index = Vec::new();
     let mut entries: Vec<_> = fs::read_dir(out).map_err(|e| format!("{}: {e}", out.display()))?.flatten().collect();
     entries.sort_by_key(|e| e.file_name());
@@ -93,18 +191,38 @@ pub fn references(out: &Path, to: &Path) -> Result<String, String> {
             // and measured here (ours), never typed again in the page.
             let episodes: usize = c.runs.iter().map(Vec::len).sum();
             let reward: f64 = c.runs.iter().flatten().map(|m| m.reward).sum();
-            index.push(json!({
+            let task = &c.condition.config.task;
+            if !bars.contains_key(task) {
+                bars.insert(task.clone(), LearnedBar::of(out, task));
+            }
+            let bar = bars[task];
+            let theirs = authors
+                .iter()
+                .filter(|a| a.experiment == experiment)
+                .flat_map(|a| {
+                    a.runs.iter().filter(|r| r.condition == c.condition.name).map(|r| (r.totals.as_slice(), a.episodes))
+                })
+                .next();
+            let mut entry = json!({
                 "reference": format!("{experiment}:{}", c.condition.name),
                 "seeds": c.seeds.len(),
                 "episodes": c.runs[0].len(),
-                // Six significant digits: the captions divide these, so the curves' four would show.
-                "meanReward": format!("{:.6e}", reward / episodes as f64).parse::<f64>().expect("a number"),
+                "meanReward": sig6(reward / episodes as f64),
                 "paperTotal": c.condition.paper_total,
-            }));
+            });
+            if let (Value::Object(e), Value::Object(f)) = (&mut entry, facts(c, bar, theirs)) {
+                e.extend(f);
+            }
+            index.push(entry);
         }
     }
     let summary = format!("{} reference curves", index.len());
-    let text = serde_json::to_string_pretty(&json!({ "window": WINDOW, "references": index })).expect("serialise");
+    let orderings = match out.parent().map(|p| p.join("orderings.csv")).filter(|p| p.is_file()) {
+        Some(path) => claims(&fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?)?,
+        None => Vec::new(),
+    };
+    let index = json!({ "window": WINDOW, "references": index, "orderings": orderings });
+    let text = serde_json::to_string_pretty(&index).expect("serialise");
     fs::write(to.join("index.json"), text + "\n").map_err(|e| format!("{}: {e}", to.display()))?;
     Ok(summary)
 }
