@@ -22,6 +22,8 @@ use sec_playground::session::Session;
 use std::io::Cursor;
 use std::sync::Mutex;
 
+mod grid;
+
 const SIDE: usize = 84;
 /// Env steps an action may be held for.
 const MAX_FRAME_SKIP: u32 = 100;
@@ -572,7 +574,12 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyRun>()?;
     m.add_class::<PyEncoder>()?;
     m.add_function(wrap_pyfunction!(fingerprint, m)?)?;
+    m.add_function(wrap_pyfunction!(grid::grid_conditions, m)?)?;
+    m.add_function(wrap_pyfunction!(grid::grid_seeds, m)?)?;
+    m.add_function(wrap_pyfunction!(grid::grid_prepare, m)?)?;
+    m.add_function(wrap_pyfunction!(grid::grid_run, m)?)?;
     m.add("TASKS", TASK_NAMES.to_vec())?;
+    m.add("EXPERIMENTS", sec_playground::experiment::presets::EXPERIMENTS.iter().map(|(n, _)| *n).collect::<Vec<_>>())?;
     m.add("MAX_SEED", MAX_SEED)?;
     m.add("MAX_TEXT_FILE_BYTES", sec_playground::util::MAX_TEXT_FILE_BYTES)?;
     m.add("TASKS_JSON", serde_json::to_string(&sec_playground::arena::TASKS).expect("the task table serialises"))?;

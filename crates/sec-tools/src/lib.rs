@@ -30,7 +30,8 @@ pub fn upscale(rgba: &[u8], width: usize, height: usize, k: usize) -> Vec<u8> {
 }
 
 pub mod authors;
-pub mod manifest;
+// The runner lives in its own light crate (the Python package's Ray driver uses it too).
+pub use sec_runner::{manifest, runner};
 pub mod matching;
 pub mod merge;
 pub mod orderings;
@@ -38,6 +39,5 @@ pub mod plot;
 pub mod quote;
 pub mod reference;
 pub mod report;
-pub mod runner;
 pub mod stats;
 pub mod warmup;

@@ -29,7 +29,7 @@ use sec_playground::experiment::presets::{self, Condition, EXPERIMENTS};
 use sec_playground::experiment::trace::trace;
 use sec_playground::experiment::{AgentKind, Run, RunConfig};
 use sec_playground::seed::MAX_SEED;
-use sec_tools::runner::{self, Manifest, ManifestCondition};
+use sec_tools::runner;
 use std::collections::HashMap;
 use std::io::{BufReader, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -306,7 +306,7 @@ fn run(args: &[String]) -> Result<(), String> {
         &["seeds", "episodes", "jobs", "shard", "out", "config", "name", "only", "checkpoint-every", "reuse"],
     )?;
     let seeds = runner::parse_seeds(o.get("seeds").copied().unwrap_or("1..20"))?;
-    let episodes = number("episodes", o.get("episodes").copied().unwrap_or("5000"), 1usize, 1_000_000)?;
+    let episodes = number("episodes", o.get("episodes").copied().unwrap_or("5000"), 1usize, runner::MAX_EPISODES)?;
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let jobs = match o.get("jobs") {
         Some(v) => number("jobs", v, 1usize, 4096)?,
@@ -317,7 +317,9 @@ fn run(args: &[String]) -> Result<(), String> {
         Some(s) => runner::parse_shard(s)?,
         None => runner::slurm_shard(|k| std::env::var(k).ok())?.unwrap_or((1, 1)),
     };
-    let every = number("checkpoint-every", o.get("checkpoint-every").copied().unwrap_or("50"), 0usize, 1_000_000)?;
+    let every = runner::CHECKPOINT_EVERY.to_string();
+    let every =
+        number("checkpoint-every", o.get("checkpoint-every").copied().unwrap_or(&every), 0usize, runner::MAX_EPISODES)?;
     let reuse = match o.get("reuse").copied().unwrap_or("yes") {
         "yes" => true,
         "no" => false,
@@ -335,34 +337,10 @@ fn run(args: &[String]) -> Result<(), String> {
         }
         _ => return Err(format!("run takes one EXPERIMENT or --config\n{USAGE}")),
     };
-    let conditions = match o.get("only") {
-        // Keep the conditions named by one of the comma-separated items: a whole name
-        // (`double-t-maze/ERLAM`, not `double-t-maze/ERLAM-raw` too) or a group ending in `/`.
-        Some(only) => {
-            let named = |name: &str, item: &str| name == item || (item.ends_with('/') && name.starts_with(item));
-            let keep: Vec<Condition> =
-                conditions.into_iter().filter(|c| only.split(',').any(|p| named(&c.name, p.trim()))).collect();
-            if keep.is_empty() {
-                return Err(format!(
-                    "--only: '{only}' matches no condition of {experiment} (see `sec-experiment list`)"
-                ));
-            }
-            keep
-        }
-        None => conditions,
-    };
+    let conditions = runner::select(&experiment, conditions, o.get("only").copied())?;
     let dir = out.join(&experiment);
-    let manifest = Manifest {
-        experiment: experiment.clone(),
-        episodes,
-        seeds: seeds.clone(),
-        conditions: conditions
-            .iter()
-            .map(|c| ManifestCondition { name: c.name.clone(), paper_total: c.paper_total, config: c.config.clone() })
-            .collect(),
-    };
-    runner::prepare(&dir, &manifest)?;
-    let jobs_list = runner::jobs(&conditions, &seeds, shard);
+    runner::prepare(&dir, &runner::manifest(&experiment, episodes, &seeds, &conditions))?;
+    let jobs_list = runner::jobs(&conditions, &seeds, shard, Some(sec_dqn::factory));
     eprintln!(
         "{experiment}: {} conditions x {} seeds, shard {}/{}: {} runs of {episodes} episodes on {jobs} threads into {}",
         conditions.len(),

@@ -1,4 +1,4 @@
-//! Records the git commit the tools are built from, for each run's manifest (`unknown` outside a
+//! Records the git commit the runner is built from, for each run's manifest (`unknown` outside a
 //! git checkout or without git).
 fn main() {
     let commit = std::process::Command::new("git")

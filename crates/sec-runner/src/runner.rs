@@ -14,7 +14,7 @@ use flate2::read::GzDecoder;
 use flate2::write::GzEncoder;
 use indicatif::{ProgressBar, ProgressStyle};
 use sec_playground::experiment::presets::Condition;
-use sec_playground::experiment::{Run, RunConfig};
+use sec_playground::experiment::{AgentFactory, Run, RunConfig};
 use sec_playground::seed::MAX_SEED;
 use std::fs;
 use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
@@ -22,12 +22,19 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
+/// The most episodes a run may ask for.
+pub const MAX_EPISODES: usize = 1_000_000;
+/// The default number of episodes between a run's checkpoints.
+pub const CHECKPOINT_EVERY: usize = 50;
+
 /// One run to make.
 #[derive(Clone, Debug)]
 pub struct Job {
     pub condition: String,
     pub config: RunConfig,
     pub seed: u64,
+    /// The agents a native crate builds (`sec_dqn::factory`), or `None`.
+    pub agents: Option<AgentFactory>,
 }
 
 /// What an experiment directory holds besides the runs: written by `run`, read by `report`.
@@ -194,11 +201,43 @@ pub fn prepare(out: &Path, manifest: &Manifest) -> Result<(), String> {
 /// The jobs of `conditions` x `seeds`, seed by seed (every condition's seed 1, then seed 2, ...)
 /// so that an interrupted grid has runs of every condition to compare, keeping shard `shard` of
 /// `of`.
-pub fn jobs(conditions: &[Condition], seeds: &[u64], (shard, of): (usize, usize)) -> Vec<Job> {
+pub fn jobs(
+    conditions: &[Condition],
+    seeds: &[u64],
+    (shard, of): (usize, usize),
+    agents: Option<AgentFactory>,
+) -> Vec<Job> {
     let all = seeds.iter().flat_map(|&seed| {
-        conditions.iter().map(move |c| Job { condition: c.name.clone(), config: c.config.clone(), seed })
+        conditions.iter().map(move |c| Job { condition: c.name.clone(), config: c.config.clone(), seed, agents })
     });
     all.enumerate().filter(|(i, _)| i % of == shard - 1).map(|(_, j)| j).collect()
+}
+
+/// The conditions named by one of `only`'s comma-separated items: a whole name
+/// (`double-t-maze/ERLAM`, not `double-t-maze/ERLAM-raw` too) or a group ending in `/`; all of
+/// them without `only`. An item that matches nothing is refused, naming the experiment.
+pub fn select(experiment: &str, conditions: Vec<Condition>, only: Option<&str>) -> Result<Vec<Condition>, String> {
+    let Some(only) = only else { return Ok(conditions) };
+    let named = |name: &str, item: &str| name == item || (item.ends_with('/') && name.starts_with(item));
+    let keep: Vec<Condition> =
+        conditions.into_iter().filter(|c| only.split(',').any(|p| named(&c.name, p.trim()))).collect();
+    if keep.is_empty() {
+        return Err(format!("--only: '{only}' matches no condition of {experiment} (see `sec-experiment list`)"));
+    }
+    Ok(keep)
+}
+
+/// The experiment folder's manifest (`experiment.json`) for these runs.
+pub fn manifest(experiment: &str, episodes: usize, seeds: &[u64], conditions: &[Condition]) -> Manifest {
+    Manifest {
+        experiment: experiment.to_string(),
+        episodes,
+        seeds: seeds.to_vec(),
+        conditions: conditions
+            .iter()
+            .map(|c| ManifestCondition { name: c.name.clone(), paper_total: c.paper_total, config: c.config.clone() })
+            .collect(),
+    }
 }
 
 /// Where an interrupted run's checkpoint lies, beside its `.part` file.
@@ -219,7 +258,7 @@ fn start(job: &Job, part: &Path, ckpt: &Path) -> Result<(Run, usize, u64), Strin
             |n: usize| -> Vec<&str> { text.split_inclusive('\n').take(n).take_while(|l| l.ends_with('\n')).collect() };
         match claimed {
             Ok(played) if head(played).len() == played => {
-                match Run::resume(job.config.clone(), job.seed, Some(sec_dqn::factory), &mut bytes.as_slice()) {
+                match Run::resume(job.config.clone(), job.seed, job.agents, &mut bytes.as_slice()) {
                     Ok(run) => {
                         eprintln!("{}: resumed after episode {played}", ckpt.display());
                         return Ok((run, played, head(played).iter().map(|l| l.len() as u64).sum()));
@@ -236,8 +275,8 @@ fn start(job: &Job, part: &Path, ckpt: &Path) -> Result<(Run, usize, u64), Strin
             Err(e) => eprintln!("{}: not resumed ({e}); the run starts again", ckpt.display()),
         }
     }
-    let run = Run::with_agents(job.config.clone(), job.seed, Some(sec_dqn::factory))
-        .map_err(|e| format!("{}: {e}", job.condition))?;
+    let run =
+        Run::with_agents(job.config.clone(), job.seed, job.agents).map_err(|e| format!("{}: {e}", job.condition))?;
     Ok((run, 0, 0))
 }
 
@@ -301,6 +340,20 @@ fn run_job(job: &Job, out: &Path, episodes: usize, every: usize, bar: &ProgressB
     write_gzip(&path, &text)?;
     crate::manifest::write(&path, &clock.finish(&job.config, job.seed, episodes))?;
     remove_leftovers(&path, &checkpoint_path(out, &job.condition, job.seed))
+}
+
+/// Makes one run of an experiment folder `out` (as `run_all` does, without its progress bar):
+/// nothing when its log already has `episodes`, else it plays (from its checkpoint when an
+/// interrupted run left one). Returns whether it played. A Ray task or a Slurm job calls this.
+pub fn run_one(job: &Job, out: &Path, episodes: usize, every: usize) -> Result<bool, String> {
+    if !(1..=MAX_EPISODES).contains(&episodes) {
+        return Err(format!("episodes: {episodes} is out of range 1..={MAX_EPISODES}"));
+    }
+    if finished_episodes(&run_path(out, &job.condition, job.seed)) >= episodes {
+        return Ok(false);
+    }
+    run_job(job, out, episodes, every, &ProgressBar::hidden())?;
+    Ok(true)
 }
 
 /// The first episode (1-based) at which `shorter` is not the head of `longer`, line for line, or
@@ -562,7 +615,7 @@ mod tests {
             dqn,
             ..RunConfig::default()
         };
-        let job = Job { condition: "c/dqn".into(), config, seed: 2 };
+        let job = Job { condition: "c/dqn".into(), config, seed: 2, agents: Some(sec_dqn::factory) };
         let bar = ProgressBar::hidden();
         let whole = dir("whole");
         run_job(&job, &whole, 6, 0, &bar).unwrap();
@@ -639,12 +692,13 @@ mod tests {
             fs::write(d.join("config.json"), serde_json::to_string(c).unwrap()).unwrap();
         };
         let bar = ProgressBar::hidden();
-        let first = Job { condition: "g/a".into(), config: config.clone(), seed: 3 };
+        let first = Job { condition: "g/a".into(), config: config.clone(), seed: 3, agents: None };
         write_config(&root.join("e1/g/a"), &config);
         run_job(&first, &root.join("e1"), 4, 0, &bar).unwrap();
 
         let same = Job { condition: "h/b".into(), ..first.clone() };
-        let other = Job { condition: "h/c".into(), config: RunConfig { t: Some(41), ..config.clone() }, seed: 3 };
+        let other =
+            Job { condition: "h/c".into(), config: RunConfig { t: Some(41), ..config.clone() }, seed: 3, agents: None };
         let longer = Job { condition: "h/d".into(), ..first.clone() };
         let (e2, e3) = (root.join("e2"), root.join("e3"));
         for (d, c) in [(e2.join("h/b"), &config), (e2.join("h/c"), &other.config), (e3.join("h/b"), &config)] {
@@ -679,7 +733,7 @@ mod tests {
     fn a_longer_run_replaces_a_shorter_log_only_when_it_is_its_head() {
         let out = dir("longer");
         let config = RunConfig { task: "object-permanence".into(), t: Some(40), ..RunConfig::default() };
-        let job = Job { condition: "c/dqn".into(), config, seed: 5 };
+        let job = Job { condition: "c/dqn".into(), config, seed: 5, agents: Some(sec_dqn::factory) };
         let bar = ProgressBar::hidden();
         run_job(&job, &out, 3, 0, &bar).unwrap();
         let short = read_run_text(&run_path(&out, "c/dqn", 5)).unwrap();
@@ -715,7 +769,7 @@ mod tests {
             let d = root.join(exp).join("g/a");
             fs::create_dir_all(&d).unwrap();
             fs::write(d.join("config.json"), serde_json::to_string(&config).unwrap()).unwrap();
-            let job = Job { condition: "g/a".into(), config: config.clone(), seed: 2 };
+            let job = Job { condition: "g/a".into(), config: config.clone(), seed: 2, agents: None };
             run_job(&job, &root.join(exp), n, 0, &bar).unwrap();
         }
         let v = verify(&root).unwrap();

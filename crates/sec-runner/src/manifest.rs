@@ -17,7 +17,7 @@ pub struct RunManifest {
     pub config: RunConfig,
     pub seed: u64,
     pub episodes: usize,
-    /// The sec-tools package version.
+    /// The runner's package version (sec-runner).
     pub version: String,
     /// The git commit the binary was built from (`unknown` outside a checkout).
     pub git_commit: String,
