@@ -24,11 +24,12 @@ if PATH="$clean_path" command -v cargo >/dev/null || PATH="$clean_path" command 
     echo "[python-test] a Rust toolchain is on the test PATH ($clean_path); the wheel test needs none" >&2
     exit 1
 fi
-# The submitit example drives the runner binary, where a build of it exists (the test command's
-# native tests build one; its test is skipped otherwise).
+# The submitit example and the Ray test drive the runner binary, where a build of it exists (the
+# test command's native tests build the debug one from this checkout, so it comes first; the tests
+# that need it are skipped without one).
 targets="${CARGO_TARGET_DIR:-$PWD/target}"
 bin=""
-for b in "$targets/release/sec-experiment" "$targets/debug/sec-experiment"; do
+for b in "$targets/debug/sec-experiment" "$targets/release/sec-experiment"; do
     if [ -x "$b" ]; then bin=$(cd "$(dirname "$b")" && pwd)/sec-experiment; break; fi
 done
 cd crates/sec-py # the tests import the installed wheel, not python/ in the source tree

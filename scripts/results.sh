@@ -13,12 +13,15 @@ OUT="${OUT:-results/experiments}"
 # BIN=/a/pinned/sec-experiment: the binary the grid runs with, without a rebuild.
 if [ -z "${BIN:-}" ]; then cargo build --release -p sec-tools --bin sec-experiment; fi
 bin="${BIN:-./target/release/sec-experiment}"
+# PARTIAL=1: report on folders whose planned runs are not all finished (the reports refuse them
+# otherwise, naming what is missing).
+partial=${PARTIAL:+--partial}
 "$bin" verify --out "$OUT"
 for exp in "$OUT"/*/; do
     exp=$(basename "$exp")
-    [ -f "$OUT/$exp/experiment.json" ] && "$bin" report "$exp" --out "$OUT" --quote REPRODUCTION.md > /dev/null
+    [ -f "$OUT/$exp/experiment.json" ] && "$bin" report "$exp" --out "$OUT" --quote REPRODUCTION.md $partial > /dev/null
 done
-"$bin" orderings --out "$OUT" --quote REPRODUCTION.md > /dev/null
+"$bin" orderings --out "$OUT" --quote REPRODUCTION.md $partial > /dev/null
 "$bin" matching --out "$OUT" --quote REPRODUCTION.md > /dev/null
 "$bin" versus-authors --out "$OUT" --quote REPRODUCTION.md > /dev/null
-"$bin" reference --out "$OUT"
+"$bin" reference --out "$OUT" $partial

@@ -78,6 +78,8 @@ def test_the_smoke_preset_on_ray_writes_the_clis_files(tmp_path, local_ray):
                     "--out", str(tmp_path / "cli")], check=True, capture_output=True)
     ours, theirs = files(tmp_path / "ray"), files(tmp_path / "cli")
     assert len([k for k in ours if k.endswith(".jsonl.gz")]) == 6
+    built = lambda fs: {m["gitCommit"] for k, m in fs.items() if k.endswith(".manifest.json")}
+    assert built(ours) == built(theirs), f"the CLI ({binary}) and the wheel are builds of other commits: rebuild"
     assert ours == theirs
     # A second call finds every run finished and plays nothing.
     again = grid.run("smoke", out=tmp_path / "ray", seeds="1..2", episodes=3, progress=False)

@@ -53,6 +53,27 @@ pub struct ManifestCondition {
     pub name: String,
     pub paper_total: Option<f64>,
     pub config: RunConfig,
+    /// The runs asked of it, over every `run` into the folder (absent in folders written before
+    /// plans were recorded: those are checked for consistency only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plan: Option<Plan>,
+}
+
+/// What was asked of one condition: its seeds, and the episodes each run must reach.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Plan {
+    pub seeds: Vec<u64>,
+    pub episodes: usize,
+}
+
+impl Plan {
+    /// Both plans' seeds, and the longer of their runs.
+    fn union(&self, other: &Plan) -> Plan {
+        let mut seeds = self.seeds.clone();
+        seeds.extend(other.seeds.iter().filter(|s| !self.seeds.contains(s)));
+        seeds.sort_unstable();
+        Plan { seeds, episodes: self.episodes.max(other.episodes) }
+    }
 }
 
 /// The shard a Slurm array task runs: task `SLURM_ARRAY_TASK_ID` of `SLURM_ARRAY_TASK_COUNT`
@@ -185,7 +206,14 @@ pub fn prepare(out: &Path, manifest: &Manifest) -> Result<(), String> {
         let mut conditions = old.conditions;
         for c in &manifest.conditions {
             match conditions.iter_mut().find(|o| o.name == c.name) {
-                Some(o) => *o = c.clone(),
+                Some(o) => {
+                    // The runs asked before stay asked.
+                    let plan = match (&o.plan, &c.plan) {
+                        (Some(a), Some(b)) => Some(a.union(b)),
+                        (a, b) => b.clone().or_else(|| a.clone()),
+                    };
+                    *o = ManifestCondition { plan, ..c.clone() };
+                }
                 None => conditions.push(c.clone()),
             }
         }
@@ -235,9 +263,50 @@ pub fn manifest(experiment: &str, episodes: usize, seeds: &[u64], conditions: &[
         seeds: seeds.to_vec(),
         conditions: conditions
             .iter()
-            .map(|c| ManifestCondition { name: c.name.clone(), paper_total: c.paper_total, config: c.config.clone() })
+            .map(|c| ManifestCondition {
+                name: c.name.clone(),
+                paper_total: c.paper_total,
+                config: c.config.clone(),
+                plan: Some(Plan { seeds: seeds.to_vec(), episodes }),
+            })
             .collect(),
     }
+}
+
+/// What keeps the experiment folder `dir` from being complete and consistent, one line each: a
+/// condition's planned run missing or short of its episodes, a run whose manifest names another
+/// configuration or seed, a condition whose `config.json` is another configuration. Empty when
+/// the folder is whole. The reports refuse a folder with gaps unless told `--partial`.
+pub fn gaps(dir: &Path) -> Result<Vec<String>, String> {
+    let path = dir.join("experiment.json");
+    let text = fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let manifest: Manifest = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut out = Vec::new();
+    for c in &manifest.conditions {
+        let config = dir.join(&c.name).join("config.json");
+        if let Ok(text) = fs::read_to_string(&config) {
+            if serde_json::from_str::<RunConfig>(&text).ok().as_ref() != Some(&c.config) {
+                out.push(format!("{}: config.json is another configuration than experiment.json's", c.name));
+            }
+        }
+        let hash = crate::manifest::config_hash(&c.config);
+        for (seed, log) in finished_runs(&dir.join(&c.name)) {
+            if let Some(m) = crate::manifest::read(&log)? {
+                if m.config_hash != hash || m.seed != seed {
+                    out.push(format!("{} seed {seed}: its manifest names another configuration or seed", c.name));
+                }
+            }
+        }
+        if let Some(plan) = &c.plan {
+            for &seed in &plan.seeds {
+                let have = finished_episodes(&run_path(dir, &c.name, seed));
+                if have < plan.episodes {
+                    out.push(format!("{} seed {seed}: {have} of {} episodes", c.name, plan.episodes));
+                }
+            }
+        }
+    }
+    Ok(out)
 }
 
 /// Where an interrupted run's checkpoint lies, beside its `.part` file.
@@ -793,6 +862,7 @@ mod tests {
                 name: format!("g/c{i}"),
                 paper_total: None,
                 config: RunConfig { t: Some(100 + i), ..RunConfig::default() },
+                plan: None,
             })
             .collect();
         let manifest = Manifest { experiment: "x".into(), episodes: 3, seeds: vec![1, 2], conditions };

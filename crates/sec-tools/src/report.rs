@@ -406,7 +406,7 @@ mod tests {
         config.agent.memory.m = 2;
         config.agent.memory.forgetting = forgetting;
         ConditionRuns {
-            condition: ManifestCondition { name: name.into(), paper_total: None, config },
+            condition: ManifestCondition { name: name.into(), paper_total: None, config, plan: None },
             seeds: vec![1, 2],
             runs,
         }

@@ -343,3 +343,54 @@ fn the_cli_lists_the_core_agent_table() {
     }
     assert!(!cli(&["agents", "x"]).0, "agents takes no argument");
 }
+
+#[test]
+fn reports_refuse_an_incomplete_or_inconsistent_folder_unless_partial() {
+    let dir = temp("partial");
+    let out = dir.to_str().unwrap();
+    let (ok, _, err) = cli(&["run", "smoke", "--seeds", "2", "--episodes", "2", "--jobs", "2", "--out", out]);
+    assert!(ok, "{err}");
+    let (ok, _, err) = cli(&["report", "smoke", "--out", out]);
+    assert!(ok, "a whole folder reports: {err}");
+    // A third seed asked and not made: the plan in experiment.json now names it.
+    let (ok, _, err) = cli(&[
+        "run",
+        "smoke",
+        "--seeds",
+        "3..3",
+        "--episodes",
+        "2",
+        "--only",
+        "object-permanence/SEC",
+        "--out",
+        out,
+        "--shard",
+        "2/2",
+    ]);
+    assert!(ok && err.contains("0 runs made"), "{err}");
+    for args in [
+        vec!["report", "smoke", "--out", out],
+        vec!["orderings", "--out", out, "--to", out],
+        vec!["reference", "--out", out, "--to", out],
+    ] {
+        let (ok, _, err) = cli(&args);
+        assert!(
+            !ok && err.contains("object-permanence/SEC seed 3: 0 of 2 episodes") && err.contains("--partial"),
+            "{args:?}: {err}"
+        );
+    }
+    let (ok, md, err) = cli(&["report", "smoke", "--out", out, "--partial"]);
+    assert!(ok && md.contains("| SEC | 2 |") && err.contains("1 gap(s)"), "{err}");
+    // A run whose manifest names another configuration is a gap too.
+    let (ok, _, _) =
+        cli(&["run", "smoke", "--seeds", "3..3", "--episodes", "2", "--only", "object-permanence/SEC", "--out", out]);
+    assert!(ok);
+    assert!(cli(&["report", "smoke", "--out", out]).0, "whole again");
+    let mf = dir.join("smoke/object-permanence/SEC/seed-3.manifest.json");
+    let text = std::fs::read_to_string(&mf).unwrap();
+    let hash = text.split("\"configHash\": \"").nth(1).unwrap()[..16].to_string();
+    std::fs::write(&mf, text.replace(&hash, "0000000000000000")).unwrap();
+    let (ok, _, err) = cli(&["report", "smoke", "--out", out]);
+    assert!(!ok && err.contains("seed 3: its manifest names another configuration"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -39,10 +39,10 @@ const USAGE: &str = "usage:
   sec-experiment run EXPERIMENT [--seeds N|A..B|A,B,C] [--episodes N] [--jobs N] [--shard i/N] [--out DIR]
                      [--only GROUP/MODEL,GROUP/,...] [--checkpoint-every N] [--reuse yes|no]
   sec-experiment run --config FILE.json --name GROUP/MODEL [the same options]
-  sec-experiment report EXPERIMENT [--out DIR] [--to DIR] [--quote PAGE.md]
-  sec-experiment orderings [--out DIR] [--trained DIR] [--authors DIR] [--to DIR] [--quote PAGE.md]
+  sec-experiment report EXPERIMENT [--out DIR] [--to DIR] [--quote PAGE.md] [--partial]
+  sec-experiment orderings [--out DIR] [--trained DIR] [--authors DIR] [--to DIR] [--quote PAGE.md] [--partial]
   sec-experiment matching [--out DIR] [--frames N] [--seeds N|A..B|A,B,C] [--quote PAGE.md]
-  sec-experiment reference [--out DIR] [--to DIR]   (the page's reference curves)
+  sec-experiment reference [--out DIR] [--to DIR] [--partial]   (the page's reference curves)
   sec-experiment versus-authors [--out DIR] [--authors DIR] [--to DIR] [--quote PAGE.md]
                                 (our runs against the authors' per-run results, results/authors/)
   sec-experiment verify [--out DIR]   (every shorter run is the head of the longer runs of its
@@ -78,6 +78,48 @@ fn main() -> ExitCode {
 }
 
 /// `--key value` options after the positional arguments; every key must be one of `allowed`.
+/// Options that take no value.
+const SWITCHES: [&str; 1] = ["partial"];
+
+/// Refuses (unless `partial`) to report on experiment folders with gaps (`runner::gaps`: planned
+/// runs missing or short, runs of another configuration); with `partial` it says what is missing
+/// and goes on.
+fn check_whole(dirs: &[PathBuf], partial: bool) -> Result<(), String> {
+    let mut gaps = Vec::new();
+    for dir in dirs {
+        let name = dir.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        gaps.extend(runner::gaps(dir)?.into_iter().map(|g| format!("{name}/{g}")));
+    }
+    if gaps.is_empty() {
+        return Ok(());
+    }
+    let shown: Vec<&str> = gaps.iter().take(5).map(String::as_str).collect();
+    let more =
+        if gaps.len() > shown.len() { format!("; and {} more", gaps.len() - shown.len()) } else { String::new() };
+    if partial {
+        eprintln!("partial: {} gap(s): {}{more}", gaps.len(), shown.join("; "));
+        return Ok(());
+    }
+    Err(format!(
+        "the runs are incomplete or inconsistent ({} gap(s): {}{more}); finish them, or pass --partial to report on what is there",
+        gaps.len(),
+        shown.join("; ")
+    ))
+}
+
+/// The experiment folders under `out` (those with an `experiment.json`).
+fn experiment_dirs(out: &Path) -> Vec<PathBuf> {
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(out)
+        .into_iter()
+        .flatten()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.join("experiment.json").is_file())
+        .collect();
+    dirs.sort();
+    dirs
+}
+
 fn options<'a>(args: &'a [String], allowed: &[&str]) -> Result<(Vec<&'a str>, HashMap<&'a str, &'a str>), String> {
     let (mut pos, mut opts) = (Vec::new(), HashMap::new());
     let mut i = 0;
@@ -86,6 +128,11 @@ fn options<'a>(args: &'a [String], allowed: &[&str]) -> Result<(Vec<&'a str>, Ha
         if let Some(key) = a.strip_prefix("--") {
             if !allowed.contains(&key) {
                 return Err(format!("unknown option --{key} (allowed: --{})", allowed.join(", --")));
+            }
+            if SWITCHES.contains(&key) {
+                opts.insert(key, "yes");
+                i += 1;
+                continue;
             }
             let v = args.get(i + 1).ok_or(format!("--{key} needs a value"))?;
             opts.insert(key, v.as_str());
@@ -155,11 +202,12 @@ fn dispatch(args: &[String]) -> Result<(), String> {
         "run" => run(rest),
         "report" => report(rest),
         "orderings" => {
-            let (pos, o) = options(rest, &["out", "trained", "authors", "to", "quote"])?;
+            let (pos, o) = options(rest, &["out", "trained", "authors", "to", "quote", "partial"])?;
             if !pos.is_empty() {
                 return Err(format!("orderings takes no positional argument\n{USAGE}"));
             }
             let dir = |k: &str, d: &str| PathBuf::from(o.get(k).copied().unwrap_or(d));
+            check_whole(&experiment_dirs(&dir("out", "results/experiments")), o.contains_key("partial"))?;
             let md = sec_tools::orderings::orderings(
                 &dir("out", "results/experiments"),
                 &dir("trained", "results/experiments-trained"),
@@ -201,11 +249,12 @@ fn dispatch(args: &[String]) -> Result<(), String> {
             Ok(())
         }
         "reference" => {
-            let (pos, o) = options(rest, &["out", "to"])?;
+            let (pos, o) = options(rest, &["out", "to", "partial"])?;
             if !pos.is_empty() {
                 return Err(format!("reference takes no positional argument\n{USAGE}"));
             }
             let dir = |k: &str, d: &str| PathBuf::from(o.get(k).copied().unwrap_or(d));
+            check_whole(&experiment_dirs(&dir("out", "results/experiments")), o.contains_key("partial"))?;
             println!(
                 "{}",
                 sec_tools::reference::references(&dir("out", "results/experiments"), &dir("to", "assets/reference"))?
@@ -361,9 +410,12 @@ fn run(args: &[String]) -> Result<(), String> {
 }
 
 fn report(args: &[String]) -> Result<(), String> {
-    let (pos, o) = options(args, &["out", "to", "quote"])?;
+    let (pos, o) = options(args, &["out", "to", "quote", "partial"])?;
     let [name] = pos.as_slice() else { return Err(format!("report takes one EXPERIMENT\n{USAGE}")) };
     let out = PathBuf::from(o.get("out").copied().unwrap_or("results/experiments"));
+    if out.join(name).join("experiment.json").is_file() {
+        check_whole(&[out.join(name)], o.contains_key("partial"))?;
+    }
     let to = o.get("to").map_or_else(|| out.join(name), PathBuf::from);
     let what = EXPERIMENTS.iter().find(|(n, _)| n == name).map_or("custom runs", |(_, w)| w);
     let report = sec_tools::report::report(&out.join(name), &to, what)?;
