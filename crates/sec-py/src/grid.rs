@@ -4,15 +4,11 @@
 //! plays. DQN and ERLAM train with burn, which the wheel leaves out: their runs are refused by
 //! name (run them with `sec-experiment`).
 
-use pyo3::exceptions::PyValueError;
+use super::{check_seed, value_error};
 use pyo3::prelude::*;
 use sec_playground::experiment::presets::{self, Condition};
 use sec_runner::runner::{self, Job};
 use std::path::PathBuf;
-
-fn value_error(e: impl std::fmt::Display) -> PyErr {
-    PyValueError::new_err(e.to_string())
-}
 
 /// The preset's conditions `only` names (all without it), refused by name when none is.
 fn conditions(experiment: &str, only: Option<&str>) -> PyResult<Vec<Condition>> {
@@ -40,9 +36,7 @@ pub fn grid_seeds(seeds: &str) -> PyResult<Vec<u64>> {
 #[pyo3(signature = (experiment, seeds, episodes, out, only=None))]
 pub fn grid_prepare(experiment: &str, seeds: &str, episodes: usize, out: PathBuf, only: Option<&str>) -> PyResult<()> {
     let seeds = runner::parse_seeds(seeds).map_err(value_error)?;
-    if !(1..=runner::MAX_EPISODES).contains(&episodes) {
-        return Err(value_error(format!("episodes: {episodes} is out of range 1..={}", runner::MAX_EPISODES)));
-    }
+    runner::check_episodes(episodes).map_err(value_error)?;
     let conditions = conditions(experiment, only)?;
     runner::prepare(&out.join(experiment), &runner::manifest(experiment, episodes, &seeds, &conditions))
         .map_err(value_error)
@@ -66,14 +60,14 @@ pub fn grid_run(
     if c.name != condition {
         return Err(value_error(format!("condition: '{condition}' is not one condition of {experiment}")));
     }
-    let seeds = runner::parse_seeds(&format!("{seed}..{seed}")).map_err(value_error)?;
+    let seed = check_seed(seed)?;
     if checkpoint_every > runner::MAX_EPISODES {
         return Err(value_error(format!(
             "checkpoint_every: {checkpoint_every} is out of range 0..={}",
             runner::MAX_EPISODES
         )));
     }
-    let job = Job { condition: c.name, config: c.config, seed: seeds[0], agents: None };
+    let job = Job { condition: c.name, config: c.config, seed, agents: None };
     let dir = out.join(experiment);
     py.detach(|| runner::run_one(&job, &dir, episodes, checkpoint_every)).map_err(value_error)
 }

@@ -27,6 +27,29 @@ pub const MAX_EPISODES: usize = 1_000_000;
 /// The default number of episodes between a run's checkpoints.
 pub const CHECKPOINT_EVERY: usize = 50;
 
+/// `episodes` when in 1..=MAX_EPISODES, else an error naming it.
+pub fn check_episodes(episodes: usize) -> Result<usize, String> {
+    if (1..=MAX_EPISODES).contains(&episodes) {
+        Ok(episodes)
+    } else {
+        Err(format!("episodes: {episodes} is out of range 1..={MAX_EPISODES}"))
+    }
+}
+
+/// The experiment folders under `root` (those with an `experiment.json`), by name; none when
+/// `root` cannot be read.
+pub fn experiment_dirs(root: &Path) -> Vec<PathBuf> {
+    let mut dirs: Vec<PathBuf> = fs::read_dir(root)
+        .into_iter()
+        .flatten()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.join("experiment.json").is_file())
+        .collect();
+    dirs.sort();
+    dirs
+}
+
 /// One run to make.
 #[derive(Clone, Debug)]
 pub struct Job {
@@ -415,9 +438,7 @@ fn run_job(job: &Job, out: &Path, episodes: usize, every: usize, bar: &ProgressB
 /// nothing when its log already has `episodes`, else it plays (from its checkpoint when an
 /// interrupted run left one). Returns whether it played. A Ray task or a Slurm job calls this.
 pub fn run_one(job: &Job, out: &Path, episodes: usize, every: usize) -> Result<bool, String> {
-    if !(1..=MAX_EPISODES).contains(&episodes) {
-        return Err(format!("episodes: {episodes} is out of range 1..={MAX_EPISODES}"));
-    }
+    check_episodes(episodes)?;
     if finished_episodes(&run_path(out, &job.condition, job.seed)) >= episodes {
         return Ok(false);
     }

@@ -6,7 +6,7 @@
 //! the merge the seeds the experiments list that are missing or short are reported.
 
 use crate::manifest::{self, config_hash};
-use crate::runner::{finished_runs, first_difference, prepare, read_run_text, run_path, Manifest};
+use crate::runner::{experiment_dirs, finished_runs, first_difference, prepare, read_run_text, run_path, Manifest};
 use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -25,14 +25,11 @@ pub struct Merged {
 
 fn experiments(root: &Path) -> Result<Vec<(String, Manifest)>, String> {
     let mut out = Vec::new();
-    let Ok(entries) = fs::read_dir(root) else { return Ok(out) };
-    let mut entries: Vec<_> = entries.flatten().collect();
-    entries.sort_by_key(|e| e.file_name());
-    for e in entries {
-        let path = e.path().join("experiment.json");
-        let Ok(text) = fs::read_to_string(&path) else { continue };
+    for dir in experiment_dirs(root) {
+        let path = dir.join("experiment.json");
+        let text = fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
         let m: Manifest = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-        out.push((e.file_name().to_string_lossy().into_owned(), m));
+        out.push((dir.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned()), m));
     }
     Ok(out)
 }

@@ -8,6 +8,7 @@
 
 use crate::authors::{load_authors, LearnedBar};
 use crate::report::{load, ConditionRuns, WINDOW};
+use crate::runner::experiment_dirs;
 use crate::stats::mean;
 use sec_playground::experiment::settings::to_settings;
 use sec_playground::experiment::AgentKind;
@@ -172,14 +173,9 @@ pub fn references(out: &Path, to: &Path) -> Result<String, String> {
     // The learned bar of each task (it loads exp1's reactive runs).
     let mut bars = std::collections::HashMap::new();
     let mut index = Vec::new();
-    let mut entries: Vec<_> = fs::read_dir(out).map_err(|e| format!("{}: {e}", out.display()))?.flatten().collect();
-    entries.sort_by_key(|e| e.file_name());
-    for entry in entries {
-        let dir = entry.path();
-        if !dir.join("experiment.json").exists() {
-            continue;
-        }
-        let experiment = entry.file_name().to_string_lossy().to_string();
+    fs::read_dir(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    for dir in experiment_dirs(out) {
+        let experiment = dir.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned());
         let (_, conditions) = load(&dir)?;
         for c in &conditions {
             let path = to.join(&experiment).join(format!("{}.json", c.condition.name));
@@ -192,10 +188,7 @@ pub fn references(out: &Path, to: &Path) -> Result<String, String> {
             let episodes: usize = c.runs.iter().map(Vec::len).sum();
             let reward: f64 = c.runs.iter().flatten().map(|m| m.reward).sum();
             let task = &c.condition.config.task;
-            if !bars.contains_key(task) {
-                bars.insert(task.clone(), LearnedBar::of(out, task));
-            }
-            let bar = bars[task];
+            let bar = *bars.entry(task.clone()).or_insert_with(|| LearnedBar::of(out, task));
             let theirs = authors
                 .iter()
                 .filter(|a| a.experiment == experiment)

@@ -107,19 +107,6 @@ fn check_whole(dirs: &[PathBuf], partial: bool) -> Result<(), String> {
     ))
 }
 
-/// The experiment folders under `out` (those with an `experiment.json`).
-fn experiment_dirs(out: &Path) -> Vec<PathBuf> {
-    let mut dirs: Vec<PathBuf> = std::fs::read_dir(out)
-        .into_iter()
-        .flatten()
-        .flatten()
-        .map(|e| e.path())
-        .filter(|p| p.join("experiment.json").is_file())
-        .collect();
-    dirs.sort();
-    dirs
-}
-
 fn options<'a>(args: &'a [String], allowed: &[&str]) -> Result<(Vec<&'a str>, HashMap<&'a str, &'a str>), String> {
     let (mut pos, mut opts) = (Vec::new(), HashMap::new());
     let mut i = 0;
@@ -207,7 +194,7 @@ fn dispatch(args: &[String]) -> Result<(), String> {
                 return Err(format!("orderings takes no positional argument\n{USAGE}"));
             }
             let dir = |k: &str, d: &str| PathBuf::from(o.get(k).copied().unwrap_or(d));
-            check_whole(&experiment_dirs(&dir("out", "results/experiments")), o.contains_key("partial"))?;
+            check_whole(&runner::experiment_dirs(&dir("out", "results/experiments")), o.contains_key("partial"))?;
             let md = sec_tools::orderings::orderings(
                 &dir("out", "results/experiments"),
                 &dir("trained", "results/experiments-trained"),
@@ -254,7 +241,7 @@ fn dispatch(args: &[String]) -> Result<(), String> {
                 return Err(format!("reference takes no positional argument\n{USAGE}"));
             }
             let dir = |k: &str, d: &str| PathBuf::from(o.get(k).copied().unwrap_or(d));
-            check_whole(&experiment_dirs(&dir("out", "results/experiments")), o.contains_key("partial"))?;
+            check_whole(&runner::experiment_dirs(&dir("out", "results/experiments")), o.contains_key("partial"))?;
             println!(
                 "{}",
                 sec_tools::reference::references(&dir("out", "results/experiments"), &dir("to", "assets/reference"))?
