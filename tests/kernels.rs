@@ -6,8 +6,8 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use sec_playground::encoder::kernels::{
-    conv3x3_relu, conv3x3_relu_sparse, conv3x3_up2_relu, conv3x3_up2_relu_planar, pad1, pad1_planar, Repeats, Sparse,
-    Up2,
+    conv3x3_relu, conv3x3_relu_sparse, conv3x3_up2_relu, conv3x3_up2_relu_planar, pad1, pad1_planar, Repeats, Reused,
+    Sparse, Up2,
 };
 
 /// Values in [-1, 1], `zeros` of them exactly zero, some of those -0.0.
@@ -135,10 +135,10 @@ fn with_runs(h: usize, w: usize, c: usize, zeros: f64, rng: &mut ChaCha8Rng) -> 
     x
 }
 
-/// Output pixels whose input window equals their left neighbour's copy its output: the same
-/// bits as computing every pixel, in every kernel that reuses windows (the dense first layer,
-/// the sparse middle layers and the folded decoder layers), on inputs whose rows are runs of
-/// equal pixels, with and without a zero border.
+/// Output pixels whose input window equals their left neighbour's, or else the one above's, copy
+/// its output: the same bits as computing every pixel, in every kernel that reuses windows (the
+/// dense first layer, the sparse middle layers and the folded decoder layers), on inputs whose
+/// rows are runs of equal pixels, most repeating the row above, with and without a zero border.
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn reusing_repeated_windows_gives_the_bits_of_computing_them() {
@@ -154,7 +154,10 @@ fn reusing_repeated_windows_gives_the_bits_of_computing_them() {
         conv3x3_relu::<3, 16>(&input, h, w, &weights, &bias, &mut plain, &mut a);
         conv3x3_relu::<3, 16>(&input, h, w, &weights, &bias, &mut reused, &mut b);
         assert_eq!(bits(&a), bits(&b), "first layer, {h}x{w}");
-        assert!((reused.reused() > (h - 2) * (w - 2) / 4) == (w <= 128) && plain.reused() == 0);
+        let (r, none) = (reused.reused(), plain.reused());
+        assert!((r.left > (h - 2) * (w - 2) / 4) == (w <= 128) && none == Reused::default());
+        // Rows repeating the row above: their windows not equal to the left one's come from above.
+        assert!((r.above > 0) == (w <= 128 && h > 5), "{h}x{w}: {r:?}");
         assert!(a.iter().any(|&v| v > 0.0));
     }
     for (h, w, zeros) in [(44, 44, 0.7), (23, 23, 0.3), (9, 31, 0.0)] {
@@ -165,13 +168,14 @@ fn reusing_repeated_windows_gives_the_bits_of_computing_them() {
         conv3x3_relu_sparse::<16, 32>(&input, h, w, &weights, &bias, &mut sparse_plain, &mut a);
         conv3x3_relu_sparse::<16, 32>(&input, h, w, &weights, &bias, &mut sparse, &mut b);
         assert_eq!(bits(&a), bits(&b), "sparse layer, {h}x{w}");
-        assert!(sparse.reused() > (h - 2) * (w - 2) / 4 && sparse_plain.reused() == 0);
+        let r = sparse.reused();
+        assert!(r.left > (h - 2) * (w - 2) / 4 && r.above > 0 && sparse_plain.reused() == Reused::default(), "{r:?}");
         let fold = Up2::fold(&weights[..9 * 16 * 16], 16, 16, 1);
         let mut padded = Vec::new();
         pad1(&input, h, w, 16, &mut padded);
         conv3x3_up2_relu::<16, 16>(&padded, h, w, &fold, &bias[..16], &mut sparse_plain, &mut a);
         conv3x3_up2_relu::<16, 16>(&padded, h, w, &fold, &bias[..16], &mut sparse, &mut b);
         assert_eq!(bits(&a), bits(&b), "folded layer, {h}x{w}");
-        assert!(sparse.reused() > 0);
+        assert!(sparse.reused().left + sparse.reused().above > 0);
     }
 }

@@ -64,7 +64,8 @@ impl Footprint {
         let l = self.to_local(p);
         l.x.abs() <= self.half.x + margin && l.y.abs() <= self.half.y + margin
     }
-    fn corners(&self) -> [Vec2; 4] {
+    /// The rectangle's four corners in world (x, z).
+    pub fn corners(&self) -> [Vec2; 4] {
         let (ax, az) = (self.axis_x() * self.half.x, self.axis_z() * self.half.y);
         [self.centre + ax + az, self.centre + ax - az, self.centre - ax - az, self.centre - ax + az]
     }

@@ -21,9 +21,10 @@
 //! order on every target.
 //!
 //! Work not done: where an output pixel's whole input window equals its left neighbour's, bit for
-//! bit (a wall, the sky, a zero region: 58-93 % of the encoder's windows in a run), the pixel
-//! takes its neighbour's output instead of summing again (`Repeats`). Equal inputs summed in the
-//! same order give equal bits, so this changes nothing but the time.
+//! bit (a wall, the sky, a zero region: 58-93 % of the encoder's windows in a run), or else the
+//! window of the pixel above (a wall's columns), the pixel takes that pixel's output instead of
+//! summing again (`Repeats`). Equal inputs summed in the same order give equal bits, so this
+//! changes nothing but the time.
 
 use crate::dispatch::avx2_dispatch;
 
@@ -80,20 +81,28 @@ pub fn conv3x3_relu<const CI: usize, const CO: usize>(
     (pass.rows, pass.cols)
 }
 
-/// Which pixels of an activation equal their left neighbour in every channel, bit for bit, and
-/// from that, which output pixels of a pass must be computed (`todo`) and which take their left
-/// neighbour's output: those whose K x K input window equals the left neighbour's window, that
-/// is, whose K columns each equal the column to their left in all K rows. Rows are bit sets, so
+/// Which pixels of an activation equal their left neighbour, and which the pixel above, in every
+/// channel, bit for bit; and from that, which output pixels of a pass must be computed (`todo`)
+/// and which take an output already there: the left neighbour's, where the K x K input window
+/// equals the left neighbour's window (its K columns each equal the column to their left in all
+/// K rows), else the one above's, where the window equals the window above (its K rows each
+/// equal the row above in all K columns: a wall's columns, the sky). Rows are bit sets, so
 /// activations wider than 128 pixels are computed in full.
 #[derive(Clone, Debug)]
 pub struct Repeats {
     /// Per input row, bit c: pixel c equals pixel c - 1 (bit 0 is never set).
     same: Vec<u128>,
+    /// Per input row, bit c: pixel c equals the pixel above it (never set in row 0).
+    above: Vec<u128>,
+    /// Scratch: per value of a row, 1 where it equals the value it is compared with.
+    values: Vec<u8>,
     /// Output pixels (i, j) of the pass to compute, row by row.
     todo: Vec<(u32, u32)>,
     /// Per output row of the pass, bit j: pixel (i, j) takes the output of (i, j - 1).
-    copy: Vec<u128>,
-    /// The (rows, cols) of the pass `todo` and `copy` were planned for.
+    left: Vec<u128>,
+    /// Per output row of the pass, bit j: pixel (i, j) takes the output of (i - 1, j).
+    up: Vec<u128>,
+    /// The (rows, cols) of the pass `todo`, `left` and `up` were planned for.
     planned: (usize, usize),
     /// Whether windows are compared at all (`plain` computes every pixel).
     reuse: bool,
@@ -101,8 +110,48 @@ pub struct Repeats {
 
 impl Default for Repeats {
     fn default() -> Self {
-        Repeats { same: Vec::new(), todo: Vec::new(), copy: Vec::new(), planned: (0, 0), reuse: true }
+        Repeats {
+            same: Vec::new(),
+            above: Vec::new(),
+            values: Vec::new(),
+            todo: Vec::new(),
+            left: Vec::new(),
+            up: Vec::new(),
+            planned: (0, 0),
+            reuse: true,
+        }
     }
+}
+
+/// Output pixels of a pass that took an output already computed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Reused {
+    /// Those whose window equals their left neighbour's.
+    pub left: usize,
+    /// Those whose window equals the window above (and not the left one).
+    pub above: usize,
+}
+
+/// 1 if all C bytes are 1 (a pixel's channels all equal), else 0.
+#[inline(always)]
+fn all<const C: usize>(bytes: &[u8]) -> u8 {
+    let bytes: &[u8; C] = bytes.try_into().unwrap();
+    if C % 8 == 0 {
+        // Eight bytes a compare (the middle layers' 16 and 32 channels).
+        const ONES: u64 = 0x0101_0101_0101_0101;
+        return bytes.chunks_exact(8).fold(1, |a, b| a & (u64::from_le_bytes(b.try_into().unwrap()) == ONES) as u8);
+    }
+    bytes.iter().fold(1, |a, &b| a & b)
+}
+
+/// 128 bytes of 0 or 1 as the bits of a u128 (byte c: bit c).
+#[inline(always)]
+fn pack(bytes: &[u8; 128]) -> u128 {
+    bytes.chunks_exact(8).enumerate().fold(0, |bits, (k, eight)| {
+        // Byte i of the word lands on bit 56 + i of the product.
+        let byte = u64::from_le_bytes(eight.try_into().unwrap()).wrapping_mul(0x0102_0408_1020_4080) >> 56;
+        bits | (byte as u128) << (8 * k)
+    })
 }
 
 impl Repeats {
@@ -114,19 +163,11 @@ impl Repeats {
     fn mark<const C: usize>(&mut self, input: &[f32], h: usize, w: usize) {
         assert_eq!(input.len(), h * w * C);
         self.same.clear();
+        self.above.clear();
         if !(self.reuse && crate::reuse::on()) || w > 128 {
             return;
         }
-        for row in input.chunks_exact(w * C) {
-            // Two words, not a u128: its variable shifts cost a branch or a select each.
-            let mut bits = [0u64; 2];
-            for (c, (a, b)) in row.chunks_exact(C).zip(row[C..].chunks_exact(C)).enumerate() {
-                let (a, b): (&[f32; C], &[f32; C]) = (a.try_into().unwrap(), b.try_into().unwrap());
-                let same = (0..C).fold(true, |s, k| s & (a[k].to_bits() == b[k].to_bits()));
-                bits[(c + 1) / 64] |= (same as u64) << ((c + 1) % 64);
-            }
-            self.same.push(bits[0] as u128 | (bits[1] as u128) << 64);
-        }
+        mark_rows::<C>(input, w, &mut self.values, &mut self.same, &mut self.above);
     }
 
     /// Splits the pass's output pixels into those to compute and those to copy (after `mark` of
@@ -135,22 +176,33 @@ impl Repeats {
         let (rows, cols) = (pass.rows, pass.cols);
         self.planned = (rows, cols);
         self.todo.clear();
-        self.copy.clear();
-        self.copy.resize(rows, 0);
+        self.left.clear();
+        self.left.resize(rows, 0);
+        self.up.clear();
+        self.up.resize(rows, 0);
         if self.same.is_empty() {
             self.todo.extend((0..rows).flat_map(|i| (0..cols).map(move |j| (i as u32, j as u32))));
             return;
         }
         assert!(pass.r0 + rows + k - 1 <= self.same.len() && pass.c0 + cols + k - 1 <= 128);
         let columns = if cols == 128 { u128::MAX } else { (1u128 << cols) - 1 };
+        // Bit c of the result: bits c..c + k of `m` are all set.
+        let span = |m: u128| (0..k).fold(u128::MAX, |a, t| a & (m >> t));
         for i in 0..rows {
-            // Bit c: column c equals column c - 1 in all k rows of the window.
-            let column = self.same[pass.r0 + i..][..k].iter().fold(u128::MAX, |m, &r| m & r);
-            // Bit c: columns c..c + k all do, so the window at c equals the one at c - 1.
-            let window = (0..k).fold(u128::MAX, |m, t| m & (column >> t));
-            let copy = (window >> pass.c0) & columns & !1;
-            self.copy[i] = copy;
-            let mut todo = !copy & columns;
+            let rows_under = pass.r0 + i..pass.r0 + i + k;
+            // Bit c: column c equals column c - 1 in all k rows of the window; then, the
+            // window at c equals the one at c - 1.
+            let left = span(self.same[rows_under.clone()].iter().fold(u128::MAX, |m, &r| m & r));
+            let left = (left >> pass.c0) & columns & !1;
+            // Bit c: pixel c of every row under the window equals the pixel above; then, the
+            // window at c equals the one a row up (for i > 0: the pass's row above reads the
+            // input rows one higher).
+            let up = match i {
+                0 => 0,
+                _ => (span(self.above[rows_under].iter().fold(u128::MAX, |m, &r| m & r)) >> pass.c0) & columns & !left,
+            };
+            (self.left[i], self.up[i]) = (left, up);
+            let mut todo = !(left | up) & columns;
             while todo != 0 {
                 self.todo.push((i as u32, todo.trailing_zeros()));
                 todo &= todo - 1;
@@ -158,15 +210,24 @@ impl Repeats {
         }
     }
 
-    /// Output pixels of the last planned pass that take their neighbour's output.
-    pub fn reused(&self) -> usize {
-        self.copy.iter().map(|c| c.count_ones() as usize).sum()
+    /// Output pixels of the last planned pass that took an output already computed.
+    pub fn reused(&self) -> Reused {
+        let count = |m: &[u128]| m.iter().map(|c| c.count_ones() as usize).sum();
+        Reused { left: count(&self.left), above: count(&self.up) }
     }
 
-    /// Gives each copied pixel its left neighbour's output (computed, or copied just before).
+    /// Gives each copied pixel its output, row by row: first those from the row above (complete
+    /// by then), then runs from the left (whose source, computed or copied from above, is there).
     fn fill<const CO: usize>(&self, pass: &Pass, out: &mut [f32]) {
-        for (i, &copy) in self.copy.iter().enumerate() {
-            let mut bits = copy;
+        for (i, (&left, &up)) in self.left.iter().zip(&self.up).enumerate() {
+            let mut bits = up;
+            while bits != 0 {
+                let j = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let (src, dst) = (pass.pixel(i - 1, j) * CO, pass.pixel(i, j) * CO);
+                out.copy_within(src..src + CO, dst);
+            }
+            let mut bits = left;
             while bits != 0 {
                 // A run of copies j..j + len all take pixel j - 1's output.
                 let j = bits.trailing_zeros() as usize;
@@ -178,6 +239,53 @@ impl Repeats {
                 }
             }
         }
+    }
+}
+
+avx2_dispatch! {
+    /// `Repeats::mark`'s bits of each row of an activation `w` pixels wide (at most 128).
+    fn mark_rows<const C: usize>(
+        input: &[f32], w: usize, values: &mut Vec<u8>, same: &mut Vec<u128>, above: &mut Vec<u128>
+    ) => mark_rows_any
+}
+
+#[inline(always)]
+fn mark_rows_any<const C: usize>(
+    input: &[f32],
+    w: usize,
+    values: &mut Vec<u8>,
+    same: &mut Vec<u128>,
+    above: &mut Vec<u128>,
+) {
+    assert!(w <= 128);
+    // Values compared first, a byte each, in a loop over the row that vectorises; then a pixel
+    // is equal where all its C bytes are; those bytes are packed eight at a time.
+    let n = w * C;
+    values.resize(n, 0);
+    let (mut left, mut up) = ([0u8; 128], [0u8; 128]);
+    let mut prev: Option<&[f32]> = None;
+    for row in input.chunks_exact(n) {
+        values[..C].fill(0);
+        for k in C..n {
+            values[k] = (row[k].to_bits() == row[k - C].to_bits()) as u8;
+        }
+        for (c, pixel) in values.chunks_exact(C).enumerate() {
+            left[c] = all::<C>(pixel);
+        }
+        same.push(pack(&left));
+        above.push(match prev {
+            None => 0,
+            Some(prev) => {
+                for (v, (a, b)) in values.iter_mut().zip(row.iter().zip(prev)) {
+                    *v = (a.to_bits() == b.to_bits()) as u8;
+                }
+                for (c, pixel) in values.chunks_exact(C).enumerate() {
+                    up[c] = all::<C>(pixel);
+                }
+                pack(&up)
+            }
+        });
+        prev = Some(row);
     }
 }
 
@@ -318,21 +426,22 @@ impl Sparse {
         self.pos.resize(h * w * CI, 0);
         self.val.resize(h * w * CI, 0.0);
         let mut k = 0;
-        for (p, px) in input.chunks_exact(CI).enumerate() {
-            self.start[p] = k as u32;
-            let row = (p % w * CI) as u32;
-            for (ci, &v) in px.iter().enumerate() {
-                self.val[k] = v;
-                self.pos[k] = row + ci as u32;
-                k += (v != 0.0) as usize;
+        for (y, row) in input.chunks_exact(w * CI).enumerate() {
+            for (x, px) in row.chunks_exact(CI).enumerate() {
+                self.start[y * w + x] = k as u32;
+                for (ci, &v) in px.iter().enumerate() {
+                    self.val[k] = v;
+                    self.pos[k] = (x * CI + ci) as u32;
+                    k += (v != 0.0) as usize;
+                }
             }
         }
         self.start[h * w] = k as u32;
         self.repeats.mark::<CI>(input, h, w);
     }
 
-    /// Output pixels of the last pass that took their neighbour's output.
-    pub fn reused(&self) -> usize {
+    /// Output pixels of the last pass that took an output already computed.
+    pub fn reused(&self) -> Reused {
         self.repeats.reused()
     }
 
@@ -716,12 +825,27 @@ mod simd {
 pub fn pad1(input: &[f32], h: usize, w: usize, c: usize, out: &mut Vec<f32>) -> (usize, usize) {
     assert_eq!(input.len(), h * w * c);
     let (ph, pw) = (h + 2, w + 2);
-    out.clear();
     out.resize(ph * pw * c, 0.0);
+    zero_border(out, ph, pw, c, 1);
     for y in 0..h {
         out[((y + 1) * pw + 1) * c..][..w * c].copy_from_slice(&input[y * w * c..][..w * c]);
     }
     (ph, pw)
+}
+
+/// Zeros the outer `border` pixels of an h x w image of c channels, channel-last: the callers
+/// write every other value, so the buffer is not cleared first (it is reused, call after call).
+fn zero_border(out: &mut [f32], h: usize, w: usize, c: usize, border: usize) {
+    if border == 0 {
+        return;
+    }
+    assert!(out.len() == h * w * c && h >= 2 * border && w >= 2 * border);
+    out[..border * w * c].fill(0.0);
+    out[(h - border) * w * c..].fill(0.0);
+    for y in border..h - border {
+        out[y * w * c..][..border * c].fill(0.0);
+        out[((y + 1) * w - border) * c..][..border * c].fill(0.0);
+    }
 }
 
 /// `pad1` into planar form: one (h + 2) x (w + 2) plane per channel, for `conv3x3_up2_relu_planar`.
@@ -770,8 +894,8 @@ pub fn maxpool2<const C: usize>(
     assert_eq!(input.len(), h * w * C);
     let (oh, ow) = (h.div_ceil(2), w.div_ceil(2));
     let (bh, bw) = (oh + 2 * border, ow + 2 * border);
-    out.clear();
     out.resize(bh * bw * C, 0.0);
+    zero_border(out, bh, bw, C, border);
     for oy in 0..oh {
         for ox in 0..ow {
             let o: &mut [f32; C] = (&mut out[((oy + border) * bw + ox + border) * C..][..C]).try_into().unwrap();
@@ -886,14 +1010,30 @@ pub fn dense(x: &[f32], weights: &[f32], bias: &[f32], relu: bool, out: &mut [f3
     let n = bias.len();
     assert_eq!(out.len(), n);
     assert_eq!(weights.len(), x.len() * n);
+    dense_native(x, weights, bias, relu, out);
+}
+
+avx2_dispatch! {
+    fn dense_native(x: &[f32], weights: &[f32], bias: &[f32], relu: bool, out: &mut [f32]) => dense_any
+}
+
+#[inline(always)]
+fn dense_any(x: &[f32], weights: &[f32], bias: &[f32], relu: bool, out: &mut [f32]) {
+    let n = bias.len();
     out.copy_from_slice(bias);
-    for (i, &v) in x.iter().enumerate() {
-        if relu && v == 0.0 {
-            continue;
-        }
-        let row = &weights[i * n..][..n];
+    let mut term = |i: usize| {
+        let (v, row) = (x[i], &weights[i * n..][..n]);
         for (o, &wv) in out.iter_mut().zip(row) {
             *o += v * wv;
+        }
+    };
+    for (k, chunk) in x.chunks(64).enumerate() {
+        // The terms of this chunk's inputs, ascending; with ReLU only the nonzero ones, found
+        // without a branch per input (most are zero: a branch would mispredict).
+        let mut todo = chunk.iter().enumerate().fold(0u64, |m, (b, &v)| m | (((v != 0.0) | !relu) as u64) << b);
+        while todo != 0 {
+            term(k * 64 + todo.trailing_zeros() as usize);
+            todo &= todo - 1;
         }
     }
     if relu {

@@ -5,6 +5,8 @@
 //! ray. The column's 2-D intersections with the vertical walls and fences are computed once, and
 //! each row then only checks its height: still exactly one ray per pixel, at a fraction of the
 //! cost. Spheres and arches, which are not vertical extrusions, are intersected per pixel.
+//! Each frame first finds, per opaque box, the columns whose rays can meet it (`reach_of`): the
+//! others skip its test, which would have missed.
 
 use super::{colours, lit, shade_factor, Frame, GLASS_ALPHA, HEIGHT, PIXELS, WIDTH};
 use crate::arena::{BoxObj, Footprint, ObjectKind, Tunnel, World, AGENT_RADIUS, ARENA_SIZE};
@@ -27,6 +29,8 @@ pub struct Camera {
     /// Vertical slope of each row's ray (positive above the horizon).
     row_slope: [f32; HEIGHT],
     depth: Vec<f32>,
+    /// Per opaque box of the frame being drawn, the column offsets whose rays can meet it.
+    reach: Vec<(f32, f32)>,
 }
 
 impl Default for Camera {
@@ -59,6 +63,7 @@ impl Camera {
             col_offset: std::array::from_fn(|c| ((2 * c + 1) as f32 / n - 1.0) * TAN_HALF_FOV),
             row_slope: std::array::from_fn(|r| (1.0 - (2 * r + 1) as f32 / n) * TAN_HALF_FOV),
             depth: vec![f32::INFINITY; PIXELS],
+            reach: Vec::new(),
         }
     }
 
@@ -72,11 +77,17 @@ impl Camera {
             px.copy_from_slice(&[sky.0, sky.1, sky.2, 255]);
         }
         let px = &mut frame.rgba;
+        let mut reach = std::mem::take(&mut self.reach);
+        reach.clear();
+        reach.extend(w.walls.iter().filter(|b| !b.transparent).map(|b| reach_of(&b.foot, w.agent.pos, f, right)));
         for c in 0..WIDTH {
-            let col = Column { c, eye: w.agent.pos, h: f + right * self.col_offset[c] };
+            let offset = self.col_offset[c];
+            let col = Column { c, eye: w.agent.pos, h: f + right * offset };
             self.floor_and_fence(w, col, px);
-            for b in w.walls.iter().filter(|b| !b.transparent) {
-                self.wall(b, col, px, None);
+            for (b, &(lo, hi)) in w.walls.iter().filter(|b| !b.transparent).zip(&reach) {
+                if (lo..=hi).contains(&offset) {
+                    self.wall(b, col, px, None);
+                }
             }
             for g in w.goals.iter().filter(|g| !g.collected) {
                 self.sphere(g.kind, g.centre, g.radius, col, px);
@@ -85,6 +96,7 @@ impl Camera {
                 self.tunnel(t, col, px, false);
             }
         }
+        self.reach = reach;
         // Transparent surfaces last, farthest first, blended over what is behind them.
         let mut glass: Vec<(f32, usize, bool)> = Vec::new();
         glass.extend(
@@ -299,6 +311,23 @@ fn blend(px: &mut [u8], i: usize, factor: f32) {
         let v = &mut px[i * 4 + k];
         *v = ((1.0 - GLASS_ALPHA) * *v as f32 + GLASS_ALPHA * glass + 0.5).min(255.0) as u8;
     }
+}
+
+/// The column offsets (along the camera's right axis, per unit of depth) whose rays can meet a
+/// box on the floor: those between its corners' when all four are in front of the eye (the box
+/// is convex), widened far beyond rounding; none when all are behind it; every offset otherwise.
+/// A column outside misses the box, so skipping its slab test draws the same pixels.
+fn reach_of(foot: &Footprint, eye: Vec2, forward: Vec2, right: Vec2) -> (f32, f32) {
+    let corners = foot.corners().map(|p| ((p - eye).dot(right), (p - eye).dot(forward)));
+    if corners.iter().all(|&(_, z)| z < 0.0) {
+        return (f32::INFINITY, f32::NEG_INFINITY);
+    }
+    if corners.iter().any(|&(_, z)| z < 0.01) {
+        return (f32::NEG_INFINITY, f32::INFINITY);
+    }
+    let (lo, hi) =
+        corners.iter().fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &(x, z)| (lo.min(x / z), hi.max(x / z)));
+    (lo - 1e-3 - 1e-4 * lo.abs(), hi + 1e-3 + 1e-4 * hi.abs())
 }
 
 fn local_dir(foot: &Footprint, h: Vec2) -> Vec2 {
