@@ -422,9 +422,12 @@ impl Sparse {
         (self.w, self.ci) = (w, CI);
         self.start.resize(h * w + 1, 0);
         // Every value is written at the next free entry, which advances only past nonzeros: no
-        // branch per value.
-        self.pos.resize(h * w * CI, 0);
-        self.val.resize(h * w * CI, 0.0);
+        // branch per value. Entries past the last nonzero are never read, so these only grow
+        // (growing writes zeros, and the layers alternate in size).
+        if self.val.len() < h * w * CI {
+            self.pos.resize(h * w * CI, 0);
+            self.val.resize(h * w * CI, 0.0);
+        }
         let mut k = 0;
         for (y, row) in input.chunks_exact(w * CI).enumerate() {
             for (x, px) in row.chunks_exact(CI).enumerate() {
@@ -852,8 +855,11 @@ fn zero_border(out: &mut [f32], h: usize, w: usize, c: usize, border: usize) {
 pub fn pad1_planar(input: &[f32], h: usize, w: usize, c: usize, out: &mut Vec<f32>) -> (usize, usize) {
     assert_eq!(input.len(), h * w * c);
     let (ph, pw) = (h + 2, w + 2);
-    out.clear();
     out.resize(c * ph * pw, 0.0);
+    // Each plane's border is zeroed, the rest written below (the buffer is reused, not cleared).
+    for plane in out.chunks_exact_mut(ph * pw) {
+        zero_border(plane, ph, pw, 1, 1);
+    }
     for y in 0..h {
         for x in 0..w {
             for (k, &v) in input[(y * w + x) * c..][..c].iter().enumerate() {

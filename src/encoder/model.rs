@@ -59,12 +59,14 @@ pub struct Autoencoder {
     pub embedding_scale: f32,
 }
 
-/// Reusable activation buffers, so encoding allocates nothing after the first call.
+/// Reusable activation buffers, so encoding allocates nothing after the first call: one per
+/// layer's output, so that no buffer changes size from call to call (growing one writes zeros).
 #[derive(Clone, Debug, Default)]
 pub struct Scratch {
-    a: Vec<f32>,
-    b: Vec<f32>,
-    flat: Vec<f32>,
+    /// The encoder's layers' outputs, in order.
+    enc: [Vec<f32>; 7],
+    /// The decoder's, in order.
+    dec: [Vec<f32>; 8],
     rec: Vec<f32>,
     sparse: Sparse,
     repeats: Repeats,
@@ -147,15 +149,16 @@ impl Autoencoder {
     /// embedding scale.
     pub fn encode(&self, image: &[f32], s: &mut Scratch, out: &mut [f32; EMBEDDING]) {
         assert_eq!(image.len(), IMAGE, "the image must be 84x84x3");
-        let (h, w) = pad1(image, HEIGHT, WIDTH, 3, &mut s.b);
-        let (h, w) = conv3x3_relu::<3, 16>(&s.b, h, w, self.p(0), self.p(1), &mut s.repeats, &mut s.a);
-        let (h, w) = maxpool2::<16>(&s.a, h, w, 1, &mut s.b);
-        let (h, w) = conv3x3_relu_sparse::<16, 32>(&s.b, h, w, self.p(2), self.p(3), &mut s.sparse, &mut s.a);
-        let (h, w) = maxpool2::<32>(&s.a, h, w, 1, &mut s.b);
-        let (h, w) = conv3x3_relu_sparse::<32, 32>(&s.b, h, w, self.p(4), self.p(5), &mut s.sparse, &mut s.a);
-        let (h, w) = maxpool2::<32>(&s.a, h, w, 0, &mut s.b);
+        let [pad, c1, p1, c2, p2, c3, p3] = &mut s.enc;
+        let (h, w) = pad1(image, HEIGHT, WIDTH, 3, pad);
+        let (h, w) = conv3x3_relu::<3, 16>(pad, h, w, self.p(0), self.p(1), &mut s.repeats, c1);
+        let (h, w) = maxpool2::<16>(c1, h, w, 1, p1);
+        let (h, w) = conv3x3_relu_sparse::<16, 32>(p1, h, w, self.p(2), self.p(3), &mut s.sparse, c2);
+        let (h, w) = maxpool2::<32>(c2, h, w, 1, p2);
+        let (h, w) = conv3x3_relu_sparse::<32, 32>(p2, h, w, self.p(4), self.p(5), &mut s.sparse, c3);
+        let (h, w) = maxpool2::<32>(c3, h, w, 0, p3);
         debug_assert_eq!(h * w * 32, FLAT);
-        dense(&s.b, self.p(6), self.p(7), true, out);
+        dense(p3, self.p(6), self.p(7), true, out);
         if self.embedding_scale != 1.0 {
             for v in out.iter_mut() {
                 *v *= self.embedding_scale;
@@ -166,16 +169,17 @@ impl Autoencoder {
     /// The reconstruction (84x84x3, channel-last) of an embedding as `encode` returns it.
     pub fn decode(&self, embedding: &[f32; EMBEDDING], s: &mut Scratch, out: &mut Vec<f32>) {
         let raw: [f32; EMBEDDING] = std::array::from_fn(|i| embedding[i] / self.embedding_scale);
-        s.flat.resize(FLAT, 0.0);
-        dense(&raw, self.p(8), self.p(9), false, &mut s.flat);
-        let (h, w) = pad1(&s.flat, 11, 11, 32, &mut s.b);
-        let (h, w) = conv3x3_relu::<32, 32>(&s.b, h, w, self.p(10), self.p(11), &mut s.repeats, &mut s.a);
-        pad1(&s.a, h, w, 32, &mut s.b);
-        let (h, w) = conv3x3_up2_relu::<32, 32>(&s.b, h, w, &self.up[0], self.p(13), &mut s.sparse, &mut s.a);
-        pad1(&s.a, h, w, 32, &mut s.b);
-        let (h, w) = conv3x3_up2_relu::<32, 16>(&s.b, h, w, &self.up[1], self.p(15), &mut s.sparse, &mut s.a);
-        pad1_planar(&s.a, h, w, 16, &mut s.b);
-        let (h, w) = conv3x3_up2_relu_planar::<16, 3>(&s.b, h, w, &self.up[2], self.p(17), out);
+        let [flat, padded0, c1, padded1, c2, padded2, c3, planes] = &mut s.dec;
+        flat.resize(FLAT, 0.0);
+        dense(&raw, self.p(8), self.p(9), false, flat);
+        let (h, w) = pad1(flat, 11, 11, 32, padded0);
+        let (h, w) = conv3x3_relu::<32, 32>(padded0, h, w, self.p(10), self.p(11), &mut s.repeats, c1);
+        pad1(c1, h, w, 32, padded1);
+        let (h, w) = conv3x3_up2_relu::<32, 32>(padded1, h, w, &self.up[0], self.p(13), &mut s.sparse, c2);
+        pad1(c2, h, w, 32, padded2);
+        let (h, w) = conv3x3_up2_relu::<32, 16>(padded2, h, w, &self.up[1], self.p(15), &mut s.sparse, c3);
+        pad1_planar(c3, h, w, 16, planes);
+        let (h, w) = conv3x3_up2_relu_planar::<16, 3>(planes, h, w, &self.up[2], self.p(17), out);
         debug_assert_eq!((h, w), (HEIGHT, WIDTH));
     }
 
