@@ -83,6 +83,8 @@ test('compare mode: a preset starts its runs; two configurations draw two series
     const c = () => page.evaluate(() => ({ ...window.secPlayground.compare }));
     assert.equal((await c()).arms, 3);
     assert.ok((await c()).running);
+    // The caption quotes the reference index, fetched when the preset starts.
+    await page.waitForFunction(() => window.secPlayground.compare.caption !== '', null, { timeout: 20000 });
     assert.match((await c()).caption, /paper/i);
     // The preset runs what its caption says: the double T-maze, the authors' untrained encoder,
     // SEC, NSEC and MFEC.
