@@ -186,21 +186,18 @@ impl Repeats {
         }
         assert!(pass.r0 + rows + k - 1 <= self.same.len() && pass.c0 + cols + k - 1 <= 128);
         let columns = if cols == 128 { u128::MAX } else { (1u128 << cols) - 1 };
-        // Bit c of the result: bits c..c + k of `m` are all set.
-        let span = |m: u128| (0..k).fold(u128::MAX, |a, t| a & (m >> t));
+        // Bit j: the marks of input columns c0 + j .. c0 + j + k are set in all k rows under
+        // output row i's windows.
+        let windows = |marks: &[u128], i: usize| {
+            let column = marks[pass.r0 + i..][..k].iter().fold(u128::MAX, |m, &r| m & r);
+            ((0..k).fold(u128::MAX, |a, t| a & (column >> t)) >> pass.c0) & columns
+        };
         for i in 0..rows {
-            let rows_under = pass.r0 + i..pass.r0 + i + k;
-            // Bit c: column c equals column c - 1 in all k rows of the window; then, the
-            // window at c equals the one at c - 1.
-            let left = span(self.same[rows_under.clone()].iter().fold(u128::MAX, |m, &r| m & r));
-            let left = (left >> pass.c0) & columns & !1;
-            // Bit c: pixel c of every row under the window equals the pixel above; then, the
-            // window at c equals the one a row up (for i > 0: the pass's row above reads the
-            // input rows one higher).
-            let up = match i {
-                0 => 0,
-                _ => (span(self.above[rows_under].iter().fold(u128::MAX, |m, &r| m & r)) >> pass.c0) & columns & !left,
-            };
+            // The window at j equals the one at j - 1 (each of its columns equals the column to
+            // its left), else the one a row up (each of its rows equals the row above; the
+            // pass's row above reads the input rows one higher).
+            let left = windows(&self.same, i) & !1;
+            let up = if i == 0 { 0 } else { windows(&self.above, i) & !left };
             (self.left[i], self.up[i]) = (left, up);
             let mut todo = !(left | up) & columns;
             while todo != 0 {
@@ -262,27 +259,28 @@ fn mark_rows_any<const C: usize>(
     // is equal where all its C bytes are; those bytes are packed eight at a time.
     let n = w * C;
     values.resize(n, 0);
-    let (mut left, mut up) = ([0u8; 128], [0u8; 128]);
+    // Bit c: all C bytes of pixel c in `values` are 1 (bits past w stay 0).
+    let mut bytes = [0u8; 128];
+    let mut pixels = |values: &[u8]| {
+        for (c, pixel) in values.chunks_exact(C).enumerate() {
+            bytes[c] = all::<C>(pixel);
+        }
+        pack(&bytes)
+    };
     let mut prev: Option<&[f32]> = None;
     for row in input.chunks_exact(n) {
         values[..C].fill(0);
         for k in C..n {
             values[k] = (row[k].to_bits() == row[k - C].to_bits()) as u8;
         }
-        for (c, pixel) in values.chunks_exact(C).enumerate() {
-            left[c] = all::<C>(pixel);
-        }
-        same.push(pack(&left));
+        same.push(pixels(values));
         above.push(match prev {
             None => 0,
             Some(prev) => {
                 for (v, (a, b)) in values.iter_mut().zip(row.iter().zip(prev)) {
                     *v = (a.to_bits() == b.to_bits()) as u8;
                 }
-                for (c, pixel) in values.chunks_exact(C).enumerate() {
-                    up[c] = all::<C>(pixel);
-                }
-                pack(&up)
+                pixels(values)
             }
         });
         prev = Some(row);
