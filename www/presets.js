@@ -267,7 +267,7 @@ function found(refs, task) {
 
 /**
  * Experiment 1 in `task`: the double T-maze's preset, or the same three arms in another task of the
- * paper's table 1 (their reference runs are 10 seeds x 1000 episodes in the protocol).
+ * paper's table 1 (their reference runs are 10 seeds x 5000 episodes, the paper's horizon).
  */
 export function exp1In(task) {
   if (task === 'double-t-maze' || !TABLE1[task]) return { ...COMPARE_PRESETS.exp1, base: PRESET_BASE };
