@@ -538,3 +538,55 @@ fn after_forgetting_the_similarity_sums_in_f64_in_numpys_order_for_long_rows_too
         }
     }
 }
+
+/// Retrieval computes G only where T is raised and tests only the couplets near both thresholds
+/// (docs/ALGORITHM.md, "Retrieval"). Over random runs whose similarities are sometimes negative
+/// (a raised G then falls below its similarity and G is computed in full) and whose beta may
+/// leave T = 1 unsettled, G must be the similarity times T everywhere and the selection the
+/// thresholds applied to G in full.
+#[test]
+fn the_selection_is_the_thresholds_over_g_in_full() {
+    let mut src = ChaCha8Rng::seed_from_u64(35);
+    // Multiples of 1/64 and two far values: every MAE is exact, and 1 - MAE is negative at 2.
+    let places = [0.0, 1.0 / 64.0, 2.0 / 64.0, 3.0 / 64.0, 2.0, -2.0];
+    for case in 0..48 {
+        let cfg = MemoryConfig {
+            n: src.gen_range(1..9),
+            m: src.gen_range(1..12),
+            theta_abs: src.gen_range(0.0..0.99),
+            theta_prop: src.gen_range(0.5..1.0),
+            alpha: src.gen_range(0.0..0.5),
+            beta: if case % 3 == 0 { src.gen_range(0.0..1.0) } else { 0.05 },
+            forgetting: Forgetting::ALL[case % 5].1,
+            ..MemoryConfig::default()
+        };
+        let mut m = Memory::new(cfg.clone()).unwrap();
+        let mut r = ChaCha8Rng::seed_from_u64(case as u64);
+        for step in 0..300 {
+            let v: f32 = places[src.gen_range(0..places.len())];
+            let a = m.retrieve(&emb(v), &mut r);
+            let g = m.biased_similarity();
+            assert_eq!(g.len(), m.len() * cfg.n, "case {case} step {step}");
+            for (i, &g) in g.iter().enumerate() {
+                let sim = 1.0 - (m.ltm_embedding(i / cfg.n, i % cfg.n)[0] - v).abs();
+                assert_eq!(g, sim as f64 * m.bias()[i], "case {case} step {step}: G of couplet {i}");
+            }
+            let gmax = g.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            let want: Vec<usize> = if gmax <= 0.0 {
+                Vec::new()
+            } else {
+                (0..g.len()).filter(|&i| g[i] > cfg.theta_abs && g[i] / gmax > cfg.theta_prop).collect()
+            };
+            let got: Vec<usize> = m.selected().iter().map(|s| s.row as usize * cfg.n + s.col as usize).collect();
+            assert_eq!(got, want, "case {case} step {step}");
+            assert!(got.iter().all(|&i| m.selected().iter().any(|s| s.g == g[i])));
+            m.update(Couplet { embedding: emb(v), action: a.unwrap_or(Action::ALL[src.gen_range(0..9)]) });
+            if step % 13 == 12 {
+                m.store(src.gen_range(-1.0..3.0), &mut r);
+            }
+            if step % 41 == 40 {
+                m.reset_bias();
+            }
+        }
+    }
+}

@@ -145,6 +145,12 @@ pub struct Env {
     camera: Camera,
     frame: Frame,
     frame_fresh: bool,
+    /// Counts the changes of what the camera shows: two observations of one serial are the
+    /// same image, so a caller can skip what it did with the last one.
+    view_serial: u64,
+    /// Scratch for `advance`: what the camera depends on before and after the step.
+    view_before: Vec<u32>,
+    view_after: Vec<u32>,
 }
 
 impl Env {
@@ -169,6 +175,9 @@ impl Env {
             camera: Camera::new(),
             frame: Frame::new(),
             frame_fresh: false,
+            view_serial: 0,
+            view_before: Vec::new(),
+            view_after: Vec::new(),
         };
         env.reset(Some(seed));
         Ok(env)
@@ -195,7 +204,7 @@ impl Env {
         self.world = World::spawn(&self.config.task.layouts[self.layout], &mut self.rng);
         self.steps = 0;
         self.over = false;
-        self.frame_fresh = false;
+        self.view_changed();
         self.observation()
     }
 
@@ -227,7 +236,7 @@ impl Env {
         let penalty = if t > 0 { -1.0 / t as f64 } else { 0.0 };
         let hot = if t > 0 { (-10.0 / (3.0 * t as f64)).min(-1e-5) } else { -1e-5 };
         let mut out = StepOutcome::default();
-        self.frame_fresh = false;
+        self.world.view_key(&mut self.view_before);
         for _ in 0..k {
             out.reward += penalty;
             for _ in 0..FRAMES_PER_STEP {
@@ -249,7 +258,24 @@ impl Env {
                 break;
             }
         }
+        // Pressed against a wall or stopped, the agent sees what it saw: the frame stays.
+        self.world.view_key(&mut self.view_after);
+        if self.view_after != self.view_before {
+            self.view_changed();
+        }
         Ok(out)
+    }
+
+    /// The frame is no longer what the camera shows.
+    fn view_changed(&mut self) {
+        self.frame_fresh = false;
+        self.view_serial += 1;
+    }
+
+    /// Which view `observation` shows: it changes whenever the image may (a reset, a step that
+    /// moved the agent or a goal, `world_mut`), and never otherwise.
+    pub fn view_serial(&self) -> u64 {
+        self.view_serial
     }
 
     /// The agent's current view, rendered on demand and cached until the world changes.
@@ -272,7 +298,7 @@ impl Env {
     /// Direct access for tests, tools and the "drive it yourself" mode; the cached observation
     /// is dropped because the world may change.
     pub fn world_mut(&mut self) -> &mut World {
-        self.frame_fresh = false;
+        self.view_changed();
         &mut self.world
     }
     /// Its configuration.

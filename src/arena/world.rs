@@ -224,6 +224,18 @@ pub struct World {
 }
 
 impl World {
+    /// The bits of everything the camera reads that can move: the agent's position and heading,
+    /// each goal's centre and whether it is collected (walls, arches and zones never move). Equal
+    /// keys render equal frames.
+    pub fn view_key(&self, key: &mut Vec<u32>) {
+        key.clear();
+        key.extend([self.agent.pos.x, self.agent.pos.y, self.agent.heading].map(f32::to_bits));
+        for g in &self.goals {
+            key.extend([g.centre.x, g.centre.y, g.centre.z].map(f32::to_bits));
+            key.push(g.collected as u32);
+        }
+    }
+
     /// Spawns a layout. Objects spawn in file order after a user-placed agent; an object whose
     /// footprint overlaps something already spawned is left out (Animal-AI's `IsSpotFree`), and a
     /// random agent spawns last on a free spot.

@@ -94,6 +94,17 @@ impl FrameCache {
         Some(self.insert(hash))
     }
 
+    /// `find` of the frame whose entry is `slot`, when the caller knows the frame is that one
+    /// (the same view as last time): the same bookkeeping, without encoding and hashing the frame.
+    pub fn refind(&mut self, slot: Slot) -> Option<Slot> {
+        self.clock += 1;
+        self.lookups += 1;
+        let e = self.entries.get_mut(slot.index).filter(|e| e.serial == slot.serial)?;
+        e.used = self.clock;
+        self.hits += 1;
+        Some(slot)
+    }
+
     fn insert(&mut self, hash: u64) -> Slot {
         let serial = self.clock;
         let entry = Entry { key: self.key.clone(), hash, serial, used: self.clock, embedding: None, mse: None };

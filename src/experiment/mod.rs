@@ -196,6 +196,8 @@ pub struct Run {
     /// What the encoders made of frames seen before in this run, and the current frame's entry.
     cache: FrameCache,
     slot: Option<cache::Slot>,
+    /// The env's view serials that `image` and `slot` are of.
+    seen: Seen,
     gate: ReconstructionGate,
     controller: Box<dyn Controller>,
     /// SEC's events, when recorded (see `trace`).
@@ -206,6 +208,13 @@ pub struct Run {
     current: Option<Episode>,
     /// A person at the controls, if any.
     driver: Option<Driver>,
+}
+
+/// Which views (`Env::view_serial`) a run's image and cache entry hold.
+#[derive(Clone, Copy, Debug, Default)]
+struct Seen {
+    image: Option<u64>,
+    slot: Option<u64>,
 }
 
 /// The episode in progress: its metrics so far and where the loop stands.
@@ -255,6 +264,7 @@ impl Run {
             image: vec![0.0; IMAGE],
             cache: FrameCache::new(),
             slot: None,
+            seen: Seen::default(),
             gate: ReconstructionGate::new(),
             controller,
             events: None,
@@ -411,6 +421,27 @@ impl Run {
         self.controller.decide(&obs, &mut || gate.mse(encoder, scratch, cache), &mut self.rng)
     }
 
+    /// The current frame into `image`, unless it holds that view already (the agent against a
+    /// wall): then the frame is neither rendered nor converted again.
+    fn see(&mut self) {
+        let serial = self.env.view_serial();
+        if self.seen.image != Some(serial) || !crate::reuse::on() {
+            self.env.observation().to_rgb_f32(&mut self.image);
+            self.seen.image = Some(serial);
+        }
+    }
+
+    /// `see`, and the frame's cache entry into `slot`: the same view as at the last lookup takes
+    /// the same entry without hashing the frame.
+    fn look(&mut self) {
+        self.see();
+        let serial = self.seen.image;
+        let same = self.seen.slot == serial && crate::reuse::on();
+        let again = self.slot.filter(|_| same).and_then(|s| self.cache.refind(s));
+        self.slot = again.or_else(|| self.cache.find(self.env.observation()));
+        self.seen.slot = serial;
+    }
+
     /// Plays one episode to its end and starts the next.
     pub fn episode(&mut self) -> EpisodeMetrics {
         loop {
@@ -465,10 +496,11 @@ impl Run {
                 decides,
                 done: self.env.is_over(),
             };
-            let frame = self.controller.wants_frame(&step).then(|| {
-                self.env.observation().to_rgb_f32(&mut self.image);
-                self.image.as_slice()
-            });
+            let wants = self.controller.wants_frame(&step);
+            if wants {
+                self.see();
+            }
+            let frame = wants.then_some(self.image.as_slice());
             if self.controller.on_step(&step, frame, &mut self.rng) {
                 let reward = ep.metrics.reward;
                 if let Some(ev) = self.sec_events() {
@@ -478,9 +510,7 @@ impl Run {
         }
         let uses_gate = self.controller.uses_gate();
         if self.controller.input() != Input::Nothing && (decides || (uses_gate && self.gate.due())) {
-            let frame = self.env.observation();
-            frame.to_rgb_f32(&mut self.image);
-            self.slot = self.cache.find(frame);
+            self.look();
         }
         if uses_gate {
             self.gate.watch(&self.image, self.slot);

@@ -169,10 +169,10 @@ impl Memory {
         self.t.clear();
         self.t.resize(rows * n, 1.0);
         self.sel.clear();
-        self.sel.resize(rows * n, false);
         self.sel_prev.clear();
-        self.sel_prev.resize(rows * n, false);
+        self.raised = Some(Vec::new());
         self.g.clear();
+        self.last_g = super::LastG::Full;
         self.sim_for = None;
         self.selected.clear();
         Ok(rows)
@@ -193,9 +193,12 @@ impl Memory {
         put_bytes(b, &self.actions.iter().map(|&a| a.into()).collect::<Vec<u8>>());
         put_f64s(b, &self.rewards);
         put_f64s(b, &self.t);
-        put_bytes(b, &self.sel.iter().map(|&x| x as u8).collect::<Vec<_>>());
-        put_bytes(b, &self.sel_prev.iter().map(|&x| x as u8).collect::<Vec<_>>());
-        put_f64s(b, &self.g);
+        for sel in [&self.sel, &self.sel_prev] {
+            let mut mask = vec![0u8; self.t.len()];
+            sel.iter().for_each(|&i| mask[i as usize] = 1);
+            put_bytes(b, &mask);
+        }
+        put_f64s(b, &self.biased_similarity());
         b.push(self.forgot as u8);
         put_f32s(b, &self.sim);
         b.extend_from_slice(&(self.selected.len() as u64).to_le_bytes());
@@ -228,9 +231,8 @@ impl Memory {
         let actions = r.bytes(cells, "actions")?;
         let rewards = r.f64s(m, "rewards")?;
         let t = r.f64s(cells, "t")?;
-        let flags = |v: Vec<u8>| v.into_iter().map(|x| x != 0).collect::<Vec<bool>>();
-        let sel = flags(r.bytes(cells, "sel")?);
-        let sel_prev = flags(r.bytes(cells, "selPrev")?);
+        let sel = r.bytes(cells, "sel")?;
+        let sel_prev = r.bytes(cells, "selPrev")?;
         let g = r.f64s(cells, "g")?;
         let forgot = r.bool()?;
         let sim = r.f32s(cells, "sim")?;
@@ -292,8 +294,11 @@ impl Memory {
         }
         let actions = actions.into_iter().map(|a| Action::ALL[a as usize]).collect();
         (self.stm, self.stm_head, self.ltm, self.actions, self.rewards) = (stm, head, ltm, actions, rewards);
-        (self.t, self.sel, self.sel_prev, self.g, self.forgot, self.sim) = (t, sel, sel_prev, g, forgot, sim);
+        let set = |mask: Vec<u8>| (0..mask.len() as u32).filter(|&i| mask[i as usize] != 0).collect();
+        (self.sel, self.sel_prev) = (set(sel), set(sel_prev));
+        (self.t, self.g, self.forgot, self.sim) = (t, g, forgot, sim);
         (self.selected, self.q, self.p, self.entropy) = (selected, q, p, entropy);
+        (self.raised, self.last_g) = (None, super::LastG::Full);
         self.sim_for = None;
         Ok(())
     }

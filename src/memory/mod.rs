@@ -65,6 +65,16 @@ pub struct Selected {
     pub value: f64,
 }
 
+/// Where G of the last `retrieve` is. G equals the similarity wherever T is 1, so a decision
+/// keeps the similarities and the G of the raised couplets, and G is written out only when read.
+#[derive(Clone, Copy, Debug)]
+enum LastG {
+    /// In `g` (loaded from a checkpoint, emptied by a change to the LTM, or computed in full).
+    Full,
+    /// `sim` (`sim64` when `forgot`) of the first `cells` couplets, with `g_raised` over it.
+    Derived { cells: usize, forgot: bool },
+}
+
 /// STM, LTM, T and the selection masks, with the operations of sections 5-8.
 #[derive(Clone, Debug)]
 pub struct Memory {
@@ -79,12 +89,27 @@ pub struct Memory {
     rewards: Vec<f64>,
     /// T, rows x n (f64 like the authors' numpy array).
     t: Vec<f64>,
-    /// M (selected by the last `retrieve`) and M_prev, rows x n.
-    sel: Vec<bool>,
-    sel_prev: Vec<bool>,
-    /// G of the last `retrieve`, rows x n, in the precision the authors' numpy used (see
-    /// `retrieve`), held as f64.
+    /// M (selected by the last `retrieve`) and M_prev, as ascending indices into rows x n: few
+    /// couplets are selected, so a decision need not walk two masks of the whole LTM.
+    sel: Vec<u32>,
+    sel_prev: Vec<u32>,
+    /// The indices where T is not 1, ascending: T rises only after the selected couplets and
+    /// decays back, so these are few, and T's decay and G need visit only them. `None` when it
+    /// must be rebuilt from `t` (rows removed, a checkpoint loaded).
+    raised: Option<Vec<u32>>,
+    /// Scratch for `update_bias`: the couplets its boost raised from 1, ascending.
+    lifted: Vec<u32>,
+    /// G of the last `retrieve` (rows x n, in the precision the authors' numpy used, held as
+    /// f64) when `last_g` is `Full`.
     g: Vec<f64>,
+    /// G of the raised couplets at the last `retrieve`, by ascending index.
+    g_raised: Vec<(u32, f64)>,
+    /// Where G of the last `retrieve` is (see `biased_similarity`).
+    last_g: LastG,
+    /// Scratch for `retrieve`: the couplets whose similarity passes both thresholds' bound.
+    candidates: Vec<u32>,
+    /// exp(-d / tau) per STM position (d = (n - col) / n), for the tau (as bits) it was made with.
+    dist: (u64, Vec<f64>),
     /// Whether the LTM has been through forgetting: from then on the authors' LTM is a list of
     /// Python floats, so numpy computes the similarity in f64 (see `retrieve`).
     forgot: bool,
@@ -117,7 +142,13 @@ impl Memory {
             t: Vec::new(),
             sel: Vec::new(),
             sel_prev: Vec::new(),
+            raised: Some(Vec::new()),
+            lifted: Vec::new(),
             g: Vec::new(),
+            g_raised: Vec::new(),
+            last_g: LastG::Full,
+            candidates: Vec::new(),
+            dist: (0, Vec::new()),
             forgot: false,
             sim: Vec::new(),
             sim64: Vec::new(),
@@ -161,9 +192,22 @@ impl Memory {
         &self.t
     }
 
-    /// G of the last `retrieve`, row-major (S x n).
-    pub fn biased_similarity(&self) -> &[f64] {
-        &self.g
+    /// G of the last `retrieve`, row-major (S x n; empty after a change to the LTM).
+    pub fn biased_similarity(&self) -> Vec<f64> {
+        match self.last_g {
+            LastG::Full => self.g.clone(),
+            LastG::Derived { cells, forgot } => {
+                let mut g: Vec<f64> = if forgot {
+                    self.sim64[..cells].to_vec()
+                } else {
+                    self.sim[..cells].iter().map(|&s| s as f64).collect()
+                };
+                for &(i, v) in &self.g_raised {
+                    g[i as usize] = v;
+                }
+                g
+            }
+        }
     }
 
     /// The couplets the last `retrieve` selected, in row-major order.
@@ -228,8 +272,6 @@ impl Memory {
             }
             self.rewards.push(r);
             self.t.resize(self.t.len() + n, 1.0);
-            self.sel.resize(self.sel.len() + n, false);
-            self.sel_prev.resize(self.sel_prev.len() + n, false);
             self.sim_for = None;
         }
         if self.len() >= m {
@@ -268,7 +310,25 @@ impl Memory {
 
     /// End of episode: T back to 1 everywhere. The STM and the masks stay (D5).
     pub fn reset_bias(&mut self) {
-        self.t.fill(1.0);
+        match &mut self.raised {
+            Some(raised) => {
+                for &i in raised.iter() {
+                    self.t[i as usize] = 1.0;
+                }
+                raised.clear();
+            }
+            None => {
+                self.t.fill(1.0);
+                self.raised = Some(Vec::new());
+            }
+        }
+    }
+
+    /// `raised`, rebuilt from T if it was dropped.
+    fn sync_raised(&mut self) {
+        if self.raised.is_none() {
+            self.raised = Some(raised_of(&self.t));
+        }
     }
 
     /// Applies new parameters to the running memory (the page's live controls). Thresholds,
@@ -314,9 +374,19 @@ impl Memory {
         self.actions.drain(i * n..(i + 1) * n);
         self.rewards.remove(i);
         self.t.drain(i * n..(i + 1) * n);
-        self.sel.drain(i * n..(i + 1) * n);
-        self.sel_prev.drain(i * n..(i + 1) * n);
+        let (lo, hi) = ((i * n) as u32, ((i + 1) * n) as u32);
+        for sel in [&mut self.sel, &mut self.sel_prev] {
+            sel.retain(|&c| c < lo || c >= hi);
+            sel.iter_mut().filter(|c| **c >= hi).for_each(|c| *c -= n as u32);
+        }
+        self.raised = None;
         self.g.truncate(0);
+        self.last_g = LastG::Full;
         self.sim_for = None;
     }
+}
+
+/// The indices where T is not 1, ascending.
+fn raised_of(t: &[f64]) -> Vec<u32> {
+    (0..t.len()).filter(|&i| t[i] != 1.0).map(|i| i as u32).collect()
 }

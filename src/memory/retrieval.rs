@@ -1,8 +1,8 @@
 //! Retrieval (docs/ALGORITHM.md, "Retrieval"): T's update after each decision, the selection of
 //! couplets by both thresholds, Q over the actions of the selected and the proportional draw.
 
-use super::similarity::{biased, biased_f64, pairwise9, similarity, similarity_f64};
-use super::{Memory, Selected, ACTIONS};
+use super::similarity::{above32, above64, max32, max64, pairwise9, similarity, similarity_f64};
+use super::{raised_of, LastG, Memory, Selected, ACTIONS};
 use crate::arena::Action;
 use crate::encoder::EMBEDDING;
 use rand::Rng;
@@ -11,19 +11,47 @@ use rand_chacha::ChaCha8Rng;
 impl Memory {
     /// The T half of `update`.
     pub fn update_bias(&mut self) {
-        self.sel_prev.copy_from_slice(&self.sel);
+        self.sel_prev.clone_from(&self.sel);
         if self.is_empty() || !self.cfg.sequential_bias {
             return;
         }
         let (beta, alpha, n) = (self.cfg.beta, self.cfg.alpha, self.cfg.n);
-        decay(&mut self.t, &self.sel_prev, beta);
-        // Then the successors' boost (each T gets at most one, so their order does not matter).
-        let t = &mut self.t;
-        each_set(&self.sel_prev, |idx| {
-            if idx % n != n - 1 {
-                t[idx + 1] += alpha;
+        if settle(1.0, false, beta) == 1.0 {
+            // A T of 1 decays to 1 at this beta (as at every beta tried), so only the raised change.
+            let (t, sel_prev) = (&mut self.t, &self.sel_prev);
+            let raised = self.raised.get_or_insert_with(|| raised_of(t));
+            let mut prev = sel_prev.iter().peekable();
+            raised.retain(|&i| {
+                while prev.next_if(|&&s| s < i).is_some() {}
+                let was_selected = prev.peek() == Some(&&i);
+                let i = i as usize;
+                t[i] = settle(t[i], was_selected, beta);
+                t[i] != 1.0
+            });
+        } else {
+            let mut prev = self.sel_prev.iter().peekable();
+            for (i, t) in self.t.iter_mut().enumerate() {
+                let was_selected = prev.next_if(|&&s| s as usize == i).is_some();
+                *t = settle(*t, was_selected, beta);
             }
-        });
+            self.raised = None;
+        }
+        // Then the successors' boost (each T gets at most one, so their order does not matter).
+        let (t, lifted) = (&mut self.t, &mut self.lifted);
+        lifted.clear();
+        for &idx in &self.sel_prev {
+            let idx = idx as usize;
+            if idx % n != n - 1 {
+                let was = t[idx + 1];
+                t[idx + 1] += alpha;
+                if was == 1.0 && t[idx + 1] != 1.0 {
+                    lifted.push(idx as u32 + 1);
+                }
+            }
+        }
+        if let Some(raised) = &mut self.raised {
+            merge_sorted(raised, lifted);
+        }
     }
 
     /// Retrieval: similarity to every stored couplet, selection by both thresholds, Q over the
@@ -35,70 +63,113 @@ impl Memory {
     /// in f64 after (their LTM is then a list of Python floats); times T in f64 with the bias,
     /// while without it G stays f32 and is compared with theta_abs and G / Gmax with theta_prop
     /// as f32 (numpy casts a Python float to the array's type).
+    ///
+    /// G is the similarity wherever T is 1, so only the raised couplets' G is computed; Gmax is
+    /// the larger of the largest similarity and the raised G, and only the couplets whose
+    /// similarity or G passes both thresholds' lower bound are tested exactly.
     pub fn retrieve(&mut self, e: &[f32; EMBEDDING], rng: &mut ChaCha8Rng) -> Option<Action> {
         self.selected.clear();
+        self.sel.clear();
         let (n, rows) = (self.cfg.n, self.len());
         if rows == 0 {
             return None;
         }
-        self.g.resize(rows * n, 0.0);
-        let t: &[f64] = if self.cfg.sequential_bias { &self.t } else { &[] };
+        let cells = rows * n;
+        let bias = self.cfg.sequential_bias;
+        let forgot = self.forgot;
         // The similarities of the same embedding to the same LTM are those computed last time.
-        let key = (e.map(f32::to_bits), self.forgot);
-        let fresh = !(crate::reuse::on() && self.sim_for == Some(key));
-        let gmax = if self.forgot {
-            if fresh {
-                self.sim64.resize(rows * n, 0.0);
+        let key = (e.map(f32::to_bits), forgot);
+        if !(crate::reuse::on() && self.sim_for == Some(key)) {
+            if forgot {
+                self.sim64.resize(cells, 0.0);
                 similarity_f64(e, &self.ltm, n, &mut self.sim64);
-            }
-            biased_f64(&self.sim64, t, &mut self.g)
-        } else {
-            if fresh {
-                self.sim.resize(rows * n, 0.0);
+            } else {
+                self.sim.resize(cells, 0.0);
                 similarity(e, &self.ltm, n, &mut self.sim);
             }
-            biased(&self.sim, t, &mut self.g)
-        };
+        }
         self.sim_for = Some(key);
+        if bias {
+            self.sync_raised();
+        }
+        let (sim, sim64): (&[f32], &[f64]) =
+            if forgot { (&[], &self.sim64[..cells]) } else { (&self.sim[..cells], &[]) };
+        let t = &self.t;
+        let s = |i: usize| if forgot { sim64[i] } else { sim[i] as f64 };
+        self.g_raised.clear();
+        if let Some(raised) = self.raised.as_ref().filter(|_| bias) {
+            self.g_raised.extend(raised.iter().map(|&i| (i, s(i as usize) * t[i as usize])));
+        }
+        // Gmax is the largest similarity or a raised G above it. Where a G is below its
+        // similarity, the similarity is negative: then a positive Gmax is still this one, and when
+        // every G is at most 0 this is at most 0 too, and nothing passes either way (D16).
+        self.last_g = LastG::Derived { cells, forgot };
+        let top = if forgot { max64(sim64) } else { max32(sim) };
+        let gmax = self.g_raised.iter().fold(top, |a, &(_, b)| if b > a { b } else { a });
         // D16: with Gmax <= 0 nothing can pass (every G <= Gmax <= 0 < theta_abs or G / Gmax
         // undefined); otherwise G > theta_abs and G / Gmax > theta_prop, the ratio rounded as
-        // numpy rounds it.
-        let (ta, tp) = (self.cfg.theta_abs, self.cfg.theta_prop);
-        // A vectorised pass marks a superset: G > theta_abs and G above theta_prop * Gmax lowered
-        // by far more than the division's and the product's rounding (1e-12 in f64, 1e-6 in
-        // f32), so every couplet with G / Gmax > theta_prop is in it; the few marked ones are
-        // then checked with the division itself.
-        let (g, selected) = (&self.g, &mut self.selected);
+        // numpy rounds it. A couplet is tested only if G > theta_abs and G > theta_prop * Gmax
+        // lowered by far more than the division's and the product's rounding (1e-12 in f64,
+        // 1e-6 in f32), which every couplet with G / Gmax > theta_prop passes.
         if gmax <= 0.0 {
-            self.sel.fill(false);
-        } else if t.is_empty() && !self.forgot {
+            return None;
+        }
+        let (ta, tp) = (self.cfg.theta_abs, self.cfg.theta_prop);
+        let (selected, cands) = (&mut self.selected, &mut self.candidates);
+        cands.clear();
+        if !bias && !forgot {
             let (ta, tp, gmax) = (ta as f32, tp as f32, gmax as f32);
             let lo = tp * gmax * (1.0 - 1e-6);
-            for (s, &g) in self.sel.iter_mut().zip(&self.sim) {
-                *s = (g > ta) & (g > lo);
+            above32(sim, f64::from(if ta > lo { ta } else { lo }), cands);
+            for &i in cands.iter() {
+                let g = sim[i as usize];
+                if g > ta && g > lo && g / gmax > tp {
+                    push(selected, n, i as usize, g as f64);
+                }
             }
-            let sim = &self.sim;
-            refine(&mut self.sel, |idx| sim[idx] / gmax > tp, |idx| push(selected, n, idx, g[idx]));
         } else {
             let lo = tp * gmax * (1.0 - 1e-12);
-            for (s, &g) in self.sel.iter_mut().zip(g) {
-                *s = (g > ta) & (g > lo);
+            let bound = if ta > lo { ta } else { lo };
+            let mut pass = |i: u32, g: f64| {
+                if g > ta && g > lo && g / gmax > tp {
+                    push(selected, n, i as usize, g);
+                }
+            };
+            if forgot {
+                above64(sim64, bound, cands);
+            } else {
+                above32(sim, bound, cands);
             }
-            refine(&mut self.sel, |idx| g[idx] / gmax > tp, |idx| push(selected, n, idx, g[idx]));
+            // The candidates and the raised, in ascending order, each with its G.
+            let mut raised = self.g_raised.iter().peekable();
+            for &c in cands.iter() {
+                while let Some(&(i, g)) = raised.next_if(|&&(i, _)| i < c) {
+                    pass(i, g);
+                }
+                match raised.next_if(|&&(i, _)| i == c) {
+                    Some(&(i, g)) => pass(i, g),
+                    None => pass(c, s(c as usize)),
+                }
+            }
+            raised.for_each(|&(i, g)| pass(i, g));
         }
+        self.sel.extend(self.selected.iter().map(|s| s.row * n as u32 + s.col));
         if self.selected.is_empty() {
             return None;
+        }
+        let tau = self.cfg.tau;
+        if self.dist.0 != tau.to_bits() || self.dist.1.len() != n {
+            self.dist = (tau.to_bits(), (0..n).map(|col| libm::exp(-((n - col) as f64 / n as f64) / tau)).collect());
         }
         let rmax = self.selected.iter().map(|s| self.rewards[s.row as usize]).fold(f64::NEG_INFINITY, f64::max);
         self.q = [0.0; ACTIONS];
         for s in &mut self.selected {
             let idx = s.row as usize * n + s.col as usize;
-            s.t = t.get(idx).copied().unwrap_or(1.0);
+            s.t = if bias { self.t[idx] } else { 1.0 };
             s.rr = self.rewards[s.row as usize] / rmax;
             s.d = (n - s.col as usize) as f64 / n as f64;
-            let dist = libm::exp(-s.d / self.cfg.tau);
             s.action = self.actions[idx];
-            s.value = self.cfg.value_function.value(s.g, s.rr, dist);
+            s.value = self.cfg.value_function.value(s.g, s.rr, self.dist.1[s.col as usize]);
             self.q[s.action.index()] += s.value;
         }
         // numpy's sums of 9 (pairwise); a p of 0 adds nothing (the authors' nan_to_num term is -0).
@@ -120,35 +191,31 @@ impl Memory {
     }
 }
 
-crate::dispatch::avx2_dispatch! {
-    /// T's decay, its clamp at 1 and the reset of the selected in one pass (the same values as
-    /// three), branch-free with compare and select so that it vectorises (`f64::max` is a call
-    /// per element in wasm).
-    fn decay(t: &mut [f64], sel_prev: &[bool], beta: f64) => decay_any
-}
-
+/// One T's decay towards 1, its clamp at 1, and its reset when it was selected.
 #[inline(always)]
-fn decay_any(t: &mut [f64], sel_prev: &[bool], beta: f64) {
-    assert_eq!(t.len(), sel_prev.len());
-    for (t, &s) in t.iter_mut().zip(sel_prev) {
-        let v = *t * (1.0 - beta) + beta;
-        *t = if s | (v < 1.0) { 1.0 } else { v };
+fn settle(t: f64, selected: bool, beta: f64) -> f64 {
+    let v = t * (1.0 - beta) + beta;
+    if selected | (v < 1.0) {
+        1.0
+    } else {
+        v
     }
 }
 
-/// Keeps a true of `mask` only where `keep(index)` holds, calling `kept` with each kept index in
-/// ascending order. Few are true, so it skips eight at a time.
-fn refine(mask: &mut [bool], keep: impl Fn(usize) -> bool, mut kept: impl FnMut(usize)) {
-    for (w, chunk) in mask.chunks_mut(8).enumerate() {
-        if chunk.iter().any(|&s| s) {
-            for (l, s) in chunk.iter_mut().enumerate() {
-                if *s {
-                    *s = keep(w * 8 + l);
-                    if *s {
-                        kept(w * 8 + l);
-                    }
-                }
-            }
+/// Merges the ascending `add` into the ascending `v` (no value in both).
+fn merge_sorted(v: &mut Vec<u32>, add: &[u32]) {
+    if add.is_empty() {
+        return;
+    }
+    let (mut i, mut j) = (v.len(), add.len());
+    v.resize(i + j, 0);
+    while j > 0 {
+        if i > 0 && v[i - 1] > add[j - 1] {
+            v[i + j - 1] = v[i - 1];
+            i -= 1;
+        } else {
+            v[i + j - 1] = add[j - 1];
+            j -= 1;
         }
     }
 }
@@ -156,20 +223,6 @@ fn refine(mask: &mut [bool], keep: impl Fn(usize) -> bool, mut kept: impl FnMut(
 fn push(selected: &mut Vec<Selected>, n: usize, idx: usize, g: f64) {
     let (row, col) = ((idx / n) as u32, (idx % n) as u32);
     selected.push(Selected { row, col, g, t: 1.0, rr: 0.0, d: 0.0, action: Action::NOOP, value: 0.0 });
-}
-
-/// Calls `f` with the index of every true in `mask`, ascending. Few couplets are selected, so
-/// it skips eight at a time.
-fn each_set(mask: &[bool], mut f: impl FnMut(usize)) {
-    for (w, chunk) in mask.chunks(8).enumerate() {
-        if chunk.iter().any(|&s| s) {
-            for (l, &s) in chunk.iter().enumerate() {
-                if s {
-                    f(w * 8 + l);
-                }
-            }
-        }
-    }
 }
 
 /// Draws an index with probabilities `p` (summing to 1): the first index whose cumulative sum

@@ -180,39 +180,55 @@ pub(super) fn similarity_f64(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &
     }
 }
 
-/// G = similarity (f64) times T (or 1 when `t` is empty, NSEC) into `g`; returns Gmax.
-pub(super) fn biased_f64(sim: &[f64], t: &[f64], g: &mut [f64]) -> f64 {
-    g.copy_from_slice(sim);
-    for (g, &t) in g.iter_mut().zip(t) {
-        *g *= t;
-    }
-    g.iter().fold(f64::NEG_INFINITY, |a, &b| if b > a { b } else { a })
+avx2_dispatch! {
+    /// The largest similarity (as f64); a NaN is passed over.
+    pub(super) fn max32(v: &[f32]) -> f64 => max_any
 }
 
 avx2_dispatch! {
-    /// G = (1 - MAE) times T (or 1 when `t` is empty, NSEC) into `g`; returns Gmax. Eight running
-    /// maxima so that the loop vectorises; a maximum does not depend on the order.
-    pub(super) fn biased(sim: &[f32], t: &[f64], g: &mut [f64]) -> f64 => biased_any
+    /// `max32` of f64 similarities.
+    pub(super) fn max64(v: &[f64]) -> f64 => max_any
 }
 
+/// Eight running maxima so that the loop vectorises (a maximum does not depend on the order).
 #[inline(always)]
-fn biased_any(sim: &[f32], t: &[f64], g: &mut [f64]) -> f64 {
-    if t.is_empty() {
-        for (g, &s) in g.iter_mut().zip(sim) {
-            *g = s as f64;
-        }
-    } else {
-        for ((g, &s), &t) in g.iter_mut().zip(sim).zip(t) {
-            *g = s as f64 * t;
-        }
-    }
+fn max_any<T: Copy + Into<f64>>(v: &[T]) -> f64 {
     let mut m = [f64::NEG_INFINITY; 8];
-    let chunks = g.chunks_exact(8);
+    let chunks = v.chunks_exact(8);
     let tail = chunks.remainder();
     for c in chunks {
         for l in 0..8 {
-            m[l] = if c[l] > m[l] { c[l] } else { m[l] };
+            let x: f64 = c[l].into();
+            m[l] = if x > m[l] { x } else { m[l] };
         }
     }
-    tail.iter().chain(&m).fold(f64::NEG_INFINITY, |a, &b| if b > a { b } else { a })
+    tail.iter().map(|&x| x.into()).chain(m).fold(f64::NEG_INFINITY, |a, b| if b > a { b } else { a })
+}
+
+avx2_dispatch! {
+    /// Appends the index of every similarity above `thr` (compared as f64), ascending. Few pass,
+    /// so eight are tested at once without a branch and only a block with one is walked.
+    pub(super) fn above32(v: &[f32], thr: f64, out: &mut Vec<u32>) => above_any
+}
+
+avx2_dispatch! {
+    /// `above32` of f64 similarities.
+    pub(super) fn above64(v: &[f64], thr: f64, out: &mut Vec<u32>) => above_any
+}
+
+#[inline(always)]
+fn above_any<T: Copy + Into<f64>>(v: &[T], thr: f64, out: &mut Vec<u32>) {
+    let chunks = v.chunks_exact(8);
+    let tail = chunks.remainder();
+    for (w, c) in chunks.enumerate() {
+        let mut any = false;
+        for &x in c {
+            any |= x.into() > thr;
+        }
+        if any {
+            out.extend((0..8).filter(|&l| c[l].into() > thr).map(|l| (w * 8 + l) as u32));
+        }
+    }
+    let base = v.len() - tail.len();
+    out.extend((0..tail.len()).filter(|&l| tail[l].into() > thr).map(|l| (base + l) as u32));
 }
