@@ -181,3 +181,20 @@ fn a_transparent_arch_shows_the_goal_inside_tinted() {
     );
     assert_ne!(glass.pixel(c, r), GOAL, "tinted, not the bare goal colour");
 }
+
+/// The floats of a frame are each byte divided by 255 (from a table: the same bits as the
+/// division), channel-last, the alpha byte dropped.
+#[test]
+fn rgb_floats_are_the_bytes_over_255() {
+    let mut frame = Frame::new();
+    for (i, px) in frame.rgba.chunks_exact_mut(4).enumerate() {
+        px.copy_from_slice(&[(i % 256) as u8, ((i * 7) % 256) as u8, (255 - i % 256) as u8, 0]);
+    }
+    let mut out = vec![0.0; WIDTH * HEIGHT * 3];
+    frame.to_rgb_f32(&mut out);
+    for (i, o) in out.chunks_exact(3).enumerate() {
+        let want = [(i % 256) as u8, ((i * 7) % 256) as u8, (255 - i % 256) as u8].map(|v| v as f32 / 255.0);
+        let got: Vec<u32> = o.iter().map(|v| v.to_bits()).collect();
+        assert_eq!(got, want.map(f32::to_bits), "pixel {i}");
+    }
+}
