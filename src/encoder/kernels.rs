@@ -413,6 +413,75 @@ pub struct Sparse {
     ci: usize,
 }
 
+/// For each 8-bit mask, the lanes whose bit is set, in order, then the others: the permutation
+/// that packs a vector's nonzero lanes to its front.
+#[cfg(target_arch = "x86_64")]
+static PACK: [[u32; 8]; 256] = {
+    let mut t = [[0u32; 8]; 256];
+    let mut m = 0;
+    while m < 256 {
+        let (mut k, mut lane) = (0, 0);
+        while lane < 8 {
+            if m & (1 << lane) != 0 {
+                t[m][k] = lane as u32;
+                k += 1;
+            }
+            lane += 1;
+        }
+        let mut lane = 0;
+        while lane < 8 {
+            if m & (1 << lane) == 0 {
+                t[m][k] = lane as u32;
+                k += 1;
+            }
+            lane += 1;
+        }
+        m += 1;
+    }
+    t
+};
+
+/// `Sparse::build`'s packing eight values at a time: each vector's nonzero values (and their
+/// positions in the row) are permuted to its front and stored whole at the next free entry, which
+/// then advances by their count. The entries up to the count are the scalar loop's; the ones
+/// written past it are overwritten or never read. Returns the count.
+///
+/// # Safety
+/// The CPU must support AVX2; `input`, `val` and `pos` hold the same number of values, a multiple
+/// of `w * CI`, and `start` one per pixel; CI is a multiple of 8.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn pack_avx2<const CI: usize>(
+    input: &[f32],
+    w: usize,
+    val: &mut [f32],
+    pos: &mut [u32],
+    start: &mut [u32],
+) -> usize {
+    use std::arch::x86_64::*;
+    assert!(CI % 8 == 0 && input.len() == val.len() && val.len() == pos.len() && start.len() * CI == input.len());
+    let (zero, lanes) = (_mm256_setzero_ps(), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    let mut k = 0;
+    for (p, px) in input.chunks_exact(CI).enumerate() {
+        start[p] = k as u32;
+        let x = p % w;
+        for g in 0..CI / 8 {
+            // SAFETY: k counts the nonzeros before this vector, so k + 8 <= its end <= the
+            // length; the load reads the vector's 8 values, PACK's row is 8 indices.
+            unsafe {
+                let v = _mm256_loadu_ps(px.as_ptr().add(8 * g));
+                let m = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_NEQ_UQ>(v, zero)) as usize;
+                let perm = _mm256_loadu_si256(PACK[m].as_ptr() as *const __m256i);
+                let at = _mm256_add_epi32(_mm256_set1_epi32((x * CI + 8 * g) as i32), lanes);
+                _mm256_storeu_ps(val.as_mut_ptr().add(k), _mm256_permutevar8x32_ps(v, perm));
+                _mm256_storeu_si256(pos.as_mut_ptr().add(k) as *mut __m256i, _mm256_permutevar8x32_epi32(at, perm));
+                k += m.count_ones() as usize;
+            }
+        }
+    }
+    k
+}
+
 impl Sparse {
     fn build<const CI: usize>(&mut self, input: &[f32], h: usize, w: usize) {
         assert_eq!(input.len(), h * w * CI);
@@ -426,13 +495,25 @@ impl Sparse {
             self.pos.resize(h * w * CI, 0);
             self.val.resize(h * w * CI, 0.0);
         }
+        let n = h * w * CI;
+        let (val, pos, start) = (&mut self.val[..n], &mut self.pos[..n], &mut self.start[..h * w]);
+        #[cfg(target_arch = "x86_64")]
+        if CI % 8 == 0 && crate::dispatch::avx2() {
+            // SAFETY: the CPU supports AVX2, checked just above; the lengths are as `pack_avx2` asks.
+            self.start[h * w] = unsafe { pack_avx2::<CI>(input, w, val, pos, start) } as u32;
+            self.repeats.mark::<CI>(input, h, w);
+            return;
+        }
         let mut k = 0;
         for (y, row) in input.chunks_exact(w * CI).enumerate() {
             for (x, px) in row.chunks_exact(CI).enumerate() {
-                self.start[y * w + x] = k as u32;
+                start[y * w + x] = k as u32;
                 for (ci, &v) in px.iter().enumerate() {
-                    self.val[k] = v;
-                    self.pos[k] = (x * CI + ci) as u32;
+                    // SAFETY: k counts the nonzeros before this value, so k <= its index < n.
+                    unsafe {
+                        *val.get_unchecked_mut(k) = v;
+                        *pos.get_unchecked_mut(k) = (x * CI + ci) as u32;
+                    }
                     k += (v != 0.0) as usize;
                 }
             }
