@@ -539,11 +539,12 @@ fn after_forgetting_the_similarity_sums_in_f64_in_numpys_order_for_long_rows_too
     }
 }
 
-/// Retrieval computes G only where T is raised and tests only the couplets near both thresholds
-/// (docs/ALGORITHM.md, "Retrieval"). Over random runs whose similarities are sometimes negative
-/// (a raised G then falls below its similarity and G is computed in full) and whose beta may
-/// leave T = 1 unsettled, G must be the similarity times T everywhere and the selection the
-/// thresholds applied to G in full.
+/// Retrieval computes G only where T is raised and tests only the couplets near both thresholds,
+/// and T's update visits only the raised couplets (docs/ALGORITHM.md, "Retrieval"). Over random
+/// runs whose similarities are sometimes negative (a raised G then falls below its similarity),
+/// whose beta may leave T = 1 unsettled and whose forgetting removes rows, G must be the
+/// similarity times T everywhere, the selection the thresholds applied to G in full, and T after
+/// each update the rule applied to all of T.
 #[test]
 fn the_selection_is_the_thresholds_over_g_in_full() {
     let mut src = ChaCha8Rng::seed_from_u64(35);
@@ -580,7 +581,18 @@ fn the_selection_is_the_thresholds_over_g_in_full() {
             let got: Vec<usize> = m.selected().iter().map(|s| s.row as usize * cfg.n + s.col as usize).collect();
             assert_eq!(got, want, "case {case} step {step}");
             assert!(got.iter().all(|&i| m.selected().iter().any(|s| s.g == g[i])));
+            // T's update over the whole LTM, as docs/ALGORITHM.md states it: decay, clamp at 1 and
+            // reset of the selected, then +alpha after each selected couplet within its row.
+            let mut t = m.bias().to_vec();
+            for (i, t) in t.iter_mut().enumerate() {
+                let v = *t * (1.0 - cfg.beta) + cfg.beta;
+                *t = if got.contains(&i) || v < 1.0 { 1.0 } else { v };
+            }
+            for &i in got.iter().filter(|&&i| i % cfg.n != cfg.n - 1) {
+                t[i + 1] += cfg.alpha;
+            }
             m.update(Couplet { embedding: emb(v), action: a.unwrap_or(Action::ALL[src.gen_range(0..9)]) });
+            assert_eq!(m.bias(), &t[..], "case {case} step {step}: T after the update");
             if step % 13 == 12 {
                 m.store(src.gen_range(-1.0..3.0), &mut r);
             }

@@ -170,7 +170,7 @@ impl Memory {
         self.t.resize(rows * n, 1.0);
         self.sel.clear();
         self.sel_prev.clear();
-        self.raised = Some(Vec::new());
+        self.raised.clear();
         self.g.clear();
         self.last_g = super::LastG::Full;
         self.sim_for = None;
@@ -296,9 +296,9 @@ impl Memory {
         (self.stm, self.stm_head, self.ltm, self.actions, self.rewards) = (stm, head, ltm, actions, rewards);
         let set = |mask: Vec<u8>| (0..mask.len() as u32).filter(|&i| mask[i as usize] != 0).collect();
         (self.sel, self.sel_prev) = (set(sel), set(sel_prev));
-        (self.t, self.g, self.forgot, self.sim) = (t, g, forgot, sim);
+        (self.raised, self.t, self.g, self.forgot, self.sim) = (super::raised_of(&t), t, g, forgot, sim);
         (self.selected, self.q, self.p, self.entropy) = (selected, q, p, entropy);
-        (self.raised, self.last_g) = (None, super::LastG::Full);
+        self.last_g = super::LastG::Full;
         self.sim_for = None;
         Ok(())
     }

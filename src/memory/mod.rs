@@ -94,9 +94,8 @@ pub struct Memory {
     sel: Vec<u32>,
     sel_prev: Vec<u32>,
     /// The indices where T is not 1, ascending: T rises only after the selected couplets and
-    /// decays back, so these are few, and T's decay and G need visit only them. `None` when it
-    /// must be rebuilt from `t` (rows removed, a checkpoint loaded).
-    raised: Option<Vec<u32>>,
+    /// decays back, so these are few, and T's decay and G need visit only them.
+    raised: Vec<u32>,
     /// Scratch for `update_bias`: the couplets its boost raised from 1, ascending.
     lifted: Vec<u32>,
     /// G of the last `retrieve` (rows x n, in the precision the authors' numpy used, held as
@@ -142,7 +141,7 @@ impl Memory {
             t: Vec::new(),
             sel: Vec::new(),
             sel_prev: Vec::new(),
-            raised: Some(Vec::new()),
+            raised: Vec::new(),
             lifted: Vec::new(),
             g: Vec::new(),
             g_raised: Vec::new(),
@@ -310,25 +309,10 @@ impl Memory {
 
     /// End of episode: T back to 1 everywhere. The STM and the masks stay (D5).
     pub fn reset_bias(&mut self) {
-        match &mut self.raised {
-            Some(raised) => {
-                for &i in raised.iter() {
-                    self.t[i as usize] = 1.0;
-                }
-                raised.clear();
-            }
-            None => {
-                self.t.fill(1.0);
-                self.raised = Some(Vec::new());
-            }
+        for &i in &self.raised {
+            self.t[i as usize] = 1.0;
         }
-    }
-
-    /// `raised`, rebuilt from T if it was dropped.
-    fn sync_raised(&mut self) {
-        if self.raised.is_none() {
-            self.raised = Some(raised_of(&self.t));
-        }
+        self.raised.clear();
     }
 
     /// Applies new parameters to the running memory (the page's live controls). Thresholds,
@@ -375,18 +359,17 @@ impl Memory {
         self.rewards.remove(i);
         self.t.drain(i * n..(i + 1) * n);
         let (lo, hi) = ((i * n) as u32, ((i + 1) * n) as u32);
-        for sel in [&mut self.sel, &mut self.sel_prev] {
-            sel.retain(|&c| c < lo || c >= hi);
-            sel.iter_mut().filter(|c| **c >= hi).for_each(|c| *c -= n as u32);
+        for list in [&mut self.sel, &mut self.sel_prev, &mut self.raised] {
+            list.retain(|&c| c < lo || c >= hi);
+            list.iter_mut().filter(|c| **c >= hi).for_each(|c| *c -= n as u32);
         }
-        self.raised = None;
         self.g.truncate(0);
         self.last_g = LastG::Full;
         self.sim_for = None;
     }
 }
 
-/// The indices where T is not 1, ascending.
+/// The indices where T is not 1, ascending (`Memory::raised` of `t`).
 fn raised_of(t: &[f64]) -> Vec<u32> {
     (0..t.len()).filter(|&i| t[i] != 1.0).map(|i| i as u32).collect()
 }

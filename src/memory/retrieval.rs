@@ -19,9 +19,8 @@ impl Memory {
         if settle(1.0, false, beta) == 1.0 {
             // A T of 1 decays to 1 at this beta (as at every beta tried), so only the raised change.
             let (t, sel_prev) = (&mut self.t, &self.sel_prev);
-            let raised = self.raised.get_or_insert_with(|| raised_of(t));
             let mut prev = sel_prev.iter().peekable();
-            raised.retain(|&i| {
+            self.raised.retain(|&i| {
                 while prev.next_if(|&&s| s < i).is_some() {}
                 let was_selected = prev.peek() == Some(&&i);
                 let i = i as usize;
@@ -34,7 +33,7 @@ impl Memory {
                 let was_selected = prev.next_if(|&&s| s as usize == i).is_some();
                 *t = settle(*t, was_selected, beta);
             }
-            self.raised = None;
+            self.raised = raised_of(&self.t);
         }
         // Then the successors' boost (each T gets at most one, so their order does not matter).
         let (t, lifted) = (&mut self.t, &mut self.lifted);
@@ -49,9 +48,7 @@ impl Memory {
                 }
             }
         }
-        if let Some(raised) = &mut self.raised {
-            merge_sorted(raised, lifted);
-        }
+        merge_sorted(&mut self.raised, lifted);
     }
 
     /// Retrieval: similarity to every stored couplet, selection by both thresholds, Q over the
@@ -89,16 +86,13 @@ impl Memory {
             }
         }
         self.sim_for = Some(key);
-        if bias {
-            self.sync_raised();
-        }
         let (sim, sim64): (&[f32], &[f64]) =
             if forgot { (&[], &self.sim64[..cells]) } else { (&self.sim[..cells], &[]) };
         let t = &self.t;
         let s = |i: usize| if forgot { sim64[i] } else { sim[i] as f64 };
         self.g_raised.clear();
-        if let Some(raised) = self.raised.as_ref().filter(|_| bias) {
-            self.g_raised.extend(raised.iter().map(|&i| (i, s(i as usize) * t[i as usize])));
+        if bias {
+            self.g_raised.extend(self.raised.iter().map(|&i| (i, s(i as usize) * t[i as usize])));
         }
         // Gmax is the largest similarity or a raised G above it. Where a G is below its
         // similarity, the similarity is negative: then a positive Gmax is still this one, and when
