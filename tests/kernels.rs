@@ -6,8 +6,8 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use sec_playground::encoder::kernels::{
-    conv3x3_relu, conv3x3_relu_sparse, conv3x3_up2_relu, conv3x3_up2_relu_planar, pad1, pad1_planar, Repeats, Reused,
-    Sparse, Up2,
+    conv3x3_relu, conv3x3_relu_maxpool2, conv3x3_relu_sparse, conv3x3_relu_sparse_maxpool2, conv3x3_up2_relu,
+    conv3x3_up2_relu_planar, maxpool2, pad1, pad1_planar, Repeats, Reused, Sparse, Up2,
 };
 
 /// Values in [-1, 1], `zeros` of them exactly zero, some of those -0.0.
@@ -180,5 +180,51 @@ fn reusing_repeated_windows_gives_the_bits_of_computing_them() {
         conv3x3_up2_relu::<16, 16>(&padded, h, w, &fold, &bias[..16], &mut sparse, &mut b);
         assert_eq!(bits(&a), bits(&b), "folded layer, {h}x{w}");
         assert!(sparse.reused().left + sparse.reused().above > 0);
+    }
+}
+
+/// The encoder's fused layers (a convolution whose reused pixels are not copied, pooled through
+/// the pixels they were computed at) give the bits of computing every pixel and pooling them, for
+/// odd and even sizes, with and without the pooling's border, on inputs with repeated windows.
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn pooling_through_reused_pixels_gives_the_bits_of_pooling_them_all() {
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    let (mut repeats, mut sparse, mut sparse_plain) = (Repeats::default(), Sparse::default(), Sparse::plain());
+    let (mut conv, mut a, mut b) = (Vec::new(), Vec::new(), Vec::new());
+    for (h, w, border) in [(86, 86, 1), (13, 9, 0), (6, 41, 1), (4, 140, 0)] {
+        let input = with_runs(h, w, 3, 0.1, &mut rng);
+        let weights: Vec<f32> = (0..9 * 3 * 16).map(|_| rng.gen_range(-0.5..0.5)).collect();
+        let bias: Vec<f32> = (0..16).map(|_| rng.gen_range(-0.5..0.2)).collect();
+        let (ch, cw) = conv3x3_relu::<3, 16>(&input, h, w, &weights, &bias, &mut Repeats::plain(), &mut conv);
+        let expected = maxpool2::<16>(&conv, ch, cw, border, &mut a);
+        let got =
+            conv3x3_relu_maxpool2::<3, 16>(&input, h, w, &weights, &bias, &mut repeats, &mut conv, border, &mut b);
+        assert_eq!(expected, got);
+        assert_eq!(bits(&a), bits(&b), "first layer, {h}x{w}");
+        let r = repeats.reused();
+        assert!((r.left + r.above > (h - 2) * (w - 2) / 4) == (w <= 128), "{h}x{w}: {r:?}");
+        assert!(a.iter().any(|&v| v > 0.0));
+    }
+    for (h, w, border, zeros) in [(44, 44, 1, 0.7), (23, 23, 0, 0.3), (9, 31, 1, 0.0)] {
+        let input = with_runs(h, w, 16, zeros, &mut rng);
+        let weights: Vec<f32> = (0..9 * 16 * 32).map(|_| rng.gen_range(-0.5..0.5)).collect();
+        let bias: Vec<f32> = (0..32).map(|_| rng.gen_range(-0.5..0.2)).collect();
+        let (ch, cw) = conv3x3_relu_sparse::<16, 32>(&input, h, w, &weights, &bias, &mut sparse_plain, &mut conv);
+        let expected = maxpool2::<32>(&conv, ch, cw, border, &mut a);
+        let got = conv3x3_relu_sparse_maxpool2::<16, 32>(
+            &input,
+            h,
+            w,
+            &weights,
+            &bias,
+            &mut sparse,
+            &mut conv,
+            border,
+            &mut b,
+        );
+        assert_eq!(expected, got);
+        assert_eq!(bits(&a), bits(&b), "sparse layer, {h}x{w}");
+        assert!(sparse.reused().left > (h - 2) * (w - 2) / 4);
     }
 }

@@ -71,14 +71,52 @@ pub fn conv3x3_relu<const CI: usize, const CO: usize>(
     repeats: &mut Repeats,
     out: &mut Vec<f32>,
 ) -> (usize, usize) {
+    let pass = conv3x3_relu_computed::<CI, CO>(input, h, w, weights, bias, repeats, out);
+    repeats.fill::<CO>(&pass, out);
+    (pass.rows, pass.cols)
+}
+
+/// `conv3x3_relu` without the reused pixels' copies: only the pixels `repeats.todo` lists are
+/// written (the others hold stale values until `Repeats::fill`, or are read through
+/// `Repeats::sources`).
+#[allow(clippy::too_many_arguments)]
+fn conv3x3_relu_computed<const CI: usize, const CO: usize>(
+    input: &[f32],
+    h: usize,
+    w: usize,
+    weights: &[f32],
+    bias: &[f32],
+    repeats: &mut Repeats,
+    out: &mut Vec<f32>,
+) -> Pass {
     assert_eq!(input.len(), h * w * CI);
     let pass = Pass::plain(h, w);
-    out.resize(pass.rows * pass.cols * CO, 0.0); // every value is written: no need to clear
+    out.resize(pass.rows * pass.cols * CO, 0.0); // every value read is written: no need to clear
     repeats.mark::<CI>(input, h, w);
     repeats.plan(&pass, 3);
     conv_pass::<CI, CO, 3>(input, w, weights, bias, pass, &repeats.todo, out);
-    repeats.fill::<CO>(&pass, out);
-    (pass.rows, pass.cols)
+    pass
+}
+
+/// `conv3x3_relu` then `maxpool2`: the same bits, but a reused pixel is not copied; the pooling
+/// reads the pixel whose output it took (most of the first layer's pixels are reused, and their
+/// copies cost more than the pooling). `conv` holds the convolution's computed pixels; returns
+/// the pooled size, border included.
+#[allow(clippy::too_many_arguments)]
+pub fn conv3x3_relu_maxpool2<const CI: usize, const CO: usize>(
+    input: &[f32],
+    h: usize,
+    w: usize,
+    weights: &[f32],
+    bias: &[f32],
+    repeats: &mut Repeats,
+    conv: &mut Vec<f32>,
+    border: usize,
+    out: &mut Vec<f32>,
+) -> (usize, usize) {
+    let pass = conv3x3_relu_computed::<CI, CO>(input, h, w, weights, bias, repeats, conv);
+    repeats.sources(&pass);
+    maxpool2_via::<CO>(conv, &repeats.src, pass.rows, pass.cols, border, out)
 }
 
 /// Which pixels of an activation equal their left neighbour, and which the pixel above, in every
@@ -104,6 +142,8 @@ pub struct Repeats {
     up: Vec<u128>,
     /// The (rows, cols) of the pass `todo`, `left` and `up` were planned for.
     planned: (usize, usize),
+    /// Per output pixel of a plain pass, the pixel whose output it has (`sources`).
+    src: Vec<u32>,
     /// Whether windows are compared at all (`plain` computes every pixel).
     reuse: bool,
 }
@@ -118,6 +158,7 @@ impl Default for Repeats {
             left: Vec::new(),
             up: Vec::new(),
             planned: (0, 0),
+            src: Vec::new(),
             reuse: true,
         }
     }
@@ -234,6 +275,30 @@ impl Repeats {
                 for jj in j..j + len {
                     out[pass.pixel(i, jj) * CO..][..CO].copy_from_slice(&v);
                 }
+            }
+        }
+    }
+
+    /// `fill` without copying: per output pixel of the (plain) pass just planned, row by row, the
+    /// pixel whose output it has: itself where computed, else its source's (a copy of the pixel
+    /// above takes that one's source, a run from the left its left neighbour's).
+    fn sources(&mut self, pass: &Pass) {
+        assert!(pass.sx == 1 && pass.sy == 1 && pass.ox == 0 && pass.oy == 0 && pass.ow == pass.cols);
+        assert_eq!(self.planned, (pass.rows, pass.cols), "the pass was not planned");
+        let (rows, cols) = (pass.rows, pass.cols);
+        self.src.clear();
+        self.src.extend(0..(rows * cols) as u32);
+        for (i, (&left, &up)) in self.left.iter().zip(&self.up).enumerate() {
+            if left | up == 0 {
+                continue;
+            }
+            let (above, row) =
+                self.src[i.saturating_sub(1) * cols..(i + 1) * cols].split_at_mut(if i == 0 { 0 } else { cols });
+            let mut bits = left | up;
+            while bits != 0 {
+                let j = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                row[j] = if up >> j & 1 == 1 { above[j] } else { row[j - 1] };
             }
         }
     }
@@ -366,13 +431,47 @@ pub fn conv3x3_relu_sparse<const CI: usize, const CO: usize>(
     sparse: &mut Sparse,
     out: &mut Vec<f32>,
 ) -> (usize, usize) {
+    let pass = conv3x3_relu_sparse_computed::<CI, CO>(input, h, w, weights, bias, sparse, out);
+    sparse.repeats.fill::<CO>(&pass, out);
+    (pass.rows, pass.cols)
+}
+
+/// `conv3x3_relu_sparse` without the reused pixels' copies (as `conv3x3_relu_computed`).
+#[allow(clippy::too_many_arguments)]
+fn conv3x3_relu_sparse_computed<const CI: usize, const CO: usize>(
+    input: &[f32],
+    h: usize,
+    w: usize,
+    weights: &[f32],
+    bias: &[f32],
+    sparse: &mut Sparse,
+    out: &mut Vec<f32>,
+) -> Pass {
     sparse.build::<CI>(input, h, w);
     let pass = Pass::plain(h, w);
     out.resize(pass.rows * pass.cols * CO, 0.0);
     sparse.repeats.plan(&pass, 3);
     sparse_pass::<CI, CO, 3>(sparse, weights, bias, pass, out);
-    sparse.repeats.fill::<CO>(&pass, out);
-    (pass.rows, pass.cols)
+    pass
+}
+
+/// `conv3x3_relu_sparse` then `maxpool2`, reading reused pixels where they were computed (as
+/// `conv3x3_relu_maxpool2`).
+#[allow(clippy::too_many_arguments)]
+pub fn conv3x3_relu_sparse_maxpool2<const CI: usize, const CO: usize>(
+    input: &[f32],
+    h: usize,
+    w: usize,
+    weights: &[f32],
+    bias: &[f32],
+    sparse: &mut Sparse,
+    conv: &mut Vec<f32>,
+    border: usize,
+    out: &mut Vec<f32>,
+) -> (usize, usize) {
+    let pass = conv3x3_relu_sparse_computed::<CI, CO>(input, h, w, weights, bias, sparse, conv);
+    sparse.repeats.sources(&pass);
+    maxpool2_via::<CO>(conv, &sparse.repeats.src, pass.rows, pass.cols, border, out)
 }
 
 /// 3x3 convolution with ReLU of the 2x nearest-neighbour upsampling of an h x w input, read
@@ -977,6 +1076,33 @@ pub fn maxpool2<const C: usize>(
     out: &mut Vec<f32>,
 ) -> (usize, usize) {
     assert_eq!(input.len(), h * w * C);
+    pool2::<C>(input, h, w, border, out, |p| p)
+}
+
+/// `maxpool2` of an h x w activation whose pixel p is stored at pixel `src[p]` of `input`.
+fn maxpool2_via<const C: usize>(
+    input: &[f32],
+    src: &[u32],
+    h: usize,
+    w: usize,
+    border: usize,
+    out: &mut Vec<f32>,
+) -> (usize, usize) {
+    assert!(input.len() == h * w * C && src.len() == h * w);
+    pool2::<C>(input, h, w, border, out, |p| src[p] as usize)
+}
+
+/// `maxpool2` reading pixel p at `at(p)`. All inputs are ReLU outputs (no NaN, no -0), so the
+/// maximum does not depend on the order its values come in.
+#[inline(always)]
+fn pool2<const C: usize>(
+    input: &[f32],
+    h: usize,
+    w: usize,
+    border: usize,
+    out: &mut Vec<f32>,
+    at: impl Fn(usize) -> usize,
+) -> (usize, usize) {
     let (oh, ow) = (h.div_ceil(2), w.div_ceil(2));
     let (bh, bw) = (oh + 2 * border, ow + 2 * border);
     out.resize(bh * bw * C, 0.0);
@@ -987,7 +1113,7 @@ pub fn maxpool2<const C: usize>(
             *o = [f32::NEG_INFINITY; C];
             for iy in 2 * oy..(2 * oy + 2).min(h) {
                 for ix in 2 * ox..(2 * ox + 2).min(w) {
-                    let p: &[f32; C] = input[(iy * w + ix) * C..][..C].try_into().unwrap();
+                    let p: &[f32; C] = input[at(iy * w + ix) * C..][..C].try_into().unwrap();
                     for k in 0..C {
                         o[k] = pmax(o[k], p[k]);
                     }

@@ -6,8 +6,8 @@
 //! transposes when it writes the weights file.
 
 use super::kernels::{
-    conv3x3_relu, conv3x3_relu_sparse, conv3x3_up2_relu, conv3x3_up2_relu_planar, dense, maxpool2, pad1, pad1_planar,
-    Repeats, Sparse, Up2,
+    conv3x3_relu, conv3x3_relu_maxpool2, conv3x3_relu_sparse_maxpool2, conv3x3_up2_relu, conv3x3_up2_relu_planar,
+    dense, pad1, pad1_planar, Repeats, Sparse, Up2,
 };
 use super::weights::{Tensor, Weights};
 use crate::error::FileError;
@@ -151,12 +151,9 @@ impl Autoencoder {
         assert_eq!(image.len(), IMAGE, "the image must be 84x84x3");
         let [pad, c1, p1, c2, p2, c3, p3] = &mut s.enc;
         let (h, w) = pad1(image, HEIGHT, WIDTH, 3, pad);
-        let (h, w) = conv3x3_relu::<3, 16>(pad, h, w, self.p(0), self.p(1), &mut s.repeats, c1);
-        let (h, w) = maxpool2::<16>(c1, h, w, 1, p1);
-        let (h, w) = conv3x3_relu_sparse::<16, 32>(p1, h, w, self.p(2), self.p(3), &mut s.sparse, c2);
-        let (h, w) = maxpool2::<32>(c2, h, w, 1, p2);
-        let (h, w) = conv3x3_relu_sparse::<32, 32>(p2, h, w, self.p(4), self.p(5), &mut s.sparse, c3);
-        let (h, w) = maxpool2::<32>(c3, h, w, 0, p3);
+        let (h, w) = conv3x3_relu_maxpool2::<3, 16>(pad, h, w, self.p(0), self.p(1), &mut s.repeats, c1, 1, p1);
+        let (h, w) = conv3x3_relu_sparse_maxpool2::<16, 32>(p1, h, w, self.p(2), self.p(3), &mut s.sparse, c2, 1, p2);
+        let (h, w) = conv3x3_relu_sparse_maxpool2::<32, 32>(p2, h, w, self.p(4), self.p(5), &mut s.sparse, c3, 0, p3);
         debug_assert_eq!(h * w * 32, FLAT);
         dense(p3, self.p(6), self.p(7), true, out);
         if self.embedding_scale != 1.0 {
