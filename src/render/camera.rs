@@ -29,6 +29,9 @@ pub struct Camera {
     /// Vertical slope of each row's ray (positive above the horizon).
     row_slope: [f32; HEIGHT],
     depth: Vec<f32>,
+    /// What every frame starts from: the sky above the horizon and the bare floor below, as
+    /// RGBA and as depth (the same in every frame, so copied rather than recomputed).
+    background: (Vec<u8>, Vec<f32>),
     /// Per opaque box of the frame being drawn, the column offsets whose rays can meet it.
     reach: Vec<(f32, f32)>,
 }
@@ -59,10 +62,12 @@ impl Camera {
     /// A camera with empty buffers.
     pub fn new() -> Self {
         let n = WIDTH as f32;
+        let row_slope = std::array::from_fn(|r| (1.0 - (2 * r + 1) as f32 / n) * TAN_HALF_FOV);
         Camera {
             col_offset: std::array::from_fn(|c| ((2 * c + 1) as f32 / n - 1.0) * TAN_HALF_FOV),
-            row_slope: std::array::from_fn(|r| (1.0 - (2 * r + 1) as f32 / n) * TAN_HALF_FOV),
+            row_slope,
             depth: vec![f32::INFINITY; PIXELS],
+            background: background(&row_slope),
             reach: Vec::new(),
         }
     }
@@ -71,11 +76,8 @@ impl Camera {
     pub fn render(&mut self, w: &World, frame: &mut Frame) {
         let f = w.agent.forward();
         let right = Vec2::new(f.y, -f.x);
-        self.depth.fill(f32::INFINITY);
-        let sky = colours::SKY;
-        for px in frame.rgba.chunks_exact_mut(4) {
-            px.copy_from_slice(&[sky.0, sky.1, sky.2, 255]);
-        }
+        self.depth.copy_from_slice(&self.background.1);
+        frame.rgba.copy_from_slice(&self.background.0);
         let px = &mut frame.rgba;
         let mut reach = std::mem::take(&mut self.reach);
         reach.clear();
@@ -154,12 +156,15 @@ impl Camera {
                 n += 1;
             }
         }
-        for r in HEIGHT / 2..HEIGHT {
-            let s = -EYE / self.row_slope[r];
-            let colour = spans[..n].iter().find(|(s0, s1, _)| (*s0..=*s1).contains(&s)).map_or(colours::FLOOR, |z| z.2);
-            let i = r * WIDTH + c;
-            self.depth[i] = s;
-            put(px, i, [colour.0, colour.1, colour.2]);
+        // The floor's depth and colour are the background's; a zone's colour replaces it.
+        if n > 0 {
+            for r in HEIGHT / 2..HEIGHT {
+                let i = r * WIDTH + c;
+                let s = self.depth[i];
+                if let Some(z) = spans[..n].iter().find(|(s0, s1, _)| (*s0..=*s1).contains(&s)) {
+                    put(px, i, [z.2 .0, z.2 .1, z.2 .2]);
+                }
+            }
         }
         // The eye is always inside the fence square: the ray leaves it at the nearest exit.
         let exit = |e: f32, d: f32| {
@@ -296,6 +301,22 @@ impl Camera {
             }
         }
     }
+}
+
+/// `Camera::background`: above the horizon the sky at infinite depth, below it the floor at the
+/// depth where each row's ray meets it.
+fn background(row_slope: &[f32; HEIGHT]) -> (Vec<u8>, Vec<f32>) {
+    let (sky, floor) = (colours::SKY, colours::FLOOR);
+    let mut rgba = Vec::with_capacity(4 * PIXELS);
+    let mut depth = Vec::with_capacity(PIXELS);
+    for (r, &slope) in row_slope.iter().enumerate() {
+        let (colour, s) = if r < HEIGHT / 2 { (sky, f32::INFINITY) } else { (floor, -EYE / slope) };
+        for _ in 0..WIDTH {
+            rgba.extend_from_slice(&[colour.0, colour.1, colour.2, 255]);
+            depth.push(s);
+        }
+    }
+    (rgba, depth)
 }
 
 #[inline]
