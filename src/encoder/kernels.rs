@@ -132,8 +132,6 @@ pub struct Repeats {
     same: Vec<u128>,
     /// Per input row, bit c: pixel c equals the pixel above it (never set in row 0).
     above: Vec<u128>,
-    /// Scratch: per value of a row, 1 where it equals the value it is compared with.
-    values: Vec<u8>,
     /// Output pixels (i, j) of the pass to compute, row by row.
     todo: Vec<(u32, u32)>,
     /// Per output row of the pass, bit j: pixel (i, j) takes the output of (i, j - 1).
@@ -153,7 +151,6 @@ impl Default for Repeats {
         Repeats {
             same: Vec::new(),
             above: Vec::new(),
-            values: Vec::new(),
             todo: Vec::new(),
             left: Vec::new(),
             up: Vec::new(),
@@ -173,28 +170,6 @@ pub struct Reused {
     pub above: usize,
 }
 
-/// 1 if all C bytes are 1 (a pixel's channels all equal), else 0.
-#[inline(always)]
-fn all<const C: usize>(bytes: &[u8]) -> u8 {
-    let bytes: &[u8; C] = bytes.try_into().unwrap();
-    if C % 8 == 0 {
-        // Eight bytes a compare (the middle layers' 16 and 32 channels).
-        const ONES: u64 = 0x0101_0101_0101_0101;
-        return bytes.chunks_exact(8).fold(1, |a, b| a & (u64::from_le_bytes(b.try_into().unwrap()) == ONES) as u8);
-    }
-    bytes.iter().fold(1, |a, &b| a & b)
-}
-
-/// 128 bytes of 0 or 1 as the bits of a u128 (byte c: bit c).
-#[inline(always)]
-fn pack(bytes: &[u8; 128]) -> u128 {
-    bytes.chunks_exact(8).enumerate().fold(0, |bits, (k, eight)| {
-        // Byte i of the word lands on bit 56 + i of the product.
-        let byte = u64::from_le_bytes(eight.try_into().unwrap()).wrapping_mul(0x0102_0408_1020_4080) >> 56;
-        bits | (byte as u128) << (8 * k)
-    })
-}
-
 impl Repeats {
     /// Scratch space that computes every output pixel: the reference the reuse is tested against.
     pub fn plain() -> Self {
@@ -208,7 +183,7 @@ impl Repeats {
         if !(self.reuse && crate::reuse::on()) || w > 128 {
             return;
         }
-        mark_rows::<C>(input, w, &mut self.values, &mut self.same, &mut self.above);
+        mark_rows::<C>(input, w, &mut self.same, &mut self.above);
     }
 
     /// Splits the pass's output pixels into those to compute and those to copy (after `mark` of
@@ -265,12 +240,8 @@ impl Repeats {
                 let (src, dst) = (pass.pixel(i - 1, j) * CO, pass.pixel(i, j) * CO);
                 out.copy_within(src..src + CO, dst);
             }
-            let mut bits = left;
-            while bits != 0 {
+            for (j, len) in runs_of(left) {
                 // A run of copies j..j + len all take pixel j - 1's output.
-                let j = bits.trailing_zeros() as usize;
-                let len = (bits >> j).trailing_ones() as usize;
-                bits &= !(((1u128 << len) - 1) << j);
                 let v: [f32; CO] = out[pass.pixel(i, j - 1) * CO..][..CO].try_into().unwrap();
                 for jj in j..j + len {
                     out[pass.pixel(i, jj) * CO..][..CO].copy_from_slice(&v);
@@ -294,62 +265,73 @@ impl Repeats {
             }
             let (above, row) =
                 self.src[i.saturating_sub(1) * cols..(i + 1) * cols].split_at_mut(if i == 0 { 0 } else { cols });
-            let mut bits = left | up;
-            while bits != 0 {
-                let j = bits.trailing_zeros() as usize;
-                bits &= bits - 1;
-                row[j] = if up >> j & 1 == 1 { above[j] } else { row[j - 1] };
+            // Whole runs at a time, without a branch per pixel: first the copies from above (that
+            // row is complete), then the runs from the left, each of which takes the source of
+            // the pixel before it (computed or copied from above: a run is maximal).
+            for (j, len) in runs_of(up) {
+                row[j..j + len].copy_from_slice(&above[j..j + len]);
+            }
+            for (j, len) in runs_of(left) {
+                let s = row[j - 1];
+                row[j..j + len].fill(s);
             }
         }
     }
+}
+
+/// The runs of set bits of `bits`, lowest first, each as (first bit, length).
+#[inline(always)]
+fn runs_of(mut bits: u128) -> impl Iterator<Item = (usize, usize)> {
+    std::iter::from_fn(move || {
+        if bits == 0 {
+            return None;
+        }
+        let j = bits.trailing_zeros() as usize;
+        let len = (bits >> j).trailing_ones() as usize;
+        // len = 128 only for a full row, which starts at 0 and leaves nothing.
+        bits = if len == 128 { 0 } else { bits & !(((1u128 << len) - 1) << j) };
+        Some((j, len))
+    })
 }
 
 avx2_dispatch! {
     /// `Repeats::mark`'s bits of each row of an activation `w` pixels wide (at most 128).
-    fn mark_rows<const C: usize>(
-        input: &[f32], w: usize, values: &mut Vec<u8>, same: &mut Vec<u128>, above: &mut Vec<u128>
-    ) => mark_rows_any
+    fn mark_rows<const C: usize>(input: &[f32], w: usize, same: &mut Vec<u128>, above: &mut Vec<u128>) => mark_rows_any
 }
 
 #[inline(always)]
-fn mark_rows_any<const C: usize>(
-    input: &[f32],
-    w: usize,
-    values: &mut Vec<u8>,
-    same: &mut Vec<u128>,
-    above: &mut Vec<u128>,
-) {
+fn mark_rows_any<const C: usize>(input: &[f32], w: usize, same: &mut Vec<u128>, above: &mut Vec<u128>) {
     assert!(w <= 128);
-    // Values compared first, a byte each, in a loop over the row that vectorises; then a pixel
-    // is equal where all its C bytes are; those bytes are packed eight at a time.
-    let n = w * C;
-    values.resize(n, 0);
-    // Bit c: all C bytes of pixel c in `values` are 1 (bits past w stay 0).
-    let mut bytes = [0u8; 128];
-    let mut pixels = |values: &[u8]| {
-        for (c, pixel) in values.chunks_exact(C).enumerate() {
-            bytes[c] = all::<C>(pixel);
-        }
-        pack(&bytes)
-    };
+    // Two pixels are equal where the OR of their C values' XORed bits is zero: a loop across
+    // the channels that vectorises, then one test, and no branch per pixel.
     let mut prev: Option<&[f32]> = None;
-    for row in input.chunks_exact(n) {
-        values[..C].fill(0);
-        for k in C..n {
-            values[k] = (row[k].to_bits() == row[k - C].to_bits()) as u8;
+    for row in input.chunks_exact(w * C) {
+        // Bits shifted in from the top (a shift by a variable count of a u128 costs branches).
+        let mut bits = 0u128;
+        for c in (1..w).rev() {
+            bits = bits << 1 | equal_pixels::<C>(&row[c * C..], &row[(c - 1) * C..]) as u128;
         }
-        same.push(pixels(values));
-        above.push(match prev {
-            None => 0,
-            Some(prev) => {
-                for (v, (a, b)) in values.iter_mut().zip(row.iter().zip(prev)) {
-                    *v = (a.to_bits() == b.to_bits()) as u8;
-                }
-                pixels(values)
+        same.push(bits << 1);
+        let mut bits = 0u128;
+        if let Some(prev) = prev {
+            for c in (0..w).rev() {
+                bits = bits << 1 | equal_pixels::<C>(&row[c * C..], &prev[c * C..]) as u128;
             }
-        });
+        }
+        above.push(bits);
         prev = Some(row);
     }
+}
+
+/// Whether the first C values of `a` and `b` are the same bits.
+#[inline(always)]
+fn equal_pixels<const C: usize>(a: &[f32], b: &[f32]) -> bool {
+    let (a, b): (&[f32; C], &[f32; C]) = (a[..C].try_into().unwrap(), b[..C].try_into().unwrap());
+    let mut m = 0;
+    for k in 0..C {
+        m |= a[k].to_bits() ^ b[k].to_bits();
+    }
+    m == 0
 }
 
 /// The 3x3 weights of a convolution that reads a 2x nearest-neighbour upsampling, folded for
