@@ -426,3 +426,41 @@ fn the_frame_cache_remembers_equal_frames_only() {
     assert_eq!(computed, 3);
     assert_eq!(c.hit_rate(), (2, CAPACITY as u64 + 3));
 }
+
+/// One pixel changed anywhere in a flat frame, inside a long run (where the key is built eight
+/// pixels at a time) or at its edges, is another frame; the same change again is found; alpha is
+/// not part of a frame.
+#[test]
+fn the_frame_cache_tells_apart_frames_that_differ_in_one_pixel() {
+    use sec_playground::render::Frame;
+    let flat = || {
+        let mut f = Frame::new();
+        f.rgba.chunks_exact_mut(4).for_each(|p| p.copy_from_slice(&[10, 20, 30, 255]));
+        f
+    };
+    let mut c = FrameCache::new();
+    let base = c.find(&flat());
+    let positions = [0, 1, 7, 8, 9, 15, 16, 17, 3000, 7047, 7048, 7054, 7055];
+    let slots: Vec<_> = positions
+        .iter()
+        .flat_map(|&p| {
+            (0..3).map(move |channel| {
+                let mut f = flat();
+                f.rgba[4 * p + channel] ^= 1;
+                f
+            })
+        })
+        .map(|f| c.find(&f))
+        .collect();
+    let mut all = slots.clone();
+    all.push(base);
+    all.sort_by_key(|s| format!("{s:?}"));
+    all.dedup();
+    assert_eq!(all.len(), slots.len() + 1, "every changed frame is a new one");
+    let mut f = flat();
+    f.rgba[4 * 3000 + 1] ^= 1;
+    assert_eq!(c.find(&f), slots[8 * 3 + 1]);
+    let mut alpha = flat();
+    alpha.rgba[4 * 20 + 3] = 0;
+    assert_eq!(c.find(&alpha), base);
+}
