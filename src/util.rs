@@ -40,6 +40,8 @@ pub fn read_text_file(path: &std::path::Path, what: &str) -> Result<String, Stri
 
 /// FNV-1a 64's starting value.
 pub(crate) const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+/// FNV-1a 64's multiplier.
+pub(crate) const FNV_PRIME: u64 = 0x0000_0100_0000_01b3;
 
 /// 64-bit FNV-1a: frame fingerprints in traces and the weights file's checksum.
 pub fn fnv1a(bytes: &[u8]) -> u64 {
@@ -50,7 +52,7 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
 pub(crate) fn fnv1a_extend(mut h: u64, bytes: &[u8]) -> u64 {
     for &b in bytes {
         h ^= b as u64;
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        h = h.wrapping_mul(FNV_PRIME);
     }
     h
 }

@@ -57,7 +57,7 @@ fn run_length(frame: &Frame, key: &mut Vec<u8>) -> u64 {
     let mut end_run = |n: u16, rgb: u32| {
         key.extend_from_slice(&n.to_le_bytes());
         key.extend_from_slice(&rgb.to_le_bytes()[..3]);
-        hash = (hash ^ (u64::from(rgb) << 16 | u64::from(n))).wrapping_mul(0x0000_0100_0000_01b3);
+        hash = (hash ^ (u64::from(rgb) << 16 | u64::from(n))).wrapping_mul(crate::util::FNV_PRIME);
     };
     // Each pixel's RGB as one word (alpha dropped).
     let rgb = |p: &[u8]| u32::from_le_bytes([p[0], p[1], p[2], 0]);
