@@ -544,15 +544,17 @@ fn after_forgetting_the_similarity_sums_in_f64_in_numpys_order_for_long_rows_too
 /// runs whose similarities are sometimes negative (a raised G then falls below its similarity),
 /// whose beta may leave T = 1 unsettled and whose forgetting removes rows, G must be the
 /// similarity times T everywhere, the selection the thresholds applied to G in full, and T after
-/// each update the rule applied to all of T.
+/// each update the rule applied to all of T. The thresholds change now and then (to 0 too), the
+/// same embedding comes back (the last similarity row and its candidates reused), and rows of 1 to
+/// 19 couplets take every kernel's block shapes.
 #[test]
 fn the_selection_is_the_thresholds_over_g_in_full() {
     let mut src = ChaCha8Rng::seed_from_u64(35);
     // Multiples of 1/64 and two far values: every MAE is exact, and 1 - MAE is negative at 2.
     let places = [0.0, 1.0 / 64.0, 2.0 / 64.0, 3.0 / 64.0, 2.0, -2.0];
     for case in 0..48 {
-        let cfg = MemoryConfig {
-            n: src.gen_range(1..9),
+        let mut cfg = MemoryConfig {
+            n: src.gen_range(1..20),
             m: src.gen_range(1..12),
             theta_abs: src.gen_range(0.0..0.99),
             theta_prop: src.gen_range(0.5..1.0),
@@ -598,6 +600,12 @@ fn the_selection_is_the_thresholds_over_g_in_full() {
             }
             if step % 41 == 40 {
                 m.reset_bias();
+            }
+            if step % 29 == 28 {
+                let zero = src.gen_bool(0.2);
+                cfg.theta_abs = if zero { 0.0 } else { src.gen_range(0.0..0.99) };
+                cfg.theta_prop = if zero { 0.0 } else { src.gen_range(0.5..1.0) };
+                m.reconfigure(cfg.clone()).unwrap();
             }
         }
     }
