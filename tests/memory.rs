@@ -544,9 +544,9 @@ fn after_forgetting_the_similarity_sums_in_f64_in_numpys_order_for_long_rows_too
 /// runs whose similarities are sometimes negative (a raised G then falls below its similarity),
 /// whose beta may leave T = 1 unsettled and whose forgetting removes rows, G must be the
 /// similarity times T everywhere, the selection the thresholds applied to G in full, and T after
-/// each update the rule applied to all of T. The thresholds change now and then (to 0 too), the
-/// same embedding comes back (the last similarity row and its candidates reused), and rows of 1 to
-/// 19 couplets take every kernel's block shapes.
+/// each update the rule applied to all of T. The thresholds change now and then (to 0 too) while
+/// the same embedding comes back (the last similarity row reused), and rows of 1 to 19 couplets
+/// take every kernel's block shapes.
 #[test]
 fn the_selection_is_the_thresholds_over_g_in_full() {
     let mut src = ChaCha8Rng::seed_from_u64(35);
