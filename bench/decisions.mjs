@@ -50,6 +50,16 @@ console.log(`node ${process.version}: ${show(node)}`);
 // doubles as the gate's, where the default's untrained encoder leaves the gate its own encode.
 const trained = measure(wasm, BATCHES, DECISIONS, () => performance.now(), { perception: 'trained' });
 console.log(`node ${process.version}, trained encoder: ${show(trained)}`);
+// The default with v1's textured floor and fences: its frames repeat less, so the frame cache and
+// the window reuse find less to reuse; its gate uses the textured model.
+// (A build from before the surfaces, through SEC_PKG, refuses the setting: then it is skipped.)
+try {
+  wasm.registerModel(readFileSync(`${root}assets/encoders/double-t-maze-textured.secae`));
+  const textured = measure(wasm, BATCHES, DECISIONS, () => performance.now(), { surface: 'textured' });
+  console.log(`node ${process.version}, textured surface: ${show(textured)}`);
+} catch (e) {
+  console.log(`node ${process.version}, textured surface: not in this build (${e.message})`);
+}
 if (process.argv.includes('--node-only')) process.exit(0);
 
 const server = await serve(0);

@@ -40,7 +40,7 @@ fn full_decision(c: &mut Criterion) {
     let mut rng = ChaCha8Rng::seed_from_u64(2);
     let task = Task::preset("double-t-maze").unwrap();
     // t = 0: no episode limit, so the walk goes on through the maze.
-    let mut env = Env::new(EnvConfig { task, t: Some(0) }, 1).unwrap();
+    let mut env = Env::new(EnvConfig { t: Some(0), ..EnvConfig::new(task) }, 1).unwrap();
     let encoder = bundled::autoencoder("double-t-maze").unwrap();
     let (mut scratch, mut image) = (Scratch::default(), vec![0.0f32; IMAGE]);
     let mut agent = Sec::new(SecConfig::default(), &mut rng).unwrap();
@@ -71,12 +71,19 @@ fn full_decision(c: &mut Criterion) {
 
 /// A run's decision as `Run::decision` makes it, the reconstruction gate included, over a full
 /// LTM, for both perceptions: the untrained encoder's activations are denser (fewer zeros to
-/// skip) and its embeddings are not the gate model's, so the gate encodes on its own.
+/// skip) and its embeddings are not the gate model's, so the gate encodes on its own. And the
+/// default with the textured surface, whose frames repeat less (the frame cache and the window
+/// reuse find less to reuse).
 fn run_decision(c: &mut Criterion) {
     use sec_playground::encoder::PerceptionKind;
     use sec_playground::experiment::{Run, RunConfig};
-    for (label, perception) in [("untrained", PerceptionKind::Untrained), ("trained", PerceptionKind::Trained)] {
-        let mut run = Run::new(RunConfig { perception, ..RunConfig::default() }, 1).unwrap();
+    use sec_playground::render::Surface;
+    for (label, perception, surface) in [
+        ("untrained", PerceptionKind::Untrained, Surface::Flat),
+        ("trained", PerceptionKind::Trained, Surface::Flat),
+        ("untrained textured", PerceptionKind::Untrained, Surface::Textured),
+    ] {
+        let mut run = Run::new(RunConfig { perception, surface, ..RunConfig::default() }, 1).unwrap();
         sec_playground::experiment::fixtures::fill_ltm(&mut run, 500);
         for _ in 0..200 {
             run.decision();

@@ -8,6 +8,7 @@
 # a shorter run is the head of a longer one, so it is cut from it.
 #   ./scripts/reproduce.sh horizon     # only the 5000-episode block (PROTOCOL.md, 2026-12-03)
 #   ./scripts/reproduce.sh protocol    # only the first protocol's grid (2000 episodes)
+#   ./scripts/reproduce.sh textured    # only the textured grid (PROTOCOL.md, 2026-12-06)
 #   SCALE=2 ./scripts/reproduce.sh      # every seeds x episodes of the protocol multiplied by 2
 #   SHARD=2/4 ./scripts/reproduce.sh    # one machine's quarter of the grid (merge the trees after)
 #   JOBS=1 nice -n 19 ./scripts/reproduce.sh
@@ -21,7 +22,7 @@ OUT="${OUT:-results/experiments}"
 SCALE="${SCALE:-1}"
 JOBS="${JOBS:-$(nproc)}"
 BLOCK="${1:-all}"
-case "$BLOCK" in all|horizon|protocol) ;; *) echo "reproduce.sh: '$BLOCK' is not all, horizon or protocol" >&2; exit 2 ;; esac
+case "$BLOCK" in all|horizon|protocol|textured) ;; *) echo "reproduce.sh: '$BLOCK' is not all, horizon, protocol or textured" >&2; exit 2 ;; esac
 if [ -z "${BIN:-}" ]; then cargo build --release -p sec-tools --bin sec-experiment; fi
 bin="${BIN:-./target/release/sec-experiment}"
 run() { # EXPERIMENT SEEDS EPISODES [--only ...]
@@ -32,7 +33,7 @@ run() { # EXPERIMENT SEEDS EPISODES [--only ...]
 dtm() { local IFS=,; local out=(); for m in "$@"; do out+=("double-t-maze/$m"); done; echo "${out[*]}"; }
 others() { local out=""; for task in detour cylinder object-permanence; do for m in "$@"; do out="$out,$task/$m"; done; done; echo "${out#,}"; }
 
-if [ "$BLOCK" != protocol ]; then
+if [ "$BLOCK" = all ] || [ "$BLOCK" = horizon ]; then
     # The paper's horizon, first: the protocol's shorter runs of these conditions are its heads.
     run exp1 10 5000 --only "$(dtm SEC NSEC MFEC-ae MFEC-rp reactive)"
     run exp1 20 5000 --only "$(dtm SEC NSEC)"
@@ -41,7 +42,7 @@ if [ "$BLOCK" != protocol ]; then
     run exp4 10 5000
     run exp1 10 5000 --only "$(others SEC NSEC MFEC-ae)"
 fi
-if [ "$BLOCK" != horizon ]; then
+if [ "$BLOCK" = all ] || [ "$BLOCK" = protocol ]; then
     run exp1 20 2000 --only "$(dtm SEC NSEC)"
     run exp1 5 2000 --only "$(dtm MFEC-ae MFEC-rp reactive)"
     run heading 5 2000
@@ -56,5 +57,11 @@ if [ "$BLOCK" != horizon ]; then
     run exp3 10 2000
     run exp4 10 2000
     run perception 6 2000
+fi
+if [ "$BLOCK" = all ] || [ "$BLOCK" = textured ]; then
+    # The textured grid (PROTOCOL.md, 2026-12-06): the double T-maze first, ten seeds of every
+    # model, then SEC's and NSEC's seeds 11..20; the other tasks as their textured models come.
+    run textured 10 5000 --only "$(dtm SEC NSEC MFEC-ae MFEC-rp reactive)"
+    run textured 20 5000 --only "$(dtm SEC NSEC)"
 fi
 OUT="$OUT" ./scripts/results.sh

@@ -7,7 +7,7 @@ use sec_playground::arena::{Env, EnvConfig, Task, TASK_NAMES};
 use sec_playground::encoder::{
     bundled, Autoencoder, DType, FrameCache, ReconstructionGate, Scratch, Weights, EMBEDDING, IMAGE, PARAMETERS,
 };
-use sec_playground::render::fnv1a;
+use sec_playground::render::{fnv1a, Surface};
 
 fn frame(task: &str) -> Vec<f32> {
     let mut env = Env::new(EnvConfig::new(Task::preset(task).unwrap()), 1).unwrap();
@@ -267,7 +267,7 @@ fn every_bundled_model_reconstructs_its_held_out_frames() {
         let ae = bundled::autoencoder(task).unwrap();
         assert_eq!(ae.task, task);
         assert!(ae.embedding_scale.is_finite() && ae.embedding_scale > 0.0, "{task}: scale {}", ae.embedding_scale);
-        let (rgb, _) = dataset::generate(&Task::preset(task).unwrap(), 400, 1001).unwrap();
+        let (rgb, _) = dataset::generate(&Task::preset(task).unwrap(), Surface::Flat, 400, 1001).unwrap();
         let mut s = Scratch::default();
         let mut img = vec![0.0; IMAGE];
         let mut sum = 0.0f64;

@@ -2,11 +2,15 @@
 #![cfg(not(target_arch = "wasm32"))]
 
 use sec_playground::arena::{Action, Env, EnvConfig, Task, TASK_NAMES};
-use sec_playground::render::{colours, Frame, TopDown, HEIGHT, WIDTH};
+use sec_playground::render::{colours, Frame, Surface, TopDown, HEIGHT, WIDTH};
 use std::path::PathBuf;
 
 fn first_frame(task: &str) -> (Env, Frame) {
-    let mut env = Env::new(EnvConfig::new(Task::preset(task).unwrap()), 1).unwrap();
+    first_frame_of(task, Surface::Flat)
+}
+
+fn first_frame_of(task: &str, surface: Surface) -> (Env, Frame) {
+    let mut env = Env::new(EnvConfig { surface, ..EnvConfig::new(Task::preset(task).unwrap()) }, 1).unwrap();
     let f = env.observation().clone();
     (env, f)
 }
@@ -55,6 +59,46 @@ fn first_frames_match_the_golden_images() {
             differing += (d > 0) as usize;
         }
         assert!(differing * 100 <= WIDTH * HEIGHT, "{task}: {differing} pixels differ");
+    }
+}
+
+/// The textured first frames equal their checked-in PNGs exactly (`tests/golden/<task>-textured.png`;
+/// the traces prove every target draws the same bits). `SEC_UPDATE_GOLDEN=1` rewrites them.
+#[test]
+fn textured_first_frames_match_their_golden_images_exactly() {
+    let update = std::env::var("SEC_UPDATE_GOLDEN").is_ok_and(|v| v == "1");
+    for task in TASK_NAMES {
+        let (_, frame) = first_frame_of(task, Surface::Textured);
+        let path = golden_path(&format!("{task}-textured"));
+        if update {
+            write_png(&path, &frame.rgba);
+            continue;
+        }
+        assert!(read_png(&path) == frame.rgba, "{task}: the textured first frame differs from {}", path.display());
+        assert!(frame != first_frame(task).1, "{task}: the textured frame is the flat one");
+    }
+}
+
+/// Textures change only the floor and the fences: every pixel that is neither is the same in both
+/// (in the tasks without glass, which blends over the floor and fences behind it).
+#[test]
+fn textures_change_the_floor_and_fences_only() {
+    for task in TASK_NAMES.iter().filter(|t| !t.contains("transparent")) {
+        let ((_, flat), (_, textured)) = (first_frame(task), first_frame_of(task, Surface::Textured));
+        let (floor, fence) = (
+            [colours::FLOOR.0, colours::FLOOR.1, colours::FLOOR.2],
+            [colours::FENCE.0, colours::FENCE.1, colours::FENCE.2],
+        );
+        let sky = [colours::SKY.0, colours::SKY.1, colours::SKY.2];
+        for r in 0..HEIGHT {
+            for c in 0..WIDTH {
+                let (a, b) = (flat.pixel(c, r), textured.pixel(c, r));
+                // Posts stand above the panels: a textured post may cover flat sky.
+                if a != floor && a != fence && a != sky {
+                    assert_eq!(a, b, "{task}: pixel ({c}, {r}) changed");
+                }
+            }
+        }
     }
 }
 

@@ -4,6 +4,7 @@
 
 use sec_playground::arena::trace::scripted_run;
 use sec_playground::arena::TASK_NAMES;
+use sec_playground::render::Surface;
 use sec_playground::web::ArenaEnv;
 use wasm_bindgen::JsValue;
 use wasm_bindgen_test::*;
@@ -14,6 +15,7 @@ fn v(x: impl Into<JsValue>) -> JsValue {
 }
 
 const GOLDEN: &str = include_str!("golden/trace.txt");
+const GOLDEN_TEXTURED: &str = include_str!("golden/trace-textured.txt");
 
 /// The wasm build holds no model: register the six as the page does with the files it fetches.
 fn models() {
@@ -37,11 +39,13 @@ fn models() {
 #[wasm_bindgen_test]
 fn wasm_matches_the_native_golden_trace() {
     models();
-    let log: String = TASK_NAMES.iter().map(|t| scripted_run(t, 7, 200).unwrap()).collect();
-    for (i, (a, b)) in log.lines().zip(GOLDEN.lines()).enumerate() {
-        assert_eq!(a, b, "trace line {} differs between wasm and native", i + 1);
+    for (surface, golden) in [(Surface::Flat, GOLDEN), (Surface::Textured, GOLDEN_TEXTURED)] {
+        let log: String = TASK_NAMES.iter().map(|t| scripted_run(t, surface, 7, 200).unwrap()).collect();
+        for (i, (a, b)) in log.lines().zip(golden.lines()).enumerate() {
+            assert_eq!(a, b, "{} trace line {} differs between wasm and native", surface.name(), i + 1);
+        }
+        assert_eq!(log.lines().count(), golden.lines().count());
     }
-    assert_eq!(log.lines().count(), GOLDEN.lines().count());
 }
 
 /// Bytes as JS passes them.

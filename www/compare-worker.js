@@ -3,7 +3,7 @@
 //
 // Messages in:  {type: 'start', settings, seeds}, {type: 'play'}, {type: 'pause'}
 // Messages out: {type: 'started', settings}, {type: 'episodes', seed, list}, {type: 'error', message}
-import init, { ensureModel, SecRun, parseSettings } from './wasm.js';
+import init, { ensureModel, gateModel, SecRun, parseSettings } from './wasm.js';
 import { AdaptiveBatch, serveMessages } from './slices.js';
 
 let runs = [];
@@ -35,7 +35,7 @@ const handlers = {
   async start({ settings, seeds }) {
     const parsed = parseSettings(settings);
     if (parsed.errors.length) throw new Error(parsed.errors.join('; '));
-    await ensureModel(parsed.config.task);
+    await ensureModel(gateModel(parsed.config));
     const next = seeds.map((seed) => ({ seed, run: new SecRun(parsed.config, seed) }));
     for (const r of runs) r.run.free();
     runs = next;

@@ -27,10 +27,19 @@ export default glue.default;
 export const { SecRun, agents, parameters, parseSettings, applySettings, presetSettings, panicForTest, registerModel, hasModel,
   taskNames, ArenaEnv, taskDescription, frameSize, maxTextFileBytes } = glue;
 
-/** Starts downloading `task`'s model now (before the wasm is ready); `ensureModel` uses it. An
- * unknown task fetches nothing: the run refuses it by name. */
+/** The trained model a run's reconstruction gate uses: its task's, trained on frames of its
+ * surface (the core's `encoder::model_name`): `<task>` flat, `<task>-textured` textured. */
+export function gateModel(config) {
+  return config.surface === 'textured' ? `${config.task}-textured` : config.task;
+}
+
+/** The task a model name belongs to. */
+const taskOf = (model) => model.replace(/-textured$/, '');
+
+/** Starts downloading a model (a task's name, or `gateModel`'s) now, before the wasm is ready;
+ * `ensureModel` uses it. An unknown task fetches nothing: the run refuses it by name. */
 export function prefetchModel(task) {
-  if (!TASKS.includes(task) || fetched.has(task)) return;
+  if (!TASKS.includes(taskOf(task)) || fetched.has(task)) return;
   fetched.set(task, fetch(new URL(`../assets/encoders/${task}.secae`, import.meta.url)).then((r) => {
     if (!r.ok) throw new Error(`weights: the model of '${task}' could not be loaded (HTTP ${r.status})`);
     return r.arrayBuffer();
@@ -39,11 +48,12 @@ export function prefetchModel(task) {
 }
 
 /**
- * Fetches and registers the trained model of `task` (assets/encoders/<task>.secae, next to www/)
- * unless it is there already. An unknown task is left to the run to refuse by name.
+ * Fetches and registers a trained model, `task` a task's name or `gateModel`'s
+ * (assets/encoders/<task>.secae, next to www/), unless it is there already. An unknown task is
+ * left to the run to refuse by name.
  */
 export function ensureModel(task) {
-  if (!taskNames().includes(task) || hasModel(task)) return Promise.resolve();
+  if (!taskNames().includes(taskOf(task)) || hasModel(task)) return Promise.resolve();
   if (!loading.has(task)) {
     prefetchModel(task);
     loading.set(task, fetched.get(task)

@@ -10,7 +10,7 @@
 // Messages out: {type: 'ready', params, agents, defaults, build}, {type: 'started', settings, errors, mode},
 //               {type: 'episodes', list}, {type: 'view', ...}, {type: 'state', playing},
 //               {type: 'memory', bytes}, {type: 'loaded', sequences, what}, {type: 'error', message, fatal}
-import init, { build, ensureModel, SecRun, agents, frameSize, parameters, parseSettings, applySettings, presetSettings, panicForTest } from './wasm.js';
+import init, { build, ensureModel, gateModel, SecRun, agents, frameSize, parameters, parseSettings, applySettings, presetSettings, panicForTest } from './wasm.js';
 import { AdaptiveBatch, SLICE_MS, serveMessages } from './slices.js';
 
 /** Most view posts per second while watching; the page asks for fewer at max speed. */
@@ -118,7 +118,7 @@ function setPlaying(p) {
  * on failure (of either) the old run goes on.
  */
 async function newRun(config, seed, prepare) {
-  await ensureModel(config.task);
+  await ensureModel(gateModel(config));
   const next = new SecRun(config, seed);
   try {
     prepare?.(next);
@@ -180,7 +180,7 @@ const handlers = {
       await newRun(next.config, next.seed);
       mode = 'restart';
     } else {
-      if (next.config.task !== run.config().task) await ensureModel(next.config.task);
+      if (gateModel(next.config) !== gateModel(run.config())) await ensureModel(gateModel(next.config));
       mode = run.configure(next.config);
     }
     settings = next.settings;

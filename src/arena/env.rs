@@ -2,7 +2,7 @@
 
 use super::physics::{physics_frame, FRAMES_PER_STEP};
 use super::{check_range, ConfigError, Task, World, MAX_T};
-use crate::render::{Camera, Frame};
+use crate::render::{Camera, Frame, Surface};
 use crate::seed::Stream;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -76,12 +76,14 @@ pub struct EnvConfig {
     pub task: Task,
     /// Episode limit in env steps; `None` keeps each layout's own `t`.
     pub t: Option<u32>,
+    /// How the camera draws the floor and fences.
+    pub surface: Surface,
 }
 
 impl EnvConfig {
     /// The task with its own episode limits.
     pub fn new(task: Task) -> Self {
-        EnvConfig { task, t: None }
+        EnvConfig { task, t: None, surface: Surface::Flat }
     }
     /// Every field in its range, the error naming it.
     pub fn validate(&self) -> Result<(), ConfigError> {
@@ -163,6 +165,7 @@ impl Env {
         }
         let rng = crate::seed::rng(seed, Stream::Env);
         let world = World::spawn(&config.task.layouts[0], &mut rng.clone());
+        let camera = Camera::with_surface(config.surface);
         let mut env = Env {
             config,
             rng,
@@ -172,7 +175,7 @@ impl Env {
             world,
             steps: 0,
             over: false,
-            camera: Camera::new(),
+            camera,
             frame: Frame::new(),
             frame_fresh: false,
             view_serial: 0,

@@ -94,6 +94,10 @@ pub struct TaskInfo {
     /// page registers the one it fetched).
     #[serde(skip)]
     pub model: &'static [u8],
+    /// Its autoencoder trained on textured frames (`render::Surface::Textured`), compiled in like
+    /// `model`; empty where none is trained yet (a textured run of the task is then refused).
+    #[serde(skip)]
+    pub textured_model: &'static [u8],
 }
 
 /// A model file's bytes in native builds; none in the wasm build.
@@ -118,6 +122,7 @@ pub const TASKS: [TaskInfo; 6] = [
         model_file: "double-t-maze.secae",
         layouts: double_t_maze,
         model: model!("double-t-maze.secae"),
+        textured_model: &[],
     },
     TaskInfo {
         name: "detour",
@@ -128,6 +133,7 @@ pub const TASKS: [TaskInfo; 6] = [
         model_file: "detour.secae",
         layouts: || vec![detour("3-4-1", 10.0), detour("3-4-2", 15.0)],
         model: model!("detour.secae"),
+        textured_model: &[],
     },
     TaskInfo {
         name: "detour-transparent",
@@ -137,6 +143,7 @@ pub const TASKS: [TaskInfo; 6] = [
         model_file: "detour-transparent.secae",
         layouts: || vec![detour_transparent()],
         model: model!("detour-transparent.secae"),
+        textured_model: &[],
     },
     TaskInfo {
         name: "cylinder",
@@ -147,6 +154,7 @@ pub const TASKS: [TaskInfo; 6] = [
         model_file: "cylinder.secae",
         layouts: || vec![cylinder()],
         model: model!("cylinder.secae"),
+        textured_model: &[],
     },
     TaskInfo {
         name: "object-permanence",
@@ -157,6 +165,7 @@ pub const TASKS: [TaskInfo; 6] = [
         model_file: "object-permanence.secae",
         layouts: || permanence_layouts(false),
         model: model!("object-permanence.secae"),
+        textured_model: &[],
     },
     TaskInfo {
         name: "object-permanence-pits",
@@ -167,6 +176,7 @@ pub const TASKS: [TaskInfo; 6] = [
         model_file: "object-permanence-pits.secae",
         layouts: || permanence_layouts(true),
         model: model!("object-permanence-pits.secae"),
+        textured_model: &[],
     },
 ];
 

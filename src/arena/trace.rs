@@ -2,16 +2,19 @@
 //! a run is a pure function of (configuration, seed) on every target.
 
 use super::{Action, ConfigError, Env, EnvConfig, Task};
+use crate::render::Surface;
 use std::fmt::Write;
 
-/// Runs `steps` env steps of `task` from `seed` with a fixed action script (a 32-bit LCG, so the
-/// script itself is target independent), resetting at episode ends. One line per step:
-/// `step action reward-bits terminated truncated agent-x-bits agent-z-bits frame-hash`.
-pub fn scripted_run(task: &str, seed: u64, steps: u32) -> Result<String, ConfigError> {
-    let mut env = Env::new(EnvConfig::new(Task::preset(task)?), seed)?;
+/// Runs `steps` env steps of `task` drawn with `surface` from `seed` with a fixed action script (a
+/// 32-bit LCG, so the script itself is target independent), resetting at episode ends. One line
+/// per step: `step action reward-bits terminated truncated agent-x-bits agent-z-bits frame-hash`,
+/// under a header naming the task (`<task>-textured` for the textured surface).
+pub fn scripted_run(task: &str, surface: Surface, seed: u64, steps: u32) -> Result<String, ConfigError> {
+    let mut env = Env::new(EnvConfig { surface, ..EnvConfig::new(Task::preset(task)?) }, seed)?;
     let mut out = String::new();
     let h = env.observation().hash();
-    let _ = writeln!(out, "# {task} seed {seed} layout {} frame {h:016x}", env.layout_name());
+    let name = crate::encoder::model_name(task, surface);
+    let _ = writeln!(out, "# {name} seed {seed} layout {} frame {h:016x}", env.layout_name());
     let mut lcg: u32 = seed as u32 ^ 0x9e37_79b9;
     for i in 0..steps {
         lcg = lcg.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);

@@ -4,7 +4,7 @@
 //! heading with `randint(0, 359)` (0..=358 degrees).
 
 use crate::arena::{AgentSpec, ConfigError, Layout, Task, World};
-use crate::render::{Camera, Frame, PIXELS};
+use crate::render::{Camera, Frame, Surface, PIXELS};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -41,13 +41,14 @@ pub fn first_frame(layout: &Layout, pose: Pose, rng: &mut ChaCha8Rng, camera: &m
 }
 
 /// `n` frames of `task` (its layouts taken in turn) as RGB bytes, channel-last, one after another,
-/// with the poses. A pure function of (task, n, seed): the held-out set is another seed.
-pub fn generate(task: &Task, n: usize, seed: u64) -> Result<(Vec<u8>, Vec<Pose>), ConfigError> {
+/// with the poses, drawn with `surface`. A pure function of (task, surface, n, seed): the held-out
+/// set is another seed. The poses do not depend on the surface.
+pub fn generate(task: &Task, surface: Surface, n: usize, seed: u64) -> Result<(Vec<u8>, Vec<Pose>), ConfigError> {
     if task.layouts.is_empty() {
         return Err(ConfigError::new("task", "has no layout"));
     }
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut camera = Camera::new();
+    let mut camera = Camera::with_surface(surface);
     let mut frame = Frame::new();
     let mut rgb = Vec::with_capacity(n * FRAME_BYTES);
     let mut poses = Vec::with_capacity(n);

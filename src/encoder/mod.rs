@@ -14,6 +14,18 @@ pub use model::{Autoencoder, Scratch, EMBEDDING, IMAGE, PARAMETERS};
 pub use perception::{Perception, PerceptionKind};
 pub use weights::{DType, Weights};
 
+use crate::render::Surface;
+
+/// The name of a task's trained model for frames of `surface`: the task's own name for the flat
+/// frames, `<task>-textured` for the textured ones (`assets/encoders/<name>.secae`; the weights
+/// file records it as its task).
+pub fn model_name(task: &str, surface: Surface) -> String {
+    match surface {
+        Surface::Flat => task.to_string(),
+        Surface::Textured => format!("{task}-textured"),
+    }
+}
+
 /// The reconstruction gate (docs/ALGORITHM.md, "Perception"): the reconstruction MSE of the current frame,
 /// re-measured on every 16th env step, starting at 100 so the contextual layer stays off until
 /// the first measurement.

@@ -15,7 +15,7 @@ use crate::encoder::{
 };
 use crate::error::Error;
 use crate::memory;
-use crate::render::Frame;
+use crate::render::{Frame, Surface};
 use crate::seed::{self, Stream};
 pub mod checkpoint;
 #[cfg(feature = "test-hooks")]
@@ -62,6 +62,12 @@ pub struct RunConfig {
     /// The start heading of layouts that leave it open (the double T-maze's corners, D11, D21):
     /// drawn at every reset, or fixed facing the arena's centre.
     pub start_heading: StartHeading,
+    /// How the camera draws the floor and fences (docs/ARENAS.md section 4): `flat` or
+    /// `textured`; the gate's trained model is the one trained on that surface's frames. Left out
+    /// of the JSON when flat, so every configuration from before it has its old identity (the
+    /// committed runs' manifests, memory files and checkpoints name it).
+    #[serde(skip_serializing_if = "Surface::is_flat")]
+    pub surface: Surface,
 }
 
 impl Default for RunConfig {
@@ -79,6 +85,7 @@ impl Default for RunConfig {
             embedding_scale: None,
             raw_embeddings: false,
             start_heading: StartHeading::Random,
+            surface: Surface::Flat,
         }
     }
 }
@@ -93,7 +100,7 @@ impl RunConfig {
                 format!("{} is out of range 1..=100", self.decision_period),
             ));
         }
-        EnvConfig { task: Task::preset(&self.task)?, t: self.t }.validate()?;
+        EnvConfig { task: Task::preset(&self.task)?, t: self.t, surface: self.surface }.validate()?;
         if let Some(s) = self.embedding_scale {
             check_scale(s)?;
             if self.raw_embeddings && s != 1.0 {
@@ -134,6 +141,12 @@ impl RunConfig {
     /// The embedding scale the run uses, if it overrides the perception's own.
     pub fn scale_override(&self) -> Option<f32> {
         self.embedding_scale.or(self.raw_embeddings.then_some(1.0))
+    }
+
+    /// The trained model of the run's reconstruction gate: the task's, trained on frames of the
+    /// run's surface (`encoder::model_name`).
+    pub fn gate_model(&self) -> String {
+        crate::encoder::model_name(&self.task, self.surface)
     }
 
     /// The task with the start heading applied.
@@ -251,8 +264,8 @@ impl Run {
     pub fn with_agents(cfg: RunConfig, seed: u64, extra: Option<AgentFactory>) -> Result<Self, Error> {
         cfg.validate()?;
         let task = cfg.task()?;
-        let perception = Perception::new(cfg.perception, &cfg.task, cfg.scale_override(), seed)?;
-        let env = Env::new(EnvConfig { task, t: cfg.t }, seed)?;
+        let perception = Perception::new(cfg.perception, &cfg.gate_model(), cfg.scale_override(), seed)?;
+        let env = Env::new(EnvConfig { task, t: cfg.t, surface: cfg.surface }, seed)?;
         let mut rng = seed::rng(seed, Stream::Agent);
         let controller = controller(&cfg, &perception, seed, &mut rng, extra)?;
         Ok(Run {

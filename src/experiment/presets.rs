@@ -7,6 +7,7 @@ use crate::agent::mfec::Embedding;
 use crate::arena::{ConfigError, StartHeading};
 use crate::encoder::PerceptionKind;
 use crate::memory::{Forgetting, ValueFn};
+use crate::render::Surface;
 
 /// One condition of an experiment: a name as the paper's tables use it, its configuration, and
 /// the paper's total reward over 5000 episodes (mean over runs) where the paper gives one.
@@ -21,7 +22,7 @@ pub struct Condition {
 }
 
 /// The experiment presets by name, with a line on what each is.
-pub const EXPERIMENTS: [(&str, &str); 8] = [
+pub const EXPERIMENTS: [(&str, &str); 9] = [
     ("exp1", "four tasks x SEC, NSEC, MFEC-ae, MFEC-rp and the reactive walk (paper figure 4, table 1)"),
     ("exp2", "double T-maze, SEC and NSEC with LTM capacity 125, 250, 500, 1000 (figures 5 and 6)"),
     ("exp3", "double T-maze, SEC's value function and its six ablations (figure 7)"),
@@ -29,6 +30,7 @@ pub const EXPERIMENTS: [(&str, &str); 8] = [
     ("presets", "double T-maze, SEC with the authors' code values and with the paper's text (D2, D3)"),
     ("heading", "double T-maze with a fixed start heading per corner: SEC, NSEC and MFEC-ae (D11, D21)"),
     ("perception", "double T-maze, SEC and NSEC with the untrained encoder at scales 0.5, 1, 2 and the trained one calibrated and raw (D17, D20)"),
+    ("textured", "experiment 1's five models in the four tasks with the textured floor and fences (issue 51, results/PROTOCOL.md 2026-12-06)"),
     ("smoke", "a few cheap conditions to try the runner (not in the paper)"),
 ];
 
@@ -182,6 +184,16 @@ pub fn experiment(name: &str) -> Result<Vec<Condition>, ConfigError> {
                 for (model, base) in [("SEC", sec("double-t-maze")), ("NSEC", nsec("double-t-maze"))] {
                     let config = RunConfig { perception, embedding_scale, ..base };
                     out.push(condition(format!("{label}/{model}"), config, None));
+                }
+            }
+        }
+        "textured" => {
+            // Experiment 1's conditions drawn with v1's textures; the same names, so each compares
+            // with exp1's condition of that name, and the same paper totals.
+            for c in experiment("exp1")? {
+                let model = c.name.split_once('/').map_or("", |(_, m)| m);
+                if ["SEC", "NSEC", "MFEC-ae", "MFEC-rp", "reactive"].contains(&model) {
+                    out.push(Condition { config: RunConfig { surface: Surface::Textured, ..c.config }, ..c });
                 }
             }
         }

@@ -13,6 +13,7 @@ use crate::encoder::PerceptionKind;
 use crate::memory::{
     Forgetting, ValueFn, ALPHA_RANGE, BETA_RANGE, M_RANGE, N_RANGE, TAU_RANGE, THETA_ABS_RANGE, THETA_PROP_RANGE,
 };
+use crate::render::Surface;
 use crate::util::shown;
 use std::collections::BTreeMap;
 
@@ -167,6 +168,11 @@ fn table() -> Vec<Setting> {
             param: choice("perception", "encoder", "Which encoder embeds the camera image: untrained random weights (what the authors' code ran) or the trained one (the paper's text); the trained one always runs the gate (a new run).", &names(&PerceptionKind::ALL), false).group("perception").agents(embedders()),
             get: |c, _| name_of(&PerceptionKind::ALL, c.perception),
             set: |c, _, v| c.perception = PerceptionKind::ALL[v as usize].1,
+        },
+        Setting {
+            param: choice("surface", "surface", "How the camera draws the floor and fences: flat colours, or v1's tiled floor and planked fences (textured); the gate uses the model trained on that surface's frames (a new run).", &names(&Surface::ALL), false).group("perception"),
+            get: |c, _| name_of(&Surface::ALL, c.surface),
+            set: |c, _, v| c.surface = Surface::ALL[v as usize].1,
         },
         Setting {
             param: Param { key: "embeddingScale", symbol: "scale", help: "Multiplies every embedding, so it sets how alike two views must be to pass θ_abs; auto: 1 untrained, the calibrated scale trained (a new run).", kind: Kind::Number { min: SCALE_RANGE.0 as f64, max: SCALE_RANGE.1 as f64, min_open: true, step: 0.01, auto: true }, live: false, group: "perception", agents: embedders() },

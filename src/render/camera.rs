@@ -8,7 +8,8 @@
 //! Each frame first finds, per opaque box, the columns whose rays can meet it (`reach_of`): the
 //! others skip its test, which would have missed.
 
-use super::{colours, lit, shade_factor, Frame, GLASS_ALPHA, HEIGHT, PIXELS, WIDTH};
+use super::surface::{fence_texel, fence_top, floor_gradient, floor_texel, FenceSide};
+use super::{colours, lit, shade_factor, Frame, Surface, GLASS_ALPHA, HEIGHT, PIXELS, WIDTH};
 use crate::arena::{BoxObj, Footprint, ObjectKind, Tunnel, World, AGENT_RADIUS, ARENA_SIZE};
 use glam::{Vec2, Vec3};
 
@@ -20,6 +21,8 @@ const EYE: f32 = AGENT_RADIUS;
 const FENCE_HEIGHT: f32 = 7.0;
 /// Hits closer than this are ignored (Unity's near plane is 0.01).
 const NEAR: f32 = 1e-3;
+/// The angle between neighbouring pixels' rays, as a slope (what a pixel's footprint scales by).
+const PIXEL_SLOPE: f32 = 2.0 * TAN_HALF_FOV / WIDTH as f32;
 
 /// Renders 84x84 views. Holds the per-pixel depth buffer so rendering never allocates.
 #[derive(Clone, Debug)]
@@ -34,6 +37,10 @@ pub struct Camera {
     background: (Vec<u8>, Vec<f32>),
     /// Per opaque box of the frame being drawn, the column offsets whose rays can meet it.
     reach: Vec<(f32, f32)>,
+    /// How the floor and fences are drawn.
+    surface: Surface,
+    /// The textured floor's base colour per row below the horizon (`surface::floor_gradient`).
+    floor_base: Vec<[f32; 3]>,
 }
 
 impl Default for Camera {
@@ -43,12 +50,14 @@ impl Default for Camera {
 }
 
 /// One column's ray, horizontally: from `eye` along `h` (whose forward component is 1, so the
-/// ray parameter is the view depth).
+/// ray parameter is the view depth); `right` is the camera's right axis (a column step moves the
+/// ray along it).
 #[derive(Clone, Copy)]
 struct Column {
     c: usize,
     eye: Vec2,
     h: Vec2,
+    right: Vec2,
 }
 
 /// An entering crossing of a surface: ray parameter and world normal.
@@ -69,7 +78,26 @@ impl Camera {
             depth: vec![f32::INFINITY; PIXELS],
             background: background(&row_slope),
             reach: Vec::new(),
+            surface: Surface::Flat,
+            floor_base: row_slope[HEIGHT / 2..].iter().map(|&s| floor_gradient(s)).collect(),
         }
+    }
+
+    /// A camera that draws the floor and fences as `surface`.
+    pub fn with_surface(surface: Surface) -> Self {
+        let mut c = Self::new();
+        c.set_surface(surface);
+        c
+    }
+
+    /// Draws the floor and fences as `surface` from the next frame on.
+    pub fn set_surface(&mut self, surface: Surface) {
+        self.surface = surface;
+    }
+
+    /// How it draws the floor and fences.
+    pub fn surface(&self) -> Surface {
+        self.surface
     }
 
     /// Renders what the agent sees into `frame`.
@@ -84,7 +112,7 @@ impl Camera {
         reach.extend(w.walls.iter().filter(|b| !b.transparent).map(|b| reach_of(&b.foot, w.agent.pos, f, right)));
         for c in 0..WIDTH {
             let offset = self.col_offset[c];
-            let col = Column { c, eye: w.agent.pos, h: f + right * offset };
+            let col = Column { c, eye: w.agent.pos, h: f + right * offset, right };
             self.floor_and_fence(w, col, px);
             for (b, &(lo, hi)) in w.walls.iter().filter(|b| !b.transparent).zip(&reach) {
                 if (lo..=hi).contains(&offset) {
@@ -118,7 +146,7 @@ impl Camera {
         glass.sort_by(|a, b| b.0.total_cmp(&a.0));
         for (_, i, is_wall) in glass {
             for c in 0..WIDTH {
-                let col = Column { c, eye: w.agent.pos, h: f + right * self.col_offset[c] };
+                let col = Column { c, eye: w.agent.pos, h: f + right * self.col_offset[c], right };
                 if is_wall {
                     self.wall(&w.walls[i], col, px, Some(()));
                 } else {
@@ -142,7 +170,20 @@ impl Camera {
     }
 
     fn floor_and_fence(&mut self, w: &World, col: Column, px: &mut [u8]) {
-        let Column { c, eye, h } = col;
+        let Column { c, eye, h, right } = col;
+        let textured = self.surface == Surface::Textured;
+        if textured {
+            // The floor's texel at each row's hit point, box-filtered over the pixel's footprint:
+            // a column step moves the hit along `right`, a row step along the ray.
+            for r in HEIGHT / 2..HEIGHT {
+                let i = r * WIDTH + c;
+                let s = self.depth[i];
+                let p = eye + h * s;
+                let fx = (right.x.abs() + h.x.abs() * s / EYE) * s * PIXEL_SLOPE;
+                let fz = (right.y.abs() + h.y.abs() * s / EYE) * s * PIXEL_SLOPE;
+                put(px, i, floor_texel(p.x, p.y, fx, fz, &self.floor_base[r - HEIGHT / 2]));
+            }
+        }
         // Where this column's ray crosses each zone, so floor pixels test one interval each.
         let mut spans = [(0.0f32, 0.0f32, colours::FLOOR); 8];
         let mut n = 0;
@@ -176,14 +217,35 @@ impl Camera {
                 f32::INFINITY
             }
         };
-        let s = exit(eye.x, h.x).min(exit(eye.y, h.y));
-        let fence = [colours::FENCE.0, colours::FENCE.1, colours::FENCE.2];
-        for r in self.rows(-EYE / s, (FENCE_HEIGHT - EYE) / s) {
+        let (sx, sz) = (exit(eye.x, h.x), exit(eye.y, h.y));
+        let s = sx.min(sz);
+        if !textured {
+            let fence = [colours::FENCE.0, colours::FENCE.1, colours::FENCE.2];
+            for r in self.rows(-EYE / s, (FENCE_HEIGHT - EYE) / s) {
+                let y = EYE + self.row_slope[r] * s;
+                let i = r * WIDTH + c;
+                if (0.0..=FENCE_HEIGHT).contains(&y) && s < self.depth[i] {
+                    self.depth[i] = s;
+                    put(px, i, fence);
+                }
+            }
+            return;
+        }
+        // Which fence, where along it (u) and how far a column step moves the hit along it.
+        let (side, u, along, across, r_along, r_across) = if sx <= sz {
+            (if h.x > 0.0 { FenceSide::East } else { FenceSide::West }, eye.y + h.y * s, h.y, h.x, right.y, right.x)
+        } else {
+            (if h.y > 0.0 { FenceSide::North } else { FenceSide::South }, eye.x + h.x * s, h.x, h.y, right.x, right.y)
+        };
+        let fu = (s * PIXEL_SLOPE * (r_along * across - along * r_across) / across).abs();
+        let fy = s * PIXEL_SLOPE;
+        let top = fence_top(u, FENCE_HEIGHT);
+        for r in self.rows(-EYE / s, (top - EYE) / s) {
             let y = EYE + self.row_slope[r] * s;
             let i = r * WIDTH + c;
-            if (0.0..=FENCE_HEIGHT).contains(&y) && s < self.depth[i] {
+            if (0.0..=top).contains(&y) && s < self.depth[i] {
                 self.depth[i] = s;
-                put(px, i, fence);
+                put(px, i, fence_texel(side, u, y, fu, fy));
             }
         }
     }
@@ -231,7 +293,7 @@ impl Camera {
 
     /// A goal sphere: emissive (flat) except GoodGoalMulti, which is lit.
     fn sphere(&mut self, kind: ObjectKind, centre: Vec3, radius: f32, col: Column, px: &mut [u8]) {
-        let Column { c, eye, h } = col;
+        let Column { c, eye, h, .. } = col;
         let w2 = Vec2::new(centre.x, centre.z) - eye;
         let hh = h.length_squared();
         let along = w2.dot(h);

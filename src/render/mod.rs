@@ -2,9 +2,11 @@
 //! Both write RGBA8 buffers that a canvas `ImageData` takes as they are.
 
 mod camera;
+mod surface;
 mod topdown;
 
 pub use camera::Camera;
+pub use surface::Surface;
 pub use topdown::{render_top_down, TopDown, Trail};
 
 use crate::arena::Rgb;

@@ -6,16 +6,24 @@ use super::run::SecRun;
 use super::{args, js_err, seed_from_js};
 use crate::arena::{trace, Env, EnvConfig, Task};
 use crate::encoder::{bundled, Scratch, EMBEDDING, IMAGE};
+use crate::render::Surface;
 use wasm_bindgen::prelude::*;
 
 /// The most iterations a test-hook loop takes (a count from JS is checked like the public API's).
 const MAX_LOOP: u64 = 10_000_000;
 
-/// The scripted determinism run (see `arena::trace`), for cross-target checks.
+/// The scripted determinism run (see `arena::trace`), for cross-target checks; `surface` is
+/// "flat" (or absent) or "textured".
 #[wasm_bindgen(js_name = scriptedRun)]
-pub fn scripted_run(task: &str, seed: f64, steps: JsValue) -> Result<String, JsError> {
+pub fn scripted_run(task: &str, seed: f64, steps: JsValue, surface: Option<String>) -> Result<String, JsError> {
     let steps = args::whole(&steps, "steps", 0, MAX_LOOP)? as u32;
-    trace::scripted_run(task, seed_from_js(&JsValue::from_f64(seed))?, steps).map_err(js_err)
+    let surface = match surface.as_deref() {
+        None => Surface::Flat,
+        Some(v) => Surface::ALL.iter().find(|(n, _)| *n == v).map(|&(_, s)| s).ok_or_else(|| {
+            JsError::new(&format!("surface: '{}' is not one of flat, textured", crate::util::shown(v)))
+        })?,
+    };
+    trace::scripted_run(task, surface, seed_from_js(&JsValue::from_f64(seed))?, steps).map_err(js_err)
 }
 
 /// Benchmark helper: `n` physics-only env steps of the shared script (see `bench/wasm-bench.mjs`).

@@ -98,7 +98,7 @@ impl ArenaEnv {
 
     fn build(task: Task, seed: &JsValue, t: Option<JsValue>) -> Result<ArenaEnv, JsError> {
         let seed = seed_from_js(seed)?;
-        let config = EnvConfig { task, t: t_from_js(t)? };
+        let config = EnvConfig { t: t_from_js(t)?, ..EnvConfig::new(task) };
         let env = Env::new(config, seed).map_err(js_err)?;
         let trail = Trail::new(env.world().agent.pos);
         Ok(ArenaEnv { env, trail })

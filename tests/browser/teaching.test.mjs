@@ -158,15 +158,16 @@ test('a preset draws its reference runs at once, made at the settings its arms r
   try {
     await ready(page);
     await page.click('#compare-exp1');
-    // DQN and ERLAM (native only) come as reference runs alone, those the index lists.
+    // DQN, ERLAM and ERLAM-5k (native only) come as reference runs alone, those the index lists.
     const listed = await page.evaluate(async () => (await (await fetch('assets/reference/index.json')).json()).references.map((r) => r.reference));
-    const natives = ['exp1:double-t-maze/DQN', 'exp1:double-t-maze/ERLAM'];
+    const natives = ['exp1:double-t-maze/DQN', 'exp1:double-t-maze/ERLAM', 'exp1:double-t-maze/ERLAM-5k'];
     assert.ok(listed.includes(natives[0]), 'DQN has committed reference runs');
     const expected = 3 + natives.filter((n) => listed.includes(n)).length;
     await page.waitForFunction((n) => window.secPlayground.compare.drawn.references === n, expected, { timeout: 30000 });
     const c = await page.evaluate(() => ({ ...window.secPlayground.compare }));
     assert.equal(c.arms, 3, 'no live run of an agent the page cannot run');
-    assert.deepEqual(c.natives.map((n) => [n.label, n.seeds !== null]), [['DQN', true], ['ERLAM', listed.includes(natives[1])]]);
+    assert.deepEqual(c.natives.map((n) => [n.label, n.seeds !== null]),
+      [['DQN', true], ['ERLAM', listed.includes(natives[1])], ['ERLAM-5k', listed.includes(natives[2])]]);
     assert.match(c.referenceNote, /DQN \(\d+ seeds? × 1000 episodes\)[^.]*: reference runs only/);
     assert.match(await page.locator('#compare-arms').innerText(), /DQN\s*reference runs only \(native\)/);
     assert.equal(c.drawn.liveAtFirstReference, 0, 'the bands come before any live episode');

@@ -16,7 +16,7 @@ use sec_playground::arena::{
 };
 use sec_playground::encoder::{Perception, PerceptionKind, Scratch, EMBEDDING, IMAGE};
 use sec_playground::experiment::RunConfig;
-use sec_playground::render::{Frame, Trail};
+use sec_playground::render::{Frame, Surface, Trail};
 use sec_playground::seed::MAX_SEED;
 use sec_playground::session::Session;
 use std::io::Cursor;
@@ -90,11 +90,18 @@ struct Tracked {
     cut: bool,
 }
 
+/// A surface by name ("flat" or "textured"), refused by name otherwise.
+fn surface_of(name: &str) -> PyResult<Surface> {
+    Surface::ALL.iter().find(|(n, _)| *n == name).map(|&(_, s)| s).ok_or_else(|| {
+        value_error(format!("surface: '{name}' is not one of {}", Surface::ALL.map(|(n, _)| n).join(", ")))
+    })
+}
+
 /// What `Tracked::state` gives: seed, resets since, this episode's actions.
 type ArenaState = (u64, u64, Vec<u8>);
 
 impl Tracked {
-    fn new(task: Task, t: Option<u32>, frame_skip: u32, max_steps: Option<u64>) -> PyResult<Self> {
+    fn new(task: Task, t: Option<u32>, surface: Surface, frame_skip: u32, max_steps: Option<u64>) -> PyResult<Self> {
         if !(1..=MAX_FRAME_SKIP).contains(&frame_skip) {
             return Err(value_error(format!("frame_skip: {frame_skip} is out of range 1..={MAX_FRAME_SKIP}")));
         }
@@ -102,7 +109,7 @@ impl Tracked {
             return Err(value_error("max_episode_steps: 0 is out of range 1.. (None: no limit)"));
         }
         // `Env::new` resets with seed 0.
-        let env = Env::new(EnvConfig { task, t }, 0).map_err(value_error)?;
+        let env = Env::new(EnvConfig { task, t, surface }, 0).map_err(value_error)?;
         let trail = Trail::new(env.world().agent.pos);
         let actions = Vec::new();
         Ok(Tracked {
@@ -188,9 +195,16 @@ impl PyEnv {
     /// 1/t); `frame_skip`: env steps each action is held for (SEC's 4); `max_steps`: a limit in
     /// agent steps (Gymnasium's `max_episode_steps`).
     #[new]
-    #[pyo3(signature = (task, t=None, yaml=None, frame_skip=1, max_steps=None))]
-    fn new(task: &str, t: Option<u32>, yaml: Option<&str>, frame_skip: u32, max_steps: Option<u64>) -> PyResult<Self> {
-        Ok(PyEnv { arena: Tracked::new(task_of(task, yaml)?, t, frame_skip, max_steps)? })
+    #[pyo3(signature = (task, t=None, yaml=None, frame_skip=1, max_steps=None, surface="flat"))]
+    fn new(
+        task: &str,
+        t: Option<u32>,
+        yaml: Option<&str>,
+        frame_skip: u32,
+        max_steps: Option<u64>,
+        surface: &str,
+    ) -> PyResult<Self> {
+        Ok(PyEnv { arena: Tracked::new(task_of(task, yaml)?, t, surface_of(surface)?, frame_skip, max_steps)? })
     }
 
     /// Starts an episode: with a seed the run restarts from it, without one the next layout.
@@ -298,7 +312,7 @@ struct PyVecEnv {
 #[pymethods]
 impl PyVecEnv {
     #[new]
-    #[pyo3(signature = (task, n, t=None, yaml=None, frame_skip=1, max_steps=None))]
+    #[pyo3(signature = (task, n, t=None, yaml=None, frame_skip=1, max_steps=None, surface="flat"))]
     fn new(
         task: &str,
         n: usize,
@@ -306,11 +320,12 @@ impl PyVecEnv {
         yaml: Option<&str>,
         frame_skip: u32,
         max_steps: Option<u64>,
+        surface: &str,
     ) -> PyResult<Self> {
         if !(1..=4096).contains(&n) {
             return Err(value_error(format!("num_envs: {n} is out of range 1..=4096")));
         }
-        let arena = Tracked::new(task_of(task, yaml)?, t, frame_skip, max_steps)?;
+        let arena = Tracked::new(task_of(task, yaml)?, t, surface_of(surface)?, frame_skip, max_steps)?;
         Ok(PyVecEnv { arenas: vec![arena; n], ended: vec![false; n] })
     }
 

@@ -8,7 +8,7 @@ import pytest
 from gymnasium.utils.env_checker import check_env
 
 import sec_playground
-from sec_playground import ENV_IDS, TASKS, ArenaEnv, fingerprint
+from sec_playground import ENV_IDS, TASKS, ArenaEnv, ArenaVectorEnv, fingerprint
 
 PRESET_IDS = [i for i, t in ENV_IDS.items() if t is not None]
 
@@ -48,12 +48,13 @@ def _bits(fmt, value):
     return struct.unpack(">Q" if fmt == "d" else ">I", struct.pack(">" + fmt, value))[0]
 
 
-def _scripted_trace(task, seed, steps):
-    """tests/golden/trace.txt's lines for `task`, through the Gymnasium env (the LCG script of
-    `sec_playground::arena::trace::scripted_run`)."""
-    env = ArenaEnv(task)
+def _scripted_trace(task, seed, steps, surface="flat"):
+    """tests/golden/trace.txt's lines for `task` (trace-textured.txt's for the textured surface),
+    through the Gymnasium env (the LCG script of `sec_playground::arena::trace::scripted_run`)."""
+    env = ArenaEnv(task, surface=surface)
     obs, info = env.reset(seed=seed)
-    lines = [f"# {task} seed {seed} layout {info['layout']} frame {fingerprint(obs):016x}"]
+    name = task if surface == "flat" else f"{task}-{surface}"
+    lines = [f"# {name} seed {seed} layout {info['layout']} frame {fingerprint(obs):016x}"]
     lcg = (seed ^ 0x9E3779B9) & 0xFFFFFFFF
     for i in range(steps):
         lcg = (lcg * 1664525 + 1013904223) & 0xFFFFFFFF
@@ -71,12 +72,20 @@ def _scripted_trace(task, seed, steps):
     return lines
 
 
-def test_a_seeded_scripted_episode_equals_the_rust_golden_trace_bit_for_bit(golden):
-    expected = (golden / "trace.txt").read_text().splitlines()
-    got = [line for task in TASKS for line in _scripted_trace(task, 7, 200)]
+@pytest.mark.parametrize("surface, file", [("flat", "trace.txt"), ("textured", "trace-textured.txt")])
+def test_a_seeded_scripted_episode_equals_the_rust_golden_trace_bit_for_bit(golden, surface, file):
+    expected = (golden / file).read_text().splitlines()
+    got = [line for task in TASKS for line in _scripted_trace(task, 7, 200, surface)]
     assert len(got) == len(expected)
     for i, (a, b) in enumerate(zip(got, expected)):
-        assert a == b, f"trace line {i + 1} differs"
+        assert a == b, f"{file}: line {i + 1} differs"
+
+
+def test_a_bad_surface_is_refused_by_name():
+    with pytest.raises(ValueError, match="surface: 'tiled' is not one of flat, textured"):
+        ArenaEnv("detour", surface="tiled")
+    with pytest.raises(ValueError, match="surface"):
+        ArenaVectorEnv(2, "detour", surface=3)
 
 
 def _actions(n, steps, seed=5):

@@ -192,7 +192,7 @@ pub fn versus_authors(results: &Path, authors: &Path, to: &Path) -> Result<Strin
             "A run **learned** when its reward per episode is above R = {:.4}, the reactive walk's 95th \
              percentile in the double T-maze ({} runs x {} episodes; results/PROTOCOL.md). The authors' runs \
              are over {} episodes; ours over the episodes shown. p values are two-sided, Bonferroni-corrected \
-             over the rows of their table.\n",
+             over every test of their table (two per row).\n",
             b.per_episode, b.runs, b.episodes, theirs[0].episodes
         ),
         None => writeln!(md, "No reactive-walk runs of the double T-maze: \"learned\" is not computed.\n"),
@@ -212,7 +212,8 @@ pub fn versus_authors(results: &Path, authors: &Path, to: &Path) -> Result<Strin
         md += "| condition | runs: ours / theirs | episodes: ours / theirs | learned: ours / theirs | \
                ours per episode: Q1 / median / Q3 | theirs per episode: Q1 / median / Q3 | \
                Mann-Whitney p | Fisher p |\n|---|---|---|---|---|---|---|---|\n";
-        let rows = t.runs.len() as f64;
+        // Every test the table runs: a Mann-Whitney and a Fisher test per row.
+        let tests = 2.0 * t.runs.len() as f64;
         let mut groups = Vec::new();
         for r in &t.runs {
             let theirs_pe: Vec<f64> = r.totals.iter().map(|x| x / t.episodes as f64).collect();
@@ -249,8 +250,8 @@ pub fn versus_authors(results: &Path, authors: &Path, to: &Path) -> Result<Strin
                 share(learned(&theirs_pe), theirs_pe.len()),
                 quartiles(&ours_pe),
                 quartiles(&theirs_pe),
-                fmt_p((p_mw * rows).min(1.0)),
-                fmt_p((p_fisher * rows).min(1.0)),
+                fmt_p((p_mw * tests).min(1.0)),
+                fmt_p((p_fisher * tests).min(1.0)),
             )
             .unwrap();
             let model = r.condition.split_once('/').map_or(r.condition.as_str(), |(_, m)| m);

@@ -16,8 +16,9 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use sec_playground::agent::Reactive;
 use sec_playground::arena::{Env, EnvConfig, Task};
-use sec_playground::encoder::{Perception, Scratch, EMBEDDING, IMAGE};
+use sec_playground::encoder::{Perception, PerceptionKind, Scratch, EMBEDDING, IMAGE};
 use sec_playground::experiment::presets;
+use sec_playground::render::Surface;
 use std::fmt::Write as _;
 use std::fs;
 use std::path::Path;
@@ -51,24 +52,33 @@ pub struct Matching {
     pub far: f64,
 }
 
-/// The walk's frames and where they were taken: `frames` decisions of the reactive walk (4 env
-/// steps each) from `seed`.
-fn walk(task: &str, frames: usize, seed: u64) -> Vec<(Vec<f32>, (f64, f64))> {
+/// One view of a walk: the image, where it was taken, its frame's hash and its episode.
+struct View {
+    image: Vec<f32>,
+    at: (f64, f64),
+    hash: u64,
+    episode: u32,
+}
+
+/// `frames` decisions of the reactive walk (4 env steps each) from `seed`, drawn with `surface`.
+fn walk(task: &str, surface: Surface, frames: usize, seed: u64) -> Vec<View> {
     let task = Task::preset(task).expect("a task preset");
-    let mut env = Env::new(EnvConfig::new(task), seed).expect("a preset's env");
+    let mut env = Env::new(EnvConfig { surface, ..EnvConfig::new(task) }, seed).expect("a preset's env");
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut reactive = Reactive::new(&mut rng);
     let mut out = Vec::with_capacity(frames);
+    let mut episode = 0;
     while out.len() < frames {
         if env.is_over() {
             env.reset(None);
+            episode += 1;
         }
         let a = reactive.step(&mut rng);
         env.advance(a, 4).expect("the episode is not over");
         let mut image = vec![0.0; IMAGE];
         env.observation().to_rgb_f32(&mut image);
         let p = env.world().agent.pos;
-        out.push((image, (p.x as f64, p.y as f64)));
+        out.push(View { image, at: (p.x as f64, p.y as f64), hash: env.observation().hash(), episode });
     }
     out
 }
@@ -84,63 +94,136 @@ fn quantile(sorted: &[f64], q: f64) -> f64 {
     sorted[((sorted.len() - 1) as f64 * q).round() as usize]
 }
 
+/// One perception's matching over `walks` (one per seed), the perception made per seed.
+fn measure(
+    arm: &str,
+    walks: &[(Vec<View>, u64)],
+    perception: impl Fn(u64) -> Result<Perception, String>,
+) -> Result<Matching, String> {
+    let (mut nn, mut dist) = (Vec::new(), Vec::new());
+    let (mut matched, mut views, mut pairs) = (0usize, 0usize, 0usize);
+    for (walk, seed) in walks {
+        let p = perception(*seed)?;
+        let mut s = Scratch::default();
+        let e: Vec<[f32; EMBEDDING]> = walk
+            .iter()
+            .map(|v| {
+                let mut e = [0.0; EMBEDDING];
+                p.embed(&v.image, &mut s, &mut e);
+                e
+            })
+            .collect();
+        let mut row = vec![0.0; e.len()];
+        for i in 0..e.len() {
+            for (j, r) in row.iter_mut().enumerate() {
+                *r = if i.abs_diff(j) > EXCLUDE { mae(&e[i], &e[j]) } else { f64::INFINITY };
+            }
+            let best = row.iter().copied().fold(f64::INFINITY, f64::min);
+            // NSEC's selection over the walk's other views: G = 1 - MAE above theta_abs and
+            // above theta_prop times the best G.
+            let gmax = 1.0 - best;
+            let mut any = false;
+            for (j, &m) in row.iter().enumerate() {
+                if m < RADIUS_MAE && 1.0 - m > THETA_PROP * gmax {
+                    any = true;
+                    pairs += 1;
+                    let ((xi, zi), (xj, zj)) = (walk[i].at, walk[j].at);
+                    dist.push(((xi - xj).powi(2) + (zi - zj).powi(2)).sqrt());
+                }
+            }
+            nn.push(best);
+            matched += any as usize;
+            views += 1;
+        }
+    }
+    nn.sort_by(f64::total_cmp);
+    dist.sort_by(f64::total_cmp);
+    Ok(Matching {
+        arm: arm.to_string(),
+        nn: [quantile(&nn, 0.5), quantile(&nn, 0.9)],
+        identical: nn.iter().filter(|&&v| v == 0.0).count() as f64 / nn.len().max(1) as f64,
+        matched_views: matched as f64 / views as f64,
+        matches_per_view: pairs as f64 / views as f64,
+        radius: [quantile(&dist, 0.5), quantile(&dist, 0.9)],
+        far: dist.iter().filter(|&&d| d > FAR).count() as f64 / dist.len().max(1) as f64,
+        nn_all: nn,
+    })
+}
+
 /// The matching of every arm of the `perception` experiment.
 pub fn matching(frames: usize, seeds: &[u64]) -> Result<Vec<Matching>, String> {
     let arms = presets::experiment("perception").map_err(|e| e.to_string())?;
-    let walks: Vec<_> = seeds.iter().map(|&s| walk("double-t-maze", frames, s)).collect();
+    let walks: Vec<_> = seeds.iter().map(|&s| (walk("double-t-maze", Surface::Flat, frames, s), s)).collect();
     let mut out = Vec::new();
     for c in arms.iter().filter(|c| c.name.ends_with("/SEC")) {
-        let (mut nn, mut dist) = (Vec::new(), Vec::new());
-        let (mut matched, mut views, mut pairs) = (0usize, 0usize, 0usize);
-        for (walk, &seed) in walks.iter().zip(seeds) {
-            let p = Perception::new(c.config.perception, &c.config.task, c.config.scale_override(), seed)
-                .map_err(|e| e.to_string())?;
-            let mut s = Scratch::default();
-            let e: Vec<[f32; EMBEDDING]> = walk
-                .iter()
-                .map(|(img, _)| {
-                    let mut e = [0.0; EMBEDDING];
-                    p.embed(img, &mut s, &mut e);
-                    e
-                })
-                .collect();
-            let mut row = vec![0.0; e.len()];
-            for i in 0..e.len() {
-                for (j, r) in row.iter_mut().enumerate() {
-                    *r = if i.abs_diff(j) > EXCLUDE { mae(&e[i], &e[j]) } else { f64::INFINITY };
-                }
-                let best = row.iter().copied().fold(f64::INFINITY, f64::min);
-                // NSEC's selection over the walk's other views: G = 1 - MAE above theta_abs and
-                // above theta_prop times the best G.
-                let gmax = 1.0 - best;
-                let mut any = false;
-                for (j, &m) in row.iter().enumerate() {
-                    if m < RADIUS_MAE && 1.0 - m > THETA_PROP * gmax {
-                        any = true;
-                        pairs += 1;
-                        let ((xi, zi), (xj, zj)) = (walk[i].1, walk[j].1);
-                        dist.push(((xi - xj).powi(2) + (zi - zj).powi(2)).sqrt());
-                    }
-                }
-                nn.push(best);
-                matched += any as usize;
-                views += 1;
-            }
-        }
-        nn.sort_by(f64::total_cmp);
-        dist.sort_by(f64::total_cmp);
-        out.push(Matching {
-            arm: c.name.trim_end_matches("/SEC").to_string(),
-            nn: [quantile(&nn, 0.5), quantile(&nn, 0.9)],
-            identical: nn.iter().filter(|&&v| v == 0.0).count() as f64 / nn.len().max(1) as f64,
-            matched_views: matched as f64 / views as f64,
-            matches_per_view: pairs as f64 / views as f64,
-            radius: [quantile(&dist, 0.5), quantile(&dist, 0.9)],
-            far: dist.iter().filter(|&&d| d > FAR).count() as f64 / dist.len().max(1) as f64,
-            nn_all: nn,
-        });
+        out.push(measure(c.name.trim_end_matches("/SEC"), &walks, |seed| {
+            Perception::new(c.config.perception, &c.config.task, c.config.scale_override(), seed)
+                .map_err(|e| e.to_string())
+        })?);
     }
     Ok(out)
+}
+
+/// How much each surface aliases views: the matching of the code preset's perception (the
+/// untrained encoder at its raw scale) over reactive walks of the double T-maze drawn with that
+/// surface, and the distinct frames per decision within an episode of the walk.
+pub fn aliasing(frames: usize, seeds: &[u64]) -> Result<Vec<(Surface, Matching, [f64; 3])>, String> {
+    let mut out = Vec::new();
+    for (name, surface) in Surface::ALL {
+        let walks: Vec<_> = seeds.iter().map(|&s| (walk("double-t-maze", surface, frames, s), s)).collect();
+        let m = measure(name, &walks, |seed| {
+            Perception::new(PerceptionKind::Untrained, "double-t-maze", None, seed).map_err(|e| e.to_string())
+        })?;
+        // Distinct frames per decision, per episode of each walk (the last, unfinished one left
+        // out), averaged over episodes.
+        let (mut shares, mut distinct, mut lengths) = (Vec::new(), Vec::new(), Vec::new());
+        for (w, _) in &walks {
+            let last = w.last().map_or(0, |v| v.episode);
+            for e in 0..last {
+                let mut hashes: Vec<u64> = w.iter().filter(|v| v.episode == e).map(|v| v.hash).collect();
+                let n = hashes.len();
+                hashes.sort_unstable();
+                hashes.dedup();
+                shares.push(hashes.len() as f64 / n as f64);
+                distinct.push(hashes.len() as f64);
+                lengths.push(n as f64);
+            }
+        }
+        out.push((surface, m, [mean(&distinct), mean(&lengths), mean(&shares)]));
+    }
+    Ok(out)
+}
+
+/// The aliasing table (markdown): one row per surface.
+pub fn aliasing_table(rows: &[(Surface, Matching, [f64; 3])], frames: usize, seeds: &[u64]) -> String {
+    let mut md = format!(
+        "{frames} views of a reactive walk of the double T-maze (one every 4 env steps) per seed, seeds {seeds:?}, \
+         each drawn with the surface and embedded by the code preset's perception (the untrained encoder drawn from \
+         the seed, raw scale); views fewer than {EXCLUDE} decisions apart are not compared. Identical view: the share \
+         of views whose nearest other view has an embedding MAE of 0. Matching breadth: views a view selects by \
+         NSEC's rule (G = 1 - MAE above 0.98 and 0.995 times the best G). Distinct frames: per finished episode of \
+         the walk, its distinct frames, its decisions and their ratio, means over episodes.\n\n\
+         | surface | identical view | views selecting one | matching breadth (views selected) | their distance median / 90 % (m) | selected > {FAR} m away | distinct frames per episode / decisions | distinct per decision |\n\
+         |---|---|---|---|---|---|---|---|\n"
+    );
+    for (s, m, distinct) in rows {
+        writeln!(
+            md,
+            "| {} | {:.1} % | {:.1} % | {:.1} | {:.1} / {:.1} | {:.1} % | {:.1} / {:.1} | {:.3} |",
+            s.name(),
+            100.0 * m.identical,
+            100.0 * m.matched_views,
+            m.matches_per_view,
+            m.radius[0],
+            m.radius[1],
+            100.0 * m.far,
+            distinct[0],
+            distinct[1],
+            distinct[2]
+        )
+        .unwrap();
+    }
+    md
 }
 
 /// Writes `matching.md`, `matching.csv` and `plots/ratio-vs-breadth.{svg,png}` into

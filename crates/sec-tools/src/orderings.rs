@@ -13,7 +13,7 @@
 //! p < 0.05, "n.s." otherwise (the arrow says which way it leans).
 
 use crate::report::{load, ConditionRuns};
-use crate::stats::{mann_whitney, mean};
+use crate::stats::{jonckheere_decreasing, mann_whitney, mean};
 use std::fmt::Write as _;
 use std::fs;
 use std::path::Path;
@@ -128,6 +128,9 @@ pub struct Verdict {
     pub p: Option<f64>,
 }
 
+/// Permutations of the trend test's p (its resolution is 1 / 20,001).
+const TREND_PERMUTATIONS: usize = 20_000;
+
 fn find<'a>(arms: &'a [Arm], name: &str) -> Option<&'a Arm> {
     arms.iter().find(|a| a.name == name)
 }
@@ -230,6 +233,24 @@ fn paper_ratio(exp: &str, a: &str, b: &str) -> String {
         (Some(x), Some(y)) => format!("{:.2}", x / y),
         _ => "-".into(),
     }
+}
+
+/// Marks a verdict that holds while its baseline `b` lies outside the authors' own runs of it:
+/// our runs' median reward per episode outside the interquartile range of theirs (where their
+/// notebooks keep per-run totals). A ratio over such a baseline says more about the baseline
+/// than about SEC (PROTOCOL.md, 2026-12-06).
+fn mark_outside(mut v: Verdict, ours: &[Arm], authors: &[Arm], b: &str) -> Verdict {
+    let per_episode =
+        |a: &Arm| a.totals.as_ref().map(|t| t.iter().map(|x| x / a.episodes as f64).collect::<Vec<f64>>());
+    let (Some(o), Some(t)) = (find(ours, b).and_then(per_episode), find(authors, b).and_then(per_episode)) else {
+        return v;
+    };
+    let median = crate::stats::quantile(&o, 0.5);
+    let (q1, q3) = (crate::stats::quantile(&t, 0.25), crate::stats::quantile(&t, 0.75));
+    if v.text.starts_with("holds") && (median < q1 || median > q3) {
+        v.text = v.text.replacen("holds", "holds, baseline outside the authors' runs", 1);
+    }
+    v
 }
 
 /// A tree's arms per experiment.
@@ -337,14 +358,17 @@ pub fn orderings(code: &Path, trained: &Path, authors: &Path, out: &Path) -> Res
             verdict(tree.arms("exp1"), &format!("{task}/SEC"), &format!("{task}/{other}"), claim, 3)
         };
         let paper = |other: &str| paper_ratio("exp1", &format!("{task}/SEC"), &format!("{task}/{other}"));
+        let outside = |tree: &Tree, v: Verdict, other: &str| {
+            mark_outside(v, tree.arms("exp1"), trees[2].arms("exp1"), &format!("{task}/{other}"))
+        };
         for other in ["NSEC", "MFEC-ae", "MFEC-rp"] {
             add(
                 &format!("exp1 {task}"),
                 format!("SEC > {other}"),
                 paper(other),
                 [
-                    (pair(&trees[0], other, Claim::More), "×"),
-                    (pair(&trees[1], other, Claim::More), "×"),
+                    (outside(&trees[0], pair(&trees[0], other, Claim::More), other), "×"),
+                    (outside(&trees[1], pair(&trees[1], other, Claim::More), other), "×"),
                     (pair(&trees[2], other, Claim::More), "×"),
                 ],
             );
@@ -366,7 +390,11 @@ pub fn orderings(code: &Path, trained: &Path, authors: &Path, out: &Path) -> Res
                 &format!("exp1 {task}"),
                 format!("SEC > {other} (over {other}'s episodes)"),
                 paper(other),
-                [(deep(&trees[0], other), "×"), (deep(&trees[1], other), "×"), (deep(&trees[2], other), "×")],
+                [
+                    (outside(&trees[0], deep(&trees[0], other), other), "×"),
+                    (outside(&trees[1], deep(&trees[1], other), other), "×"),
+                    (deep(&trees[2], other), "×"),
+                ],
             );
         }
         add(
@@ -400,23 +428,38 @@ pub fn orderings(code: &Path, trained: &Path, authors: &Path, out: &Path) -> Res
             [(exp2(&trees[0], &s, &n, 5), "×"), (exp2(&trees[1], &s, &n, 5), "×"), (exp2(&trees[2], &s, &n, 5), "×")],
         );
     }
+    // The protocol's rule (a strict fall of the four ratios) and, where the runs are there, a
+    // one-sided Jonckheere-Terpstra test of a falling trend on the per-seed ratios (SEC's run
+    // total over NSEC's of the same seed), its p by permutation (PROTOCOL.md, 2026-12-06).
     let falling = |tree: &Tree| {
-        let r: Vec<f64> = [125, 250, 500, 1000]
+        let sizes = [125, 250, 500, 1000];
+        let a = tree.arms("exp2");
+        let r: Vec<f64> = sizes
             .iter()
             .filter_map(|m| {
-                let a = tree.arms("exp2");
                 Some(find(a, &format!("m{m}/SEC"))?.per_episode / find(a, &format!("m{m}/NSEC"))?.per_episode)
             })
             .collect();
         let list = r.iter().map(|x| format!("{x:.2}")).collect::<Vec<_>>().join(" / ");
-        let text = if r.len() < 4 {
-            "not run".into()
-        } else if r.windows(2).all(|w| w[0] > w[1]) {
-            format!("holds ({list})")
-        } else {
-            format!("does not hold ({list})")
+        let per_seed: Option<Vec<Vec<f64>>> = sizes
+            .iter()
+            .map(|m| {
+                let (s, n) =
+                    (find(a, &format!("m{m}/SEC"))?.totals.as_ref()?, find(a, &format!("m{m}/NSEC"))?.totals.as_ref()?);
+                (s.len() == n.len() && s.len() >= 2).then(|| s.iter().zip(n).map(|(s, n)| s / n).collect())
+            })
+            .collect();
+        let trend = per_seed.map(|g| jonckheere_decreasing(&g, TREND_PERMUTATIONS, 1).1);
+        let falls = r.len() == 4 && r.windows(2).all(|w| w[0] > w[1]);
+        let text = match (r.len() < 4, falls, trend) {
+            (true, _, _) => "not run".into(),
+            (_, true, Some(p)) if p < 0.05 => format!("holds ({list}; trend p {})", fmt_p(Some(p))),
+            (_, true, Some(p)) => format!("holds by direction only, trend n.s. ({list}; trend p {})", fmt_p(Some(p))),
+            (_, true, None) => format!("holds by direction, no test ({list})"),
+            (_, false, Some(p)) => format!("does not hold ({list}; trend p {})", fmt_p(Some(p))),
+            (_, false, None) => format!("does not hold ({list})"),
         };
-        (Verdict { text, ratio: None, p: None }, "")
+        (Verdict { text, ratio: None, p: trend }, "")
     };
     add(
         "exp2",
@@ -442,11 +485,12 @@ pub fn orderings(code: &Path, trained: &Path, authors: &Path, out: &Path) -> Res
         for f in ["fifo", "rwd", "prior"] {
             let (a, b) = (format!("forgetting/{model}-{f}"), format!("forgetting/{model}-none"));
             let check = |tree: &Tree| verdict(tree.arms("exp4"), &a, &b, Claim::AtLeast, 6);
+            let outside = |tree: &Tree| mark_outside(check(tree), tree.arms("exp4"), trees[2].arms("exp4"), &b);
             add(
                 "exp4",
                 format!("{model}-{f} >= {model}-none"),
                 paper_ratio("exp4", &a, &b),
-                [(check(&trees[0]), "×"), (check(&trees[1]), "×"), (check(&trees[2]), "×")],
+                [(outside(&trees[0]), "×"), (outside(&trees[1]), "×"), (check(&trees[2]), "×")],
             );
         }
     }

@@ -98,7 +98,8 @@ const OVER: [usize; 2] = [1000, 2000];
 /// What the captions quote of a condition beyond its mean: each run's reward per episode (seed
 /// order), runs that learned (above the reactive walk's bar in its task), the authors' runs where
 /// their notebooks keep them, the episode each run's LTM filled (SEC's kinds), the curve at a few
-/// episodes and at the end, the last 10 % and the mean over a prefix.
+/// episodes and at the end, the last 10 % (mean, and per run with the first 90 %) and the mean
+/// over a prefix.
 fn facts(c: &ConditionRuns, bar: Option<LearnedBar>, authors: Option<(&[f64], usize)>) -> Value {
     let len = c.runs[0].len();
     let per_run: Vec<f64> = c.totals().iter().map(|t| t / len as f64).collect();
@@ -123,7 +124,13 @@ fn facts(c: &ConditionRuns, bar: Option<LearnedBar>, authors: Option<(&[f64], us
     }
     at.insert("end".into(), dec4(curve[len - 1]));
     f.insert("curveAt".into(), Value::Object(at));
-    f.insert("late".into(), dec4(mean(&c.span_means(0.9, 1.0, |m| m.reward))));
+    let late = c.span_means(0.9, 1.0, |m| m.reward);
+    f.insert("late".into(), dec4(mean(&late)));
+    // Per run (seed order), over the last 10 % and the first 90 %: whether a run learned only
+    // near its end.
+    f.insert("lateRuns".into(), json!(late.iter().map(|&v| dec4(v)).collect::<Vec<_>>()));
+    let early = c.span_means(0.0, 0.9, |m| m.reward);
+    f.insert("earlyRuns".into(), json!(early.iter().map(|&v| dec4(v)).collect::<Vec<_>>()));
     let mut over = serde_json::Map::new();
     for n in OVER.into_iter().filter(|&n| n < len) {
         over.insert(n.to_string(), dec4(mean(&c.totals_over(n)) / n as f64));

@@ -168,6 +168,54 @@ fn ln_factorial(n: usize) -> f64 {
     (2..=n).map(|k| (k as f64).ln()).sum()
 }
 
+/// Jonckheere-Terpstra's test of a decreasing trend over ordered groups: the statistic (pairs
+/// from an earlier group above one from a later group, ties counting a half) and its one-sided p
+/// from `permutations` random reassignments of the pooled values to groups of the same sizes,
+/// drawn from ChaCha8 with `seed` (so the p is a pure function of the data): (1 + the
+/// permutations whose statistic is at least the observed) / (1 + permutations).
+pub fn jonckheere_decreasing(groups: &[Vec<f64>], permutations: usize, seed: u64) -> (f64, f64) {
+    use rand::seq::SliceRandom;
+    use rand::SeedableRng;
+    let statistic = |g: &[&[f64]]| {
+        let mut j = 0.0;
+        for (a, earlier) in g.iter().enumerate() {
+            for later in &g[a + 1..] {
+                for x in earlier.iter() {
+                    for y in later.iter() {
+                        j += if x > y {
+                            1.0
+                        } else if x == y {
+                            0.5
+                        } else {
+                            0.0
+                        };
+                    }
+                }
+            }
+        }
+        j
+    };
+    let sizes: Vec<usize> = groups.iter().map(Vec::len).collect();
+    let split = |pooled: &[f64]| -> f64 {
+        let mut parts = Vec::with_capacity(sizes.len());
+        let mut at = 0;
+        for &n in &sizes {
+            parts.push(&pooled[at..at + n]);
+            at += n;
+        }
+        statistic(&parts)
+    };
+    let mut pooled: Vec<f64> = groups.iter().flatten().copied().collect();
+    let observed = split(&pooled);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let mut at_least = 0usize;
+    for _ in 0..permutations {
+        pooled.shuffle(&mut rng);
+        at_least += (split(&pooled) >= observed) as usize;
+    }
+    (observed, (1 + at_least) as f64 / (1 + permutations) as f64)
+}
+
 /// Trailing moving mean over `w` values (the first ones average what there is).
 pub fn moving_mean(x: &[f64], w: usize) -> Vec<f64> {
     let mut out = Vec::with_capacity(x.len());
@@ -185,6 +233,24 @@ pub fn moving_mean(x: &[f64], w: usize) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn jonckheere_counts_ordered_pairs_and_its_permutation_p_is_the_exact_one_within_noise() {
+        // Two groups of two, wholly ordered: J = 4, reached by 1 of the C(4, 2) = 6 assignments.
+        let (j, p) = jonckheere_decreasing(&[vec![3.0, 4.0], vec![1.0, 2.0]], 20_000, 1);
+        assert_eq!(j, 4.0);
+        assert!((p - 1.0 / 6.0).abs() < 0.01, "{p}");
+        // Ties count a half.
+        assert_eq!(jonckheere_decreasing(&[vec![1.0], vec![1.0]], 0, 1).0, 0.5);
+        // Four groups of ten falling: tiny p; rising: p near 1; the same seed, the same p.
+        let groups = |step: f64| {
+            (0..4).map(|g| (0..10).map(|i| g as f64 * step + i as f64 * 0.1).collect()).collect::<Vec<Vec<f64>>>()
+        };
+        let (_, falling) = jonckheere_decreasing(&groups(-1.0), 2000, 7);
+        let (_, rising) = jonckheere_decreasing(&groups(1.0), 2000, 7);
+        assert!(falling < 0.001 && rising > 0.99, "{falling} {rising}");
+        assert_eq!(jonckheere_decreasing(&groups(-0.05), 500, 3), jonckheere_decreasing(&groups(-0.05), 500, 3));
+    }
 
     #[test]
     fn mann_whitney_matches_hand_computed_values() {

@@ -95,8 +95,9 @@ fn bad_input_is_refused_by_name() {
         assert!(!ok, "{args:?} should fail");
         e
     };
-    assert!(err(&["run", "exp9"])
-        .contains("experiment: 'exp9' is not one of exp1, exp2, exp3, exp4, presets, heading, perception, smoke"));
+    assert!(err(&["run", "exp9"]).contains(
+        "experiment: 'exp9' is not one of exp1, exp2, exp3, exp4, presets, heading, perception, textured, smoke"
+    ));
     assert!(err(&["run", "smoke", "--episodes", "0"]).contains("--episodes: '0' is not a whole number in 1..=1000000"));
     assert!(err(&["run", "smoke", "--shard", "3/2"]).contains("--shard: '3/2' is not i/N"));
     assert!(err(&["run", "smoke", "--seeds", "5..2"]).contains("--seeds: '5..2'"));
@@ -392,5 +393,42 @@ fn reports_refuse_an_incomplete_or_inconsistent_folder_unless_partial() {
     std::fs::write(&mf, text.replace(&hash, "0000000000000000")).unwrap();
     let (ok, _, err) = cli(&["report", "smoke", "--out", out]);
     assert!(!ok && err.contains("seed 3: its manifest names another configuration"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The frame-match table docs/ARENAS.md quotes is what `sec-experiment frame-match` makes of the
+/// committed real frames (searching next to the poses results/frame-match.md found: the full
+/// search renders every pose of the task and takes half a minute a frame), and results/ holds it.
+#[test]
+fn the_frame_match_table_arenas_quotes_is_regenerated_from_the_reference_frames() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let dir = temp("frame-match");
+    std::fs::create_dir_all(&dir).unwrap();
+    let committed = std::fs::read_to_string(root.join("results/frame-match.md")).unwrap();
+    std::fs::write(dir.join("frame-match.md"), &committed).unwrap();
+    let frames = root.join("tests/reference-frames");
+    let (ok, md, err) =
+        cli(&["frame-match", "--frames", frames.to_str().unwrap(), "--to", dir.to_str().unwrap(), "--near-quoted"]);
+    assert!(ok, "{err}");
+    assert_eq!(md, committed, "results/frame-match.md is not what the reference frames make");
+    let page = std::fs::read_to_string(root.join("docs/ARENAS.md")).unwrap();
+    let quoted = sec_tools::quote::quoted(&page, "frame-match").expect("docs/ARENAS.md quotes it");
+    assert!(md.contains(quoted.trim_end()), "docs/ARENAS.md's frame-match table is not the report's");
+    // Three frames, two surfaces each.
+    assert_eq!(quoted.lines().filter(|l| l.contains(" | textured | ")).count(), 3, "{quoted}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The aliasing table docs/ARENAS.md quotes is what `sec-experiment aliasing` measures.
+#[test]
+fn the_aliasing_table_arenas_quotes_is_regenerated() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let dir = temp("aliasing");
+    let (ok, md, err) = cli(&["aliasing", "--to", dir.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    assert_eq!(md, std::fs::read_to_string(root.join("results/aliasing.md")).unwrap());
+    let page = std::fs::read_to_string(root.join("docs/ARENAS.md")).unwrap();
+    let quoted = sec_tools::quote::quoted(&page, "aliasing").expect("docs/ARENAS.md quotes it");
+    assert!(md.contains(quoted.trim_end()), "docs/ARENAS.md's aliasing table is not what the command measures");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,20 +1,23 @@
 //! `sec-train`: trains the paper's autoencoder for a task and writes its weights.
 //!
 //! ```text
-//! sec-train train --task double-t-maze [--epochs 50] [--seed 1] [--frames 10000] [--heldout 2000]
-//!                 [--keep last|best] [--resume] [--out assets/encoders] [--log results/encoder]
+//! sec-train train --task double-t-maze [--surface flat|textured] [--epochs 50] [--seed 1]
+//!                 [--frames 10000] [--heldout 2000] [--keep last|best] [--resume]
+//!                 [--out assets/encoders] [--log results/encoder]
 //! sec-train bench [STEPS]
 //! ```
 //! The training frames are `dataset::generate(task, frames, seed)`, the held-out frames the same
 //! with seed + 1000, and a validation set of the same size with seed + 2000. After every epoch
 //! the training curve (CSV) is rewritten, and the weights (f16) too: always with `--keep last`
 //! (the authors' procedure, the default), only when the validation MSE improved with
-//! `--keep best`. Either way an interrupted run keeps what it has finished, and `--resume`
+//! `--keep best`. `--surface textured` draws the frames with the textured renderer and names the
+//! model `<task>-textured` (`encoder::model_name`). Either way an interrupted run keeps what it has finished, and `--resume`
 //! continues it (same seed and data) from the weights file and its curve, up to `--epochs`.
 
 use sec_playground::arena::{Task, TASK_NAMES};
 use sec_playground::encoder::dataset;
-use sec_playground::encoder::{Autoencoder, DType, Weights};
+use sec_playground::encoder::{model_name, Autoencoder, DType, Weights};
+use sec_playground::render::Surface;
 use sec_train::{heldout_mse, train, Start, TrainConfig};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -49,14 +52,15 @@ fn run() -> Result<(), String> {
         Some("bench") => {
             let steps = parse("STEPS", Some(args.next().unwrap_or("5".into())), 1usize, 1000)?;
             let task = Task::preset("double-t-maze").map_err(|e| e.to_string())?;
-            let (rgb, _) = dataset::generate(&task, 64, 1).map_err(|e| e.to_string())?;
+            let (rgb, _) = dataset::generate(&task, Surface::Flat, 64, 1).map_err(|e| e.to_string())?;
             let s = sec_train::bench_steps(&rgb, 64, steps);
             println!("burn flex: {s:.3} s per batch of 64 = {:.1} frames/s", 64.0 / s);
             return Ok(());
         }
-        _ => return Err("usage: sec-train train --task NAME [--epochs N] [--seed N] [--frames N] [--heldout N] [--keep last|best] [--resume] [--out DIR] [--log DIR] | sec-train bench [STEPS]".into()),
+        _ => return Err("usage: sec-train train --task NAME [--surface flat|textured] [--epochs N] [--seed N] [--frames N] [--heldout N] [--keep last|best] [--resume] [--out DIR] [--log DIR] | sec-train bench [STEPS]".into()),
     }
     let mut task_name = None;
+    let mut surface = Surface::Flat;
     let mut cfg = TrainConfig::default();
     let (mut frames, mut held) = (10_000usize, 2_000usize);
     let (mut keep_best, mut resume) = (false, false);
@@ -81,20 +85,29 @@ fn run() -> Result<(), String> {
                     v => return Err(format!("--keep: '{}' is not one of last, best", v.unwrap_or(""))),
                 }
             }
+            "--surface" => {
+                let v = args.next().unwrap_or_default();
+                surface = Surface::ALL
+                    .iter()
+                    .find(|(n, _)| *n == v)
+                    .map(|&(_, s)| s)
+                    .ok_or(format!("--surface: '{v}' is not one of {}", Surface::ALL.map(|(n, _)| n).join(", ")))?;
+            }
             "--resume" => resume = true,
             "--out" => out = args.next().ok_or("--out needs a folder")?.into(),
             "--log" => log_dir = args.next().ok_or("--log needs a folder")?.into(),
             other => return Err(format!("unknown argument '{other}'")),
         }
     }
-    let name = task_name.ok_or(format!("--task is required: one of {}", TASK_NAMES.join(", ")))?;
-    let task = Task::preset(&name).map_err(|e| e.to_string())?;
+    let task_name = task_name.ok_or(format!("--task is required: one of {}", TASK_NAMES.join(", ")))?;
+    let task = Task::preset(&task_name).map_err(|e| e.to_string())?;
+    let name = model_name(&task_name, surface);
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
     std::fs::create_dir_all(&log_dir).map_err(|e| format!("{}: {e}", log_dir.display()))?;
     let t0 = std::time::Instant::now();
-    let (rgb, _) = dataset::generate(&task, frames, cfg.seed).map_err(|e| e.to_string())?;
-    let (heldout, _) = dataset::generate(&task, held, cfg.seed + 1000).map_err(|e| e.to_string())?;
-    let (validation, _) = dataset::generate(&task, held, cfg.seed + 2000).map_err(|e| e.to_string())?;
+    let (rgb, _) = dataset::generate(&task, surface, frames, cfg.seed).map_err(|e| e.to_string())?;
+    let (heldout, _) = dataset::generate(&task, surface, held, cfg.seed + 1000).map_err(|e| e.to_string())?;
+    let (validation, _) = dataset::generate(&task, surface, held, cfg.seed + 2000).map_err(|e| e.to_string())?;
     eprintln!("{name}: {frames} + {held} + {held} frames rendered in {:.1} s", t0.elapsed().as_secs_f64());
     let weights_path = out.join(format!("{name}.secae"));
     let curve_path = log_dir.join(format!("{name}-curve.csv"));

@@ -5,6 +5,7 @@ use burn::prelude::*;
 use sec_playground::arena::{Task, TASK_NAMES};
 use sec_playground::encoder::dataset::{self, FRAME_BYTES};
 use sec_playground::encoder::{bundled, Autoencoder, Scratch, EMBEDDING};
+use sec_playground::render::Surface;
 use sec_train::model::{batch_from_rgb, vec_of, BurnAe};
 
 fn max_diff(a: &[f32], b: &[f32]) -> f32 {
@@ -18,7 +19,7 @@ fn check(ae: &Autoencoder, task: &str) {
     ae.embedding_scale = 1.0;
     let device = Device::flex();
     let burn = BurnAe::from_autoencoder(&ae, &device);
-    let (rgb, _) = dataset::generate(&Task::preset(task).unwrap(), 6, 42).unwrap();
+    let (rgb, _) = dataset::generate(&Task::preset(task).unwrap(), Surface::Flat, 6, 42).unwrap();
     let idx: Vec<usize> = (0..6).collect();
     let x = batch_from_rgb(&rgb, &idx, &device);
     let emb = burn.encode(x);

@@ -9,7 +9,15 @@ TASKS: list[str]
 MAX_SEED: int
 
 class Env:
-    def __init__(self, task: str, t: Optional[int] = None, yaml: Optional[str] = None, frame_skip: int = 1) -> None: ...
+    def __init__(
+        self,
+        task: str,
+        t: Optional[int] = None,
+        yaml: Optional[str] = None,
+        frame_skip: int = 1,
+        max_steps: Optional[int] = None,
+        surface: str = "flat",
+    ) -> None: ...
     def reset(self, seed: Optional[int] = None) -> npt.NDArray[np.uint8]: ...
     def step(self, action: int) -> tuple[npt.NDArray[np.uint8], float, bool, bool]: ...
     def info(self) -> dict: ...
@@ -25,7 +33,16 @@ class Env:
     def task(self) -> str: ...
 
 class VecEnv:
-    def __init__(self, task: str, n: int, t: Optional[int] = None, yaml: Optional[str] = None, frame_skip: int = 1) -> None: ...
+    def __init__(
+        self,
+        task: str,
+        n: int,
+        t: Optional[int] = None,
+        yaml: Optional[str] = None,
+        frame_skip: int = 1,
+        max_steps: Optional[int] = None,
+        surface: str = "flat",
+    ) -> None: ...
     def reset(self, seeds: list[int]) -> npt.NDArray[np.uint8]: ...
     def step(
         self, actions: npt.NDArray[np.int64]

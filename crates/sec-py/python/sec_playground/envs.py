@@ -144,6 +144,16 @@ class _Pickled:
         self.set_state(core_state)
 
 
+SURFACES = ("flat", "textured")
+
+
+def _surface(surface):
+    """A surface name, refused by name unless one of SURFACES."""
+    if surface not in SURFACES:
+        raise ValueError(f"surface: {surface!r} is not one of {', '.join(SURFACES)}")
+    return surface
+
+
 class ArenaEnv(_Pickled, gym.Env):
     """One arena, seen through the agent's 84x84 camera.
 
@@ -156,7 +166,9 @@ class ArenaEnv(_Pickled, gym.Env):
     `t` the arena's limit in env steps (0..=100000, 0: none; default the task's; each env step
     costs 1/t); `max_episode_steps` a limit in agent steps (Gymnasium's meaning; None: none);
     `render_mode` None or "rgb_array"; `render_view` "top-down" (the arena from above with the
-    agent's trail) or "first-person" (the camera, enlarged); `render_size` pixels (16..=2048).
+    agent's trail) or "first-person" (the camera, enlarged); `render_size` pixels (16..=2048);
+    `surface` "flat" (one colour for the floor and the fences) or "textured" (v1's tiled floor and
+    planked fences).
 
     `info` holds `layout`, `episode_index` (episodes since the last seeded reset), `env_steps`,
     `agent_steps`, `position` (x, z), `heading` (degrees) and `success` (the step touched a good
@@ -176,13 +188,14 @@ class ArenaEnv(_Pickled, gym.Env):
         render_mode: Optional[str] = None,
         render_view: str = "top-down",
         render_size: int = 256,
+        surface: str = "flat",
     ):
         self.render_size = _render_options(render_mode, render_view, render_size)
         frame_skip = integer("frame_skip", frame_skip, 1, MAX_FRAME_SKIP)
         t = _optional("t", t, 0, MAX_T)
         self.max_episode_steps = _optional("max_episode_steps", max_episode_steps, 1, MAX_EPISODE_STEPS)
         name, text = _arena(task, yaml_path)
-        self._args = (name, t, text, frame_skip)
+        self._args = (name, t, text, frame_skip, _surface(surface))
         self._env = self._make_core()
         self.observation_space = OBSERVATION_SPACE
         self.action_space = ACTION_SPACE
@@ -193,8 +206,8 @@ class ArenaEnv(_Pickled, gym.Env):
         self._over = False
 
     def _make_core(self):
-        name, t, text, frame_skip = self._args
-        return _core.Env(name, t=t, yaml=text, frame_skip=frame_skip, max_steps=self.max_episode_steps)
+        name, t, text, frame_skip, surface = self._args
+        return _core.Env(name, t=t, yaml=text, frame_skip=frame_skip, max_steps=self.max_episode_steps, surface=surface)
 
     @property
     def task(self) -> str:
@@ -288,12 +301,13 @@ class ArenaVectorEnv(_Pickled, VectorEnv):
         render_mode: Optional[str] = None,
         render_view: str = "top-down",
         render_size: int = 256,
+        surface: str = "flat",
         **unknown,
     ):
         if unknown:
             raise TypeError(
                 f"ArenaVectorEnv: unknown keyword argument {', '.join(map(repr, unknown))} (allowed: num_envs, task, "
-                "yaml_path, frame_skip, t, max_episode_steps, render_mode, render_view, render_size)"
+                "yaml_path, frame_skip, t, max_episode_steps, render_mode, render_view, render_size, surface)"
             )
         self.render_size = _render_options(render_mode, render_view, render_size)
         num_envs = integer("num_envs", num_envs, 1, 4096)
@@ -301,7 +315,7 @@ class ArenaVectorEnv(_Pickled, VectorEnv):
         t = _optional("t", t, 0, MAX_T)
         self.max_episode_steps = _optional("max_episode_steps", max_episode_steps, 1, MAX_EPISODE_STEPS)
         name, text = _arena(task, yaml_path)
-        self._args = (name, num_envs, t, text, frame_skip)
+        self._args = (name, num_envs, t, text, frame_skip, _surface(surface))
         self._env = self._make_core()
         self.num_envs = num_envs
         self.render_mode = render_mode
@@ -313,8 +327,10 @@ class ArenaVectorEnv(_Pickled, VectorEnv):
         self._seeded = False
 
     def _make_core(self):
-        name, num_envs, t, text, frame_skip = self._args
-        return _core.VecEnv(name, num_envs, t=t, yaml=text, frame_skip=frame_skip, max_steps=self.max_episode_steps)
+        name, num_envs, t, text, frame_skip, surface = self._args
+        return _core.VecEnv(
+            name, num_envs, t=t, yaml=text, frame_skip=frame_skip, max_steps=self.max_episode_steps, surface=surface
+        )
 
     def get_action_meanings(self) -> list:
         """The nine actions' names, by index."""

@@ -12,8 +12,10 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use sec_playground::arena::{Task, TASK_NAMES};
 use sec_playground::encoder::dataset::{self, first_frame, random_pose, Pose, FRAME_BYTES};
-use sec_playground::encoder::{reconstruction_to_rgba, Autoencoder, DType, Scratch, Weights, EMBEDDING, IMAGE};
-use sec_playground::render::{Camera, Frame, HEIGHT, WIDTH};
+use sec_playground::encoder::{
+    model_name, reconstruction_to_rgba, Autoencoder, DType, Scratch, Weights, EMBEDDING, IMAGE,
+};
+use sec_playground::render::{Camera, Frame, Surface, HEIGHT, WIDTH};
 use sec_tools::{upscale, write_png};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -36,6 +38,8 @@ fn main() {
 
 struct Args {
     calibrate: bool,
+    textured: bool,
+    quote: Option<PathBuf>,
     pairs: usize,
     models: PathBuf,
     results: PathBuf,
@@ -45,6 +49,8 @@ struct Args {
 fn parse_args() -> Result<Args, String> {
     let mut a = Args {
         calibrate: false,
+        textured: false,
+        quote: None,
         pairs: 1000,
         models: "assets/encoders".into(),
         results: "results/encoder".into(),
@@ -54,6 +60,8 @@ fn parse_args() -> Result<Args, String> {
     while let Some(x) = it.next() {
         match x.as_str() {
             "--calibrate" => a.calibrate = true,
+            "--textured" => a.textured = true,
+            "--quote" => a.quote = Some(it.next().ok_or("--quote needs a page")?.into()),
             "--pairs" => {
                 let v = it.next().unwrap_or_default();
                 a.pairs = match v.parse() {
@@ -128,7 +136,7 @@ fn mae(a: &[f32; EMBEDDING], b: &[f32; EMBEDDING]) -> f64 {
 fn measure(task: &Task, ae: &Autoencoder, pairs: usize) -> Result<TaskReport, String> {
     let mut raw = ae.clone();
     raw.embedding_scale = 1.0;
-    let (rgb, _) = dataset::generate(task, HELDOUT, HELDOUT_SEED).map_err(|e| e.to_string())?;
+    let (rgb, _) = dataset::generate(task, Surface::Flat, HELDOUT, HELDOUT_SEED).map_err(|e| e.to_string())?;
     let mut s = Scratch::default();
     let mut img = vec![0.0f32; IMAGE];
     let mut embs = Vec::with_capacity(HELDOUT);
@@ -190,7 +198,7 @@ fn measure(task: &Task, ae: &Autoencoder, pairs: usize) -> Result<TaskReport, St
 /// Six held-out frames above their reconstructions, 2x enlarged.
 fn gallery(task: &Task, ae: &Autoencoder, path: &Path) -> Result<(), String> {
     const N: usize = 6;
-    let (rgb, _) = dataset::generate(task, N, HELDOUT_SEED).map_err(|e| e.to_string())?;
+    let (rgb, _) = dataset::generate(task, Surface::Flat, N, HELDOUT_SEED).map_err(|e| e.to_string())?;
     let (w, h) = (WIDTH * N, HEIGHT * 2);
     let mut out = vec![255u8; w * h * 4];
     let mut s = Scratch::default();
@@ -327,8 +335,80 @@ fn plot_similarity(reports: &[TaskReport], path: &Path) -> Result<(), Box<dyn st
     Ok(())
 }
 
+/// Mean and largest reconstruction MSE of `ae` over RGB frames.
+fn mse_over(ae: &Autoencoder, rgb: &[u8]) -> (f64, f64) {
+    let (mut s, mut img) = (Scratch::default(), vec![0.0f32; IMAGE]);
+    let (mut sum, mut max, mut n) = (0.0f64, 0.0f64, 0usize);
+    for f in rgb.chunks_exact(FRAME_BYTES) {
+        for (d, &b) in img.iter_mut().zip(f) {
+            *d = b as f32 / 255.0;
+        }
+        let m = ae.reconstruction_mse(&img, &mut s) as f64;
+        (sum, max, n) = (sum + m, max.max(m), n + 1);
+    }
+    (sum / n as f64, max)
+}
+
+/// `--textured`: each task's textured model (where one is trained) on the held-out poses drawn
+/// textured, beside the flat model on the same frames; the table docs/ENCODER.md quotes.
+fn textured_report(args: &Args) -> Result<(), String> {
+    let mut md = String::from(
+        "| model | held-out MSE on textured frames, mean / worst | the flat model on the same frames | frames the gate passes: textured model / flat model |\n|---|---|---|---|\n",
+    );
+    for name in TASK_NAMES {
+        let load = |model: &str| -> Result<Option<Autoencoder>, String> {
+            let path = args.models.join(format!("{model}.secae"));
+            let Ok(bytes) = std::fs::read(&path) else { return Ok(None) };
+            let w = Weights::from_bytes(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+            Autoencoder::from_weights(&w).map(Some).map_err(|e| format!("{}: {e}", path.display()))
+        };
+        let textured_name = model_name(name, Surface::Textured);
+        let (Some(textured), Some(flat)) = (load(&textured_name)?, load(name)?) else { continue };
+        let task = Task::preset(name).map_err(|e| e.to_string())?;
+        let (rgb, _) = dataset::generate(&task, Surface::Textured, HELDOUT, HELDOUT_SEED).map_err(|e| e.to_string())?;
+        // The default configuration's threshold, as a run's gate uses it.
+        let threshold = sec_playground::agent::SecConfig::default().gate.ok_or("the gate is off by default")?;
+        let open = |ae: &Autoencoder| {
+            let (mut s, mut img) = (Scratch::default(), vec![0.0f32; IMAGE]);
+            let passing = rgb
+                .chunks_exact(FRAME_BYTES)
+                .filter(|f| {
+                    for (d, &b) in img.iter_mut().zip(f.iter()) {
+                        *d = b as f32 / 255.0;
+                    }
+                    ae.reconstruction_mse(&img, &mut s) < threshold
+                })
+                .count();
+            100.0 * passing as f64 / HELDOUT as f64
+        };
+        let (t, f) = (mse_over(&textured, &rgb), mse_over(&flat, &rgb));
+        writeln!(
+            md,
+            "| {textured_name} | {:.5} / {:.5} | {:.5} / {:.5} | {:.1} % / {:.1} % |",
+            t.0,
+            t.1,
+            f.0,
+            f.1,
+            open(&textured),
+            open(&flat)
+        )
+        .map_err(|e| e.to_string())?;
+    }
+    let path = args.results.join("textured.md");
+    std::fs::write(&path, &md).map_err(|e| format!("{}: {e}", path.display()))?;
+    if let Some(page) = &args.quote {
+        sec_tools::quote::quote_required(page, "encoder/textured", &md)?;
+    }
+    print!("{md}");
+    Ok(())
+}
+
 fn run() -> Result<(), String> {
     let args = parse_args()?;
+    if args.textured {
+        std::fs::create_dir_all(&args.results).map_err(|e| e.to_string())?;
+        return textured_report(&args);
+    }
     sec_tools::plot::register_font();
     std::fs::create_dir_all(&args.results).map_err(|e| e.to_string())?;
     std::fs::create_dir_all(&args.docs).map_err(|e| e.to_string())?;

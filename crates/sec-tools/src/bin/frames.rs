@@ -1,8 +1,9 @@
 //! Writes the first frame of every task as PNGs: the 84x84 camera image, a 4x enlargement and
-//! the top-down view. Usage: `cargo run -p sec-tools --bin frames -- [OUT_DIR] [--seed N]`.
+//! the top-down view. Usage: `cargo run -p sec-tools --bin frames -- [OUT_DIR] [--seed N]
+//! [--surface flat|textured]` (textured frames are named `<task>-textured*.png`).
 
 use sec_playground::arena::{Env, EnvConfig, Task, TASK_NAMES};
-use sec_playground::render::{TopDown, HEIGHT, WIDTH};
+use sec_playground::render::{Surface, TopDown, HEIGHT, WIDTH};
 use sec_tools::{upscale, write_png};
 use std::path::PathBuf;
 
@@ -16,6 +17,7 @@ fn main() {
 fn run() -> Result<(), String> {
     let mut out = PathBuf::from("docs/frames");
     let mut seed = 1u64;
+    let mut surface = Surface::Flat;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         match a.as_str() {
@@ -25,8 +27,16 @@ fn run() -> Result<(), String> {
                     .parse()
                     .map_err(|_| format!("--seed: '{v}' is not a whole number in 0..=18446744073709551615"))?;
             }
+            "--surface" => {
+                let v = args.next().unwrap_or_default();
+                surface = Surface::ALL
+                    .iter()
+                    .find(|(n, _)| *n == v)
+                    .map(|&(_, s)| s)
+                    .ok_or(format!("--surface: '{v}' is not one of {}", Surface::ALL.map(|(n, _)| n).join(", ")))?;
+            }
             "-h" | "--help" => {
-                println!("usage: frames [OUT_DIR] [--seed N]  (default OUT_DIR docs/frames, seed 1)");
+                println!("usage: frames [OUT_DIR] [--seed N] [--surface flat|textured]  (default OUT_DIR docs/frames, seed 1, flat)");
                 return Ok(());
             }
             s if s.starts_with('-') => return Err(format!("unknown option '{s}'")),
@@ -36,14 +46,17 @@ fn run() -> Result<(), String> {
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
     for name in TASK_NAMES {
         let task = Task::preset(name).map_err(|e| e.to_string())?;
-        let mut env = Env::new(EnvConfig::new(task), seed).map_err(|e| e.to_string())?;
+        let mut env = Env::new(EnvConfig { surface, ..EnvConfig::new(task) }, seed).map_err(|e| e.to_string())?;
         let frame = env.observation().clone();
-        write_png(&out.join(format!("{name}.png")), WIDTH, HEIGHT, &frame.rgba)?;
-        write_png(&out.join(format!("{name}_x4.png")), WIDTH * 4, HEIGHT * 4, &upscale(&frame.rgba, WIDTH, HEIGHT, 4))?;
-        let mut top = TopDown::new(336);
-        top.render(env.world(), &[]);
-        write_png(&out.join(format!("{name}_top.png")), 336, 336, &top.rgba)?;
-        println!("{name}: layout {} -> {}", env.layout_name(), out.join(format!("{name}.png")).display());
+        let stem = sec_playground::encoder::model_name(name, surface);
+        write_png(&out.join(format!("{stem}.png")), WIDTH, HEIGHT, &frame.rgba)?;
+        write_png(&out.join(format!("{stem}_x4.png")), WIDTH * 4, HEIGHT * 4, &upscale(&frame.rgba, WIDTH, HEIGHT, 4))?;
+        if surface == Surface::Flat {
+            let mut top = TopDown::new(336);
+            top.render(env.world(), &[]);
+            write_png(&out.join(format!("{name}_top.png")), 336, 336, &top.rgba)?;
+        }
+        println!("{name}: layout {} -> {}", env.layout_name(), out.join(format!("{stem}.png")).display());
     }
     Ok(())
 }

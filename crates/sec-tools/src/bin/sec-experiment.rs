@@ -11,6 +11,9 @@
 //!                            [--authors results/authors] [--to results] [--quote REPRODUCTION.md]
 //!   sec-experiment matching [--out results/experiments] [--frames 2000] [--seeds 3]
 //!                           [--quote REPRODUCTION.md]
+//!   sec-experiment frame-match [--frames tests/reference-frames] [--to results] [--near-quoted]
+//!                              [--quote docs/ARENAS.md]
+//!   sec-experiment aliasing [--frames 2000] [--seeds 3] [--to results] [--quote docs/ARENAS.md]
 //!   sec-experiment reference [--out results/experiments] [--to assets/reference]
 //!   sec-experiment versus-authors [--out results/experiments] [--authors results/authors] [--to results]
 //!                                 [--quote REPRODUCTION.md]
@@ -42,6 +45,13 @@ const USAGE: &str = "usage:
   sec-experiment report EXPERIMENT [--out DIR] [--to DIR] [--quote PAGE.md] [--partial]
   sec-experiment orderings [--out DIR] [--trained DIR] [--authors DIR] [--to DIR] [--quote PAGE.md] [--partial]
   sec-experiment matching [--out DIR] [--frames N] [--seeds N|A..B|A,B,C] [--quote PAGE.md]
+  sec-experiment frame-match [--frames DIR] [--to DIR] [--near-quoted] [--quote PAGE.md]
+                             (our flat and textured frames against the real v1 frames, each at the
+                              pose that fits it best; --near-quoted searches only next to the poses
+                              DIR/frame-match.md found)
+  sec-experiment aliasing [--frames N] [--seeds N|A..B|A,B,C] [--to DIR] [--quote PAGE.md]
+                          (how often views repeat with each surface: the identical-view share,
+                           matching breadth and distance, distinct frames per decision)
   sec-experiment reference [--out DIR] [--to DIR] [--partial]   (the page's reference curves)
   sec-experiment versus-authors [--out DIR] [--authors DIR] [--to DIR] [--quote PAGE.md]
                                 (our runs against the authors' per-run results, results/authors/)
@@ -79,7 +89,7 @@ fn main() -> ExitCode {
 
 /// `--key value` options after the positional arguments; every key must be one of `allowed`.
 /// Options that take no value.
-const SWITCHES: [&str; 1] = ["partial"];
+const SWITCHES: [&str; 2] = ["partial", "near-quoted"];
 
 /// Refuses (unless `partial`) to report on experiment folders with gaps (`runner::gaps`: planned
 /// runs missing or short, runs of another configuration); with `partial` it says what is missing
@@ -231,6 +241,55 @@ fn dispatch(args: &[String]) -> Result<(), String> {
             let (md, table) = sec_tools::matching::report(&out.join("perception"), frames, &seeds)?;
             if let Some(page) = o.get("quote") {
                 sec_tools::quote::quote_into(Path::new(page), "perception/matching", &table)?;
+            }
+            print!("{md}");
+            Ok(())
+        }
+        "frame-match" => {
+            let (pos, o) = options(rest, &["frames", "to", "quote", "near-quoted"])?;
+            if let Some(p) = pos.first() {
+                return Err(format!("frame-match takes no argument '{p}'\n{USAGE}"));
+            }
+            let frames = PathBuf::from(o.get("frames").copied().unwrap_or("tests/reference-frames"));
+            let to = PathBuf::from(o.get("to").copied().unwrap_or("results"));
+            let report = to.join("frame-match.md");
+            let around = if o.contains_key("near-quoted") {
+                let text = std::fs::read_to_string(&report).map_err(|e| format!("{}: {e}", report.display()))?;
+                sec_tools::frame_match::poses_of(&text)
+            } else {
+                Vec::new()
+            };
+            let matches = sec_tools::frame_match::compare(&frames, &around)?;
+            let table = sec_tools::frame_match::table(&matches);
+            let md = format!("{}\n{table}", sec_tools::frame_match::PREAMBLE);
+            std::fs::create_dir_all(&to).map_err(|e| format!("{}: {e}", to.display()))?;
+            std::fs::write(&report, &md).map_err(|e| format!("{}: {e}", report.display()))?;
+            let rows = to.join("frame-match-rows.csv");
+            std::fs::write(&rows, sec_tools::frame_match::rows_csv(&matches))
+                .map_err(|e| format!("{}: {e}", rows.display()))?;
+            if let Some(page) = o.get("quote") {
+                sec_tools::quote::quote_required(Path::new(page), "frame-match", &table)?;
+            }
+            print!("{md}");
+            Ok(())
+        }
+        "aliasing" => {
+            let (pos, o) = options(rest, &["frames", "seeds", "to", "quote"])?;
+            if let Some(p) = pos.first() {
+                return Err(format!("aliasing takes no argument '{p}'\n{USAGE}"));
+            }
+            let frames = number("frames", o.get("frames").copied().unwrap_or("2000"), 100usize, 20_000)?;
+            let seeds = runner::parse_seeds(o.get("seeds").copied().unwrap_or("3"))?;
+            let rows = sec_tools::matching::aliasing(frames, &seeds)?;
+            let table = sec_tools::matching::aliasing_table(&rows, frames, &seeds);
+            if let Some(page) = o.get("quote") {
+                sec_tools::quote::quote_required(Path::new(page), "aliasing", &table)?;
+            }
+            let md = format!("# How often views repeat, by surface\n\n{table}");
+            if let Some(to) = o.get("to") {
+                let to = PathBuf::from(to);
+                std::fs::create_dir_all(&to).map_err(|e| format!("{}: {e}", to.display()))?;
+                std::fs::write(to.join("aliasing.md"), &md).map_err(|e| format!("{}: {e}", to.display()))?;
             }
             print!("{md}");
             Ok(())
