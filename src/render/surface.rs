@@ -18,6 +18,13 @@ impl Surface {
     /// Every surface with its name.
     pub const ALL: [(&'static str, Surface); 2] = [("flat", Surface::Flat), ("textured", Surface::Textured)];
 
+    /// A surface by name, or an error listing the names (the caller names the parameter).
+    pub fn from_name(name: &str) -> Result<Surface, String> {
+        Self::ALL.iter().find(|(n, _)| *n == name).map(|&(_, s)| s).ok_or_else(|| {
+            format!("'{}' is not one of {}", crate::util::shown(name), Self::ALL.map(|(n, _)| n).join(", "))
+        })
+    }
+
     /// Whether it is `Flat` (the default, which a configuration's JSON leaves out).
     pub fn is_flat(&self) -> bool {
         *self == Surface::Flat

@@ -19,9 +19,7 @@ pub fn scripted_run(task: &str, seed: f64, steps: JsValue, surface: Option<Strin
     let steps = args::whole(&steps, "steps", 0, MAX_LOOP)? as u32;
     let surface = match surface.as_deref() {
         None => Surface::Flat,
-        Some(v) => Surface::ALL.iter().find(|(n, _)| *n == v).map(|&(_, s)| s).ok_or_else(|| {
-            JsError::new(&format!("surface: '{}' is not one of flat, textured", crate::util::shown(v)))
-        })?,
+        Some(v) => Surface::from_name(v).map_err(|e| JsError::new(&format!("surface: {e}")))?,
     };
     trace::scripted_run(task, surface, seed_from_js(&JsValue::from_f64(seed))?, steps).map_err(js_err)
 }

@@ -92,9 +92,7 @@ struct Tracked {
 
 /// A surface by name ("flat" or "textured"), refused by name otherwise.
 fn surface_of(name: &str) -> PyResult<Surface> {
-    Surface::ALL.iter().find(|(n, _)| *n == name).map(|&(_, s)| s).ok_or_else(|| {
-        value_error(format!("surface: '{name}' is not one of {}", Surface::ALL.map(|(n, _)| n).join(", ")))
-    })
+    Surface::from_name(name).map_err(|e| value_error(format!("surface: {e}")))
 }
 
 /// What `Tracked::state` gives: seed, resets since, this episode's actions.

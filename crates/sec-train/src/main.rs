@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! sec-train train --task double-t-maze [--surface flat|textured] [--epochs 50] [--seed 1]
-//!                 [--frames 10000] [--heldout 2000] [--keep last|best] [--resume]
+//!                 [--frames 10000] [--heldout 2000] [--keep last|best] [--resume | --init FILE]
 //!                 [--out assets/encoders] [--log results/encoder]
 //! sec-train bench [STEPS]
 //! ```
@@ -11,7 +11,8 @@
 //! the training curve (CSV) is rewritten, and the weights (f16) too: always with `--keep last`
 //! (the authors' procedure, the default), only when the validation MSE improved with
 //! `--keep best`. `--surface textured` draws the frames with the textured renderer and names the
-//! model `<task>-textured` (`encoder::model_name`). Either way an interrupted run keeps what it has finished, and `--resume`
+//! model `<task>-textured` (`encoder::model_name`); `--init FILE` starts from that weights file
+//! (the task's flat model, for a textured one) instead of Glorot weights. Either way an interrupted run keeps what it has finished, and `--resume`
 //! continues it (same seed and data) from the weights file and its curve, up to `--epochs`.
 
 use sec_playground::arena::{Task, TASK_NAMES};
@@ -57,10 +58,11 @@ fn run() -> Result<(), String> {
             println!("burn flex: {s:.3} s per batch of 64 = {:.1} frames/s", 64.0 / s);
             return Ok(());
         }
-        _ => return Err("usage: sec-train train --task NAME [--surface flat|textured] [--epochs N] [--seed N] [--frames N] [--heldout N] [--keep last|best] [--resume] [--out DIR] [--log DIR] | sec-train bench [STEPS]".into()),
+        _ => return Err("usage: sec-train train --task NAME [--surface flat|textured] [--init FILE] [--epochs N] [--seed N] [--frames N] [--heldout N] [--keep last|best] [--resume] [--out DIR] [--log DIR] | sec-train bench [STEPS]".into()),
     }
     let mut task_name = None;
     let mut surface = Surface::Flat;
+    let mut init: Option<PathBuf> = None;
     let mut cfg = TrainConfig::default();
     let (mut frames, mut held) = (10_000usize, 2_000usize);
     let (mut keep_best, mut resume) = (false, false);
@@ -86,14 +88,11 @@ fn run() -> Result<(), String> {
                 }
             }
             "--surface" => {
-                let v = args.next().unwrap_or_default();
-                surface = Surface::ALL
-                    .iter()
-                    .find(|(n, _)| *n == v)
-                    .map(|&(_, s)| s)
-                    .ok_or(format!("--surface: '{v}' is not one of {}", Surface::ALL.map(|(n, _)| n).join(", ")))?;
+                surface =
+                    Surface::from_name(&args.next().unwrap_or_default()).map_err(|e| format!("--surface: {e}"))?;
             }
             "--resume" => resume = true,
+            "--init" => init = Some(args.next().ok_or("--init needs a weights file")?.into()),
             "--out" => out = args.next().ok_or("--out needs a folder")?.into(),
             "--log" => log_dir = args.next().ok_or("--log needs a folder")?.into(),
             other => return Err(format!("unknown argument '{other}'")),
@@ -113,7 +112,23 @@ fn run() -> Result<(), String> {
     let curve_path = log_dir.join(format!("{name}-curve.csv"));
     let mut csv = String::from("epoch,train_mse,heldout_mse,seconds,validation_mse,kept\n");
     let mut best = f64::INFINITY;
-    let start = if resume {
+    if resume && init.is_some() {
+        return Err("--resume and --init exclude each other: a resumed run starts from its own weights".into());
+    }
+    let start = if let Some(path) = &init {
+        let bytes = std::fs::read(path).map_err(|e| format!("--init: {}: {e}", path.display()))?;
+        let weights = Weights::from_bytes(&bytes)
+            .and_then(|w| Autoencoder::from_weights(&w))
+            .map_err(|e| format!("--init: {}: {e}", path.display()))?;
+        // With --keep best, an epoch is kept only if it improves on where training started.
+        best = heldout_mse(&weights, &validation);
+        eprintln!(
+            "{name}: from {} (held-out MSE {:.5}, validation MSE {best:.5})",
+            path.display(),
+            heldout_mse(&weights, &heldout)
+        );
+        Start::Resume { weights: Box::new(weights), epoch: 0 }
+    } else if resume {
         let (weights, epoch, rows) = resume_from(&weights_path, &curve_path, &name)?;
         if epoch >= cfg.epochs {
             return Err(format!(

@@ -353,7 +353,7 @@ fn mse_over(ae: &Autoencoder, rgb: &[u8]) -> (f64, f64) {
 /// textured, beside the flat model on the same frames; the table docs/ENCODER.md quotes.
 fn textured_report(args: &Args) -> Result<(), String> {
     let mut md = String::from(
-        "| model | held-out MSE on textured frames, mean / worst | the flat model on the same frames | frames the gate passes: textured model / flat model |\n|---|---|---|---|\n",
+        "| model | held-out MSE on textured frames, mean / worst | the flat model on the same frames | frames the gate passes: textured model / flat model | the flat model on flat frames: MSE, frames the gate passes |\n|---|---|---|---|---|\n",
     );
     for name in TASK_NAMES {
         let load = |model: &str| -> Result<Option<Autoencoder>, String> {
@@ -368,7 +368,7 @@ fn textured_report(args: &Args) -> Result<(), String> {
         let (rgb, _) = dataset::generate(&task, Surface::Textured, HELDOUT, HELDOUT_SEED).map_err(|e| e.to_string())?;
         // The default configuration's threshold, as a run's gate uses it.
         let threshold = sec_playground::agent::SecConfig::default().gate.ok_or("the gate is off by default")?;
-        let open = |ae: &Autoencoder| {
+        let open = |ae: &Autoencoder, rgb: &[u8]| {
             let (mut s, mut img) = (Scratch::default(), vec![0.0f32; IMAGE]);
             let passing = rgb
                 .chunks_exact(FRAME_BYTES)
@@ -382,15 +382,20 @@ fn textured_report(args: &Args) -> Result<(), String> {
             100.0 * passing as f64 / HELDOUT as f64
         };
         let (t, f) = (mse_over(&textured, &rgb), mse_over(&flat, &rgb));
+        let (flat_rgb, _) =
+            dataset::generate(&task, Surface::Flat, HELDOUT, HELDOUT_SEED).map_err(|e| e.to_string())?;
+        let flat_on_flat = mse_over(&flat, &flat_rgb);
         writeln!(
             md,
-            "| {textured_name} | {:.5} / {:.5} | {:.5} / {:.5} | {:.1} % / {:.1} % |",
+            "| {textured_name} | {:.5} / {:.5} | {:.5} / {:.5} | {:.1} % / {:.1} % | {:.5}, {:.1} % |",
             t.0,
             t.1,
             f.0,
             f.1,
-            open(&textured),
-            open(&flat)
+            open(&textured, &rgb),
+            open(&flat, &rgb),
+            flat_on_flat.0,
+            open(&flat, &flat_rgb)
         )
         .map_err(|e| e.to_string())?;
     }

@@ -28,12 +28,8 @@ fn run() -> Result<(), String> {
                     .map_err(|_| format!("--seed: '{v}' is not a whole number in 0..=18446744073709551615"))?;
             }
             "--surface" => {
-                let v = args.next().unwrap_or_default();
-                surface = Surface::ALL
-                    .iter()
-                    .find(|(n, _)| *n == v)
-                    .map(|&(_, s)| s)
-                    .ok_or(format!("--surface: '{v}' is not one of {}", Surface::ALL.map(|(n, _)| n).join(", ")))?;
+                surface =
+                    Surface::from_name(&args.next().unwrap_or_default()).map_err(|e| format!("--surface: {e}"))?;
             }
             "-h" | "--help" => {
                 println!("usage: frames [OUT_DIR] [--seed N] [--surface flat|textured]  (default OUT_DIR docs/frames, seed 1, flat)");
