@@ -5,7 +5,7 @@
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 use sec_playground::arena::trace::{bench_env_steps, bench_worlds};
 use sec_playground::arena::{Env, EnvConfig, Task, TASK_NAMES};
-use sec_playground::render::{Camera, Frame};
+use sec_playground::render::{Camera, Frame, Surface};
 
 fn env_steps(c: &mut Criterion) {
     let mut g = c.benchmark_group("env_step");
@@ -20,12 +20,15 @@ fn env_steps(c: &mut Criterion) {
 fn renders(c: &mut Criterion) {
     let mut g = c.benchmark_group("render_84x84");
     g.throughput(Throughput::Elements(1));
-    for name in TASK_NAMES {
+    // Each task flat, and the double T-maze textured (the floor's and fences' texels per pixel).
+    let cases = TASK_NAMES.iter().map(|&t| (t, Surface::Flat)).chain([("double-t-maze", Surface::Textured)]);
+    for (name, surface) in cases {
         let worlds = bench_worlds(name).unwrap();
-        let mut cam = Camera::new();
+        let mut cam = Camera::with_surface(surface);
         let mut frame = Frame::new();
         let mut i = 0;
-        g.bench_function(name, |b| {
+        let label = sec_playground::encoder::model_name(name, surface);
+        g.bench_function(&label, |b| {
             b.iter(|| {
                 i = (i + 1) % worlds.len();
                 cam.render(black_box(&worlds[i]), &mut frame);

@@ -284,6 +284,44 @@ fn every_bundled_model_reconstructs_its_held_out_frames() {
     assert!(e.contains("task") && e.contains("double-t-maze"), "{e}");
 }
 
+/// The textured models (docs/ENCODER.md, "Textured frames") reconstruct textured frames better
+/// than their task's flat model does and pass the gate on more of them; a task without one
+/// refuses a textured run by name.
+#[test]
+fn textured_models_fit_textured_frames_better_than_the_flat_ones() {
+    use sec_playground::encoder::{dataset, model_name};
+    use sec_playground::experiment::{Run, RunConfig};
+    let gate = f64::from(sec_playground::agent::SecConfig::default().gate.unwrap());
+    let mut trained = 0;
+    for task in TASK_NAMES {
+        let name = model_name(task, Surface::Textured);
+        let Ok(textured) = bundled::autoencoder(&name) else {
+            let cfg = RunConfig { task: task.to_string(), surface: Surface::Textured, ..RunConfig::default() };
+            let e = Run::new(cfg, 1).err().expect("no textured model, no textured run").to_string();
+            assert!(e.contains(&format!("no model '{name}' is trained yet")), "{e}");
+            continue;
+        };
+        trained += 1;
+        assert_eq!(textured.task, name);
+        let flat = bundled::autoencoder(task).unwrap();
+        let (rgb, _) = dataset::generate(&Task::preset(task).unwrap(), Surface::Textured, 200, 1001).unwrap();
+        let (mut s, mut img) = (Scratch::default(), vec![0.0; IMAGE]);
+        let (mut mse, mut open) = ([0.0f64; 2], [0usize; 2]);
+        for f in rgb.chunks_exact(dataset::FRAME_BYTES) {
+            for (d, &b) in img.iter_mut().zip(f) {
+                *d = b as f32 / 255.0;
+            }
+            for (k, ae) in [&textured, &flat].into_iter().enumerate() {
+                let m = ae.reconstruction_mse(&img, &mut s) as f64;
+                mse[k] += m / 200.0;
+                open[k] += (m < gate) as usize;
+            }
+        }
+        assert!(mse[0] < mse[1] && open[0] > open[1], "{name}: MSE {mse:?}, frames under the gate {open:?}");
+    }
+    assert!(trained >= 1, "the double T-maze has a textured model");
+}
+
 /// Registered models (the wasm page's fetched files) are checked like bundled ones, must name a
 /// known task, and take the place of the task's model; a refused file changes nothing.
 #[test]

@@ -60,6 +60,22 @@ fn a_short_run_gives_the_golden_episode_log() {
     }
 }
 
+/// SEC drawn textured, its gate the textured model: `tests/wasm.rs` and the Python suite check the
+/// same log. The contextual layer must act in it, or it would not test the gate's model.
+#[test]
+fn a_short_textured_run_gives_its_golden_episode_log() {
+    let log = sec_playground::experiment::fixtures::golden_textured_run();
+    let path = format!("{}/tests/golden/run-textured.txt", env!("CARGO_MANIFEST_DIR"));
+    if std::env::var("SEC_UPDATE_GOLDEN").is_ok_and(|v| v == "1") {
+        std::fs::write(&path, &log).unwrap();
+    }
+    assert_eq!(log, std::fs::read_to_string(&path).unwrap(), "run-textured.txt");
+    let acted = log
+        .lines()
+        .any(|l| serde_json::from_str::<serde_json::Value>(l).unwrap()["contextualShare"].as_f64() > Some(0.0));
+    assert!(acted, "the contextual layer never acted: the log does not test the textured gate");
+}
+
 fn json_lines(cfg: &RunConfig, seed: u64, n: usize) -> Vec<String> {
     let mut run = Run::new(cfg.clone(), seed).unwrap();
     (0..n).map(|_| run.episode().to_json()).collect()

@@ -137,6 +137,23 @@ fn wasm_gives_the_native_golden_episode_log() {
     }
 }
 
+/// The textured model registers under its own name, and a textured run through the JS API gives
+/// the native golden log (`fixtures::golden_textured_run`).
+#[wasm_bindgen_test]
+fn a_textured_run_through_the_js_api_gives_the_native_golden_log() {
+    models();
+    let bytes = include_bytes!("../assets/encoders/double-t-maze-textured.secae");
+    assert_eq!(sec_playground::web::register_model(u8s(bytes)).unwrap(), "double-t-maze-textured");
+    let mut run =
+        sec_playground::web::SecRun::new(js(r#"{"surface": "textured", "agent": {"minSequences": 1}}"#), v(1.0))
+            .unwrap();
+    let got: Vec<String> = (0..sec_playground::experiment::fixtures::TEXTURED_EPISODES)
+        .map(|_| metrics(run.step_episode().unwrap()).to_json())
+        .collect();
+    let golden: Vec<&str> = include_str!("golden/run-textured.txt").lines().collect();
+    assert_eq!(got, golden);
+}
+
 fn js(json: &str) -> wasm_bindgen::JsValue {
     js_sys::JSON::parse(json).unwrap()
 }

@@ -122,7 +122,7 @@ pub const TASKS: [TaskInfo; 6] = [
         model_file: "double-t-maze.secae",
         layouts: double_t_maze,
         model: model!("double-t-maze.secae"),
-        textured_model: &[],
+        textured_model: model!("double-t-maze-textured.secae"),
     },
     TaskInfo {
         name: "detour",

@@ -75,3 +75,22 @@ pub fn golden_run(perception: PerceptionKind) -> String {
     }
     log
 }
+
+/// Episodes of [`golden_textured_run`].
+pub const TEXTURED_EPISODES: usize = 30;
+
+/// The short run whose JSON lines `tests/golden/run-textured.txt` holds: SEC in the double T-maze
+/// drawn textured (its gate the textured model), seed 1, acting from memory after its first stored
+/// sequence so that the textured model's gate decides within a few episodes. Native, wasm and
+/// Python reproduce it bit for bit.
+pub fn golden_textured_run() -> String {
+    let mut cfg = RunConfig { surface: crate::render::Surface::Textured, ..RunConfig::default() };
+    cfg.agent.min_sequences = 1;
+    let mut run = Run::new(cfg, 1).expect("the golden configuration is valid");
+    let mut log = String::new();
+    for _ in 0..TEXTURED_EPISODES {
+        log += &run.episode().to_json();
+        log.push('\n');
+    }
+    log
+}

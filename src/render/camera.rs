@@ -8,7 +8,7 @@
 //! Each frame first finds, per opaque box, the columns whose rays can meet it (`reach_of`): the
 //! others skip its test, which would have missed.
 
-use super::surface::{fence_texel, fence_top, floor_gradient, floor_texel, FenceSide};
+use super::surface::{fence_top, floor_gradient, floor_texel, FenceColumn, FenceSide};
 use super::{colours, lit, shade_factor, Frame, Surface, GLASS_ALPHA, HEIGHT, PIXELS, WIDTH};
 use crate::arena::{BoxObj, Footprint, ObjectKind, Tunnel, World, AGENT_RADIUS, ARENA_SIZE};
 use glam::{Vec2, Vec3};
@@ -125,6 +125,9 @@ impl Camera {
             for t in w.tunnels.iter().filter(|t| !t.transparent) {
                 self.tunnel(t, col, px, false);
             }
+            if self.surface == Surface::Textured {
+                self.floor_texture(w, col, px);
+            }
         }
         self.reach = reach;
         // Transparent surfaces last, farthest first, blended over what is behind them.
@@ -169,34 +172,30 @@ impl Camera {
         r0 as usize..r1 as usize
     }
 
+    /// The textured floor's texel at each row's hit point that still shows bare floor once the
+    /// column's opaque surfaces are drawn (the others would be overwritten, so they are not
+    /// computed), box-filtered over the pixel's footprint: a column step moves the hit along
+    /// `right`, a row step along the ray.
+    fn floor_texture(&self, w: &World, col: Column, px: &mut [u8]) {
+        let Column { c, eye, h, right } = col;
+        let (spans, n) = zone_spans(w, eye, h);
+        for r in HEIGHT / 2..HEIGHT {
+            let i = r * WIDTH + c;
+            let s = self.depth[i];
+            if s != self.background.1[i] || spans[..n].iter().any(|(s0, s1, _)| (*s0..=*s1).contains(&s)) {
+                continue;
+            }
+            let p = eye + h * s;
+            let fx = (right.x.abs() + h.x.abs() * s / EYE) * s * PIXEL_SLOPE;
+            let fz = (right.y.abs() + h.y.abs() * s / EYE) * s * PIXEL_SLOPE;
+            put(px, i, floor_texel(p.x, p.y, fx, fz, &self.floor_base[r - HEIGHT / 2]));
+        }
+    }
+
     fn floor_and_fence(&mut self, w: &World, col: Column, px: &mut [u8]) {
         let Column { c, eye, h, right } = col;
         let textured = self.surface == Surface::Textured;
-        if textured {
-            // The floor's texel at each row's hit point, box-filtered over the pixel's footprint:
-            // a column step moves the hit along `right`, a row step along the ray.
-            for r in HEIGHT / 2..HEIGHT {
-                let i = r * WIDTH + c;
-                let s = self.depth[i];
-                let p = eye + h * s;
-                let fx = (right.x.abs() + h.x.abs() * s / EYE) * s * PIXEL_SLOPE;
-                let fz = (right.y.abs() + h.y.abs() * s / EYE) * s * PIXEL_SLOPE;
-                put(px, i, floor_texel(p.x, p.y, fx, fz, &self.floor_base[r - HEIGHT / 2]));
-            }
-        }
-        // Where this column's ray crosses each zone, so floor pixels test one interval each.
-        let mut spans = [(0.0f32, 0.0f32, colours::FLOOR); 8];
-        let mut n = 0;
-        for z in &w.zones {
-            if let Some((s0, s1, _)) = slab(z.foot.to_local(eye), local_dir(&z.foot, h), z.foot.half) {
-                if n == spans.len() {
-                    break;
-                }
-                let colour = if z.kind == ObjectKind::DeathZone { colours::DEATH_ZONE } else { colours::HOT_ZONE };
-                spans[n] = (s0, s1, colour);
-                n += 1;
-            }
-        }
+        let (spans, n) = zone_spans(w, eye, h);
         // The floor's depth and colour are the background's; a zone's colour replaces it.
         if n > 0 {
             for r in HEIGHT / 2..HEIGHT {
@@ -240,12 +239,13 @@ impl Camera {
         let fu = (s * PIXEL_SLOPE * (r_along * across - along * r_across) / across).abs();
         let fy = s * PIXEL_SLOPE;
         let top = fence_top(u, FENCE_HEIGHT);
+        let planks = FenceColumn::new(side, u, fu);
         for r in self.rows(-EYE / s, (top - EYE) / s) {
             let y = EYE + self.row_slope[r] * s;
             let i = r * WIDTH + c;
             if (0.0..=top).contains(&y) && s < self.depth[i] {
                 self.depth[i] = s;
-                put(px, i, fence_texel(side, u, y, fu, fy));
+                put(px, i, planks.texel(y, fy));
             }
         }
     }
@@ -363,6 +363,24 @@ impl Camera {
             }
         }
     }
+}
+
+/// Where a column's ray crosses each floor zone (at most 8), with the zone's colour, so floor
+/// pixels test one interval each.
+fn zone_spans(w: &World, eye: Vec2, h: Vec2) -> ([(f32, f32, crate::arena::Rgb); 8], usize) {
+    let mut spans = [(0.0f32, 0.0f32, colours::FLOOR); 8];
+    let mut n = 0;
+    for z in &w.zones {
+        if let Some((s0, s1, _)) = slab(z.foot.to_local(eye), local_dir(&z.foot, h), z.foot.half) {
+            if n == spans.len() {
+                break;
+            }
+            let colour = if z.kind == ObjectKind::DeathZone { colours::DEATH_ZONE } else { colours::HOT_ZONE };
+            spans[n] = (s0, s1, colour);
+            n += 1;
+        }
+    }
+    (spans, n)
 }
 
 /// `Camera::background`: above the horizon the sky at infinite depth, below it the floor at the

@@ -165,22 +165,48 @@ pub(crate) fn fence_top(u: f32, panel: f32) -> f32 {
     }
 }
 
-/// The textured fence at `u` along it and `y` up, seen through a pixel whose footprint spans `fu`
-/// along the fence and `fy` up.
-#[inline]
-pub(crate) fn fence_texel(side: FenceSide, u: f32, y: f32, fu: f32, fy: f32) -> [u8; 3] {
-    let post = on_post(u);
-    let plank = (u / PLANK.0).floor();
-    let seen = (1.0 - fu / PLANK.0).clamp(0.0, 1.0);
-    let mut f = FENCE_SIDE[side as usize] * (1.0 + PLANK_TINT * cell_noise(plank as i32, side as i32, 2) * seen);
-    f *= 1.0 - (1.0 - PLANK.2) * seam_cover(u, fu, PLANK.0, PLANK.1);
-    if post {
-        f *= POSTS.4;
-    } else {
+/// One column of the textured fence: what depends on the position `u` along it (the side, the
+/// plank, its seams, a post), seen through pixels whose footprint spans `fu` along it; the rows
+/// then add only the rail (`texel`).
+pub(crate) struct FenceColumn {
+    /// The brightness before the rail.
+    f: f32,
+    post: bool,
+    /// The colour of a row the rail's bands do not reach.
+    plain: [u8; 3],
+}
+
+impl FenceColumn {
+    #[inline]
+    pub(crate) fn new(side: FenceSide, u: f32, fu: f32) -> Self {
+        let post = on_post(u);
+        let plank = (u / PLANK.0).floor();
+        let seen = (1.0 - fu / PLANK.0).clamp(0.0, 1.0);
+        let mut f = FENCE_SIDE[side as usize] * (1.0 + PLANK_TINT * cell_noise(plank as i32, side as i32, 2) * seen);
+        f *= 1.0 - (1.0 - PLANK.2) * seam_cover(u, fu, PLANK.0, PLANK.1);
+        if post {
+            f *= POSTS.4;
+        }
+        FenceColumn { f, post, plain: fence_colour(f) }
+    }
+
+    /// The texel `y` up, seen through a pixel whose footprint spans `fy` up. Outside the rail's
+    /// bands their factor is exactly 1, so those rows take the column's colour.
+    #[inline]
+    pub(crate) fn texel(&self, y: f32, fy: f32) -> [u8; 3] {
+        if self.post || y + 0.5 * fy <= RAIL.0 - RAIL_SHADOW.0 || y - 0.5 * fy >= RAIL.1 + RAIL_EDGE.0 {
+            return self.plain;
+        }
         let rail = band_cover(y, fy, RAIL.0, RAIL.1);
         let edge = band_cover(y, fy, RAIL.1, RAIL.1 + RAIL_EDGE.0);
         let shadow = band_cover(y, fy, RAIL.0 - RAIL_SHADOW.0, RAIL.0);
-        f *= 1.0 + (RAIL.2 - 1.0) * rail + (RAIL_EDGE.1 - 1.0) * edge + (RAIL_SHADOW.1 - 1.0) * shadow;
+        fence_colour(
+            self.f * (1.0 + (RAIL.2 - 1.0) * rail + (RAIL_EDGE.1 - 1.0) * edge + (RAIL_SHADOW.1 - 1.0) * shadow),
+        )
     }
+}
+
+#[inline]
+fn fence_colour(f: f32) -> [u8; 3] {
     FENCE_ALBEDO.map(|v| (v * f + 0.5).min(255.0) as u8)
 }

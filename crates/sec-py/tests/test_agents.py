@@ -22,6 +22,13 @@ def test_a_run_from_python_gives_the_native_golden_run_log(golden):
     assert lines == (golden / "run-untrained.txt").read_text().splitlines()
 
 
+def test_a_textured_run_from_python_gives_the_native_golden_log(golden):
+    # `sec_playground::experiment::fixtures::golden_textured_run()`.
+    run = Run({"surface": "textured", "agent": {"minSequences": 1}}, seed=1)
+    lines = [run.episode_json() for _ in range(30)]
+    assert lines == (golden / "run-textured.txt").read_text().splitlines()
+
+
 def test_bad_configurations_raise_value_error_by_name():
     cases = [
         ({"agent": {"memory": {"alpha": -1}}}, "alpha: -1 is out of range"),
