@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The fast gate, run first by the test command: formatting, clippy (native and wasm32) and the
-# docs, each with warnings as errors. A minute or two on a warm cache.
+# The fast gate, run first by the test command: the JavaScript modules parse, formatting, clippy
+# (native and wasm32) and the docs, each with warnings as errors. A minute or two on a warm cache.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
@@ -9,6 +9,10 @@ for c in rustfmt clippy; do
   grep -q "^$c" <<<"$installed" || rustup component add "$c"
 done
 rustup target list --installed | grep -qx wasm32-unknown-unknown || rustup target add wasm32-unknown-unknown
+echo "== node --check (every JavaScript module of the page, the tests and the scripts parses)"
+for f in www/*.js tests/browser/*.mjs bench/*.mjs scripts/*.mjs; do
+  node --check "$f"
+done
 echo "== cargo fmt --check"
 cargo fmt --all --check
 echo "== cargo clippy (native, every target)"

@@ -126,7 +126,7 @@ export const COMPARE_PRESETS = {
         + `each) got ${listed(dqn.runs)} per episode (${fixed(dqn.meanReward)} on average, the paper's ${fixed(P('DQN'))}) `
         + `against SEC's ${fixed(s.over[dqn.episodes])} over the same episodes (${tested(refs, 'exp1 double-t-maze', 'SEC > DQN (over DQN\'s episodes)')}); DQN learns fast and `
         + `unstably. ERLAM's ${erlam.seeds} runs got ${listed(erlam.runs)} per episode, far below both; `
-        + `${lateLearners(erlam)}. With propagation stopped at the goals (a '
+        + `${lateLearners(erlam)}. With propagation stopped at the goals (a `
         + `one-seed test of why), ERLAM got ${fixed(stopped.meanReward)} per episode and ${fixed(stopped.late)} over its `
         + `last ${stopped.episodes / 10} episodes (REPRODUCTION.md).`;
     },
