@@ -33,8 +33,11 @@ export function gateModel(config) {
   return config.surface === 'textured' ? `${config.task}-textured` : config.task;
 }
 
-/** The task a model name belongs to. */
-const taskOf = (model) => model.replace(/-textured$/, '');
+/** The task a model name belongs to (a function declaration: the prefetch above runs before this
+ * module's constants are initialised). */
+function taskOf(model) {
+  return model.replace(/-textured$/, '');
+}
 
 /** Starts downloading a model (a task's name, or `gateModel`'s) now, before the wasm is ready;
  * `ensureModel` uses it. An unknown task fetches nothing: the run refuses it by name. */

@@ -150,6 +150,23 @@ test('an unknown task in the hash is refused by name and fetches no model', asyn
   await page.close();
 });
 
+test('the textured surface fetches its own gate model and runs; flat frames and textured ones differ', async () => {
+  const page = await browser.newPage({ viewport: { width: 1300, height: 1000 } });
+  const asked = [];
+  page.context().on('request', (r) => asked.push(r.url()));
+  page.on('pageerror', (e) => problems.push(String(e)));
+  await page.goto(`${base}#surface=textured&seed=3`);
+  await page.waitForFunction(() => window.secPlayground?.settings && window.secPlayground.view);
+  await page.waitForFunction(() => window.secPlayground.view.step > 0 || window.secPlayground.view.episode > 0);
+  assert.equal(await page.evaluate(() => window.secPlayground.settings.surface), 'textured');
+  assert.equal((await page.textContent('#error')).trim(), '');
+  assert.ok(asked.some((u) => u.includes('double-t-maze-textured.secae')), 'the textured gate model is fetched');
+  // The floor of a textured camera frame has more than the flat floor's one colour.
+  const shades = await colours(page, '#camera');
+  assert.ok(shades > 40, `the textured camera frame has ${shades} colours`);
+  await page.close();
+});
+
 test('a bad control value is refused by name and the run goes on', async () => {
   const page = await open();
   await page.fill('#p-beta', '7');
