@@ -95,11 +95,6 @@ impl Camera {
         self.surface = surface;
     }
 
-    /// How it draws the floor and fences.
-    pub fn surface(&self) -> Surface {
-        self.surface
-    }
-
     /// Renders what the agent sees into `frame`.
     pub fn render(&mut self, w: &World, frame: &mut Frame) {
         let f = w.agent.forward();
@@ -218,34 +213,32 @@ impl Camera {
         };
         let (sx, sz) = (exit(eye.x, h.x), exit(eye.y, h.y));
         let s = sx.min(sz);
-        if !textured {
-            let fence = [colours::FENCE.0, colours::FENCE.1, colours::FENCE.2];
-            for r in self.rows(-EYE / s, (FENCE_HEIGHT - EYE) / s) {
-                let y = EYE + self.row_slope[r] * s;
-                let i = r * WIDTH + c;
-                if (0.0..=FENCE_HEIGHT).contains(&y) && s < self.depth[i] {
-                    self.depth[i] = s;
-                    put(px, i, fence);
-                }
-            }
-            return;
-        }
-        // Which fence, where along it (u) and how far a column step moves the hit along it.
-        let (side, u, along, across, r_along, r_across) = if sx <= sz {
-            (if h.x > 0.0 { FenceSide::East } else { FenceSide::West }, eye.y + h.y * s, h.y, h.x, right.y, right.x)
-        } else {
-            (if h.y > 0.0 { FenceSide::North } else { FenceSide::South }, eye.x + h.x * s, h.x, h.y, right.x, right.y)
-        };
-        let fu = (s * PIXEL_SLOPE * (r_along * across - along * r_across) / across).abs();
-        let fy = s * PIXEL_SLOPE;
-        let top = fence_top(u, FENCE_HEIGHT);
-        let planks = FenceColumn::new(side, u, fu);
+        // Textured: which fence, where along it (u) and how far a column step moves the hit along
+        // it, for the planks, posts and rail; flat: one colour up to the panels' top.
+        let planks = textured.then(|| {
+            let (side, u, along, across, r_along, r_across) = if sx <= sz {
+                (if h.x > 0.0 { FenceSide::East } else { FenceSide::West }, eye.y + h.y * s, h.y, h.x, right.y, right.x)
+            } else {
+                (
+                    if h.y > 0.0 { FenceSide::North } else { FenceSide::South },
+                    eye.x + h.x * s,
+                    h.x,
+                    h.y,
+                    right.x,
+                    right.y,
+                )
+            };
+            let fu = (s * PIXEL_SLOPE * (r_along * across - along * r_across) / across).abs();
+            (fence_top(u, FENCE_HEIGHT), FenceColumn::new(side, u, fu))
+        });
+        let top = planks.as_ref().map_or(FENCE_HEIGHT, |p| p.0);
+        let (flat, fy) = ([colours::FENCE.0, colours::FENCE.1, colours::FENCE.2], s * PIXEL_SLOPE);
         for r in self.rows(-EYE / s, (top - EYE) / s) {
             let y = EYE + self.row_slope[r] * s;
             let i = r * WIDTH + c;
             if (0.0..=top).contains(&y) && s < self.depth[i] {
                 self.depth[i] = s;
-                put(px, i, planks.texel(y, fy));
+                put(px, i, planks.as_ref().map_or(flat, |p| p.1.texel(y, fy)));
             }
         }
     }
