@@ -17,22 +17,69 @@ pub fn check_text_size(text: &str, what: &str) -> Result<(), String> {
     Ok(())
 }
 
-/// A user's text file read with the size limit enforced while reading and UTF-8 checked, each
-/// refusal naming `what` (the parameter or option the path came from).
+/// A user's file opened for reading if it is a regular file: a named pipe, a device, a socket or
+/// a directory is refused by kind, naming `what` (the parameter or option the path came from),
+/// before any read. On Unix the file is opened without blocking (a pipe with no writer would
+/// block `open` itself), then its kind is read from the open handle, so a path swapped between
+/// the check and the open cannot slip through.
+#[cfg(not(target_arch = "wasm32"))]
+pub fn open_regular_file(path: &std::path::Path, what: &str) -> Result<std::fs::File, String> {
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        options.custom_flags(libc::O_NONBLOCK);
+    }
+    let file = options.open(path).map_err(|e| format!("{what}: {}: {e}", path.display()))?;
+    let kind = file.metadata().map_err(|e| format!("{what}: {}: {e}", path.display()))?.file_type();
+    if !kind.is_file() {
+        return Err(format!("{what}: {} is {}, not a regular file", path.display(), kind_name(kind)));
+    }
+    Ok(file)
+}
+
+/// What a file that is not a regular one is, for a refusal.
+#[cfg(not(target_arch = "wasm32"))]
+fn kind_name(kind: std::fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_fifo() {
+            return "a named pipe";
+        }
+        if kind.is_socket() {
+            return "a socket";
+        }
+        if kind.is_char_device() || kind.is_block_device() {
+            return "a device";
+        }
+    }
+    if kind.is_dir() {
+        "a directory"
+    } else {
+        "not a file"
+    }
+}
+
+/// A user's file (`open_regular_file`) read whole with the size limit `max` enforced while
+/// reading, each refusal naming `what`.
+#[cfg(not(target_arch = "wasm32"))]
+pub fn read_regular_file(path: &std::path::Path, what: &str, max: usize) -> Result<Vec<u8>, String> {
+    use std::io::Read;
+    let file = open_regular_file(path, what)?;
+    let mut bytes = Vec::new();
+    file.take(max as u64 + 1).read_to_end(&mut bytes).map_err(|e| format!("{what}: {}: {e}", path.display()))?;
+    if bytes.len() > max {
+        return Err(format!("{what}: {} is larger than {max} bytes, the most it may be", path.display()));
+    }
+    Ok(bytes)
+}
+
+/// A user's text file (`read_regular_file`, at most `MAX_TEXT_FILE_BYTES`), UTF-8 checked.
 #[cfg(not(target_arch = "wasm32"))]
 pub fn read_text_file(path: &std::path::Path, what: &str) -> Result<String, String> {
-    use std::io::Read;
-    let file = std::fs::File::open(path).map_err(|e| format!("{what}: {}: {e}", path.display()))?;
-    let mut bytes = Vec::new();
-    file.take(MAX_TEXT_FILE_BYTES as u64 + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| format!("{what}: {}: {e}", path.display()))?;
-    if bytes.len() > MAX_TEXT_FILE_BYTES {
-        return Err(format!(
-            "{what}: {} is larger than {MAX_TEXT_FILE_BYTES} bytes, the most a text file may be",
-            path.display()
-        ));
-    }
+    let bytes = read_regular_file(path, what, MAX_TEXT_FILE_BYTES)?;
     String::from_utf8(bytes).map_err(|e| {
         format!("{what}: {} is not UTF-8 text (byte {}): not a text file", path.display(), e.utf8_error().valid_up_to())
     })

@@ -18,6 +18,7 @@ use rand_chacha::ChaCha8Rng;
 use sec_playground::arena::yaml::load_task;
 use sec_playground::arena::World;
 use sec_playground::encoder::{bundled, Autoencoder, DType, Weights};
+use sec_playground::experiment::checkpoint::ResumeCheck;
 use sec_playground::experiment::settings::{self, Settings};
 use sec_playground::experiment::RunConfig;
 use sec_playground::memory::file::Identity;
@@ -272,32 +273,34 @@ fn the_regression_corpus_is_refused_cleanly() {
     assert!(seen >= 6, "the corpus holds {seen} files");
 }
 
-/// A SEC run's checkpoint with a few sequences in its LTM, and the run's configuration.
-fn sec_checkpoint() -> (Vec<u8>, RunConfig) {
+/// A SEC run's checkpoint with a few sequences in its LTM, the run's configuration and its log.
+fn sec_checkpoint() -> (Vec<u8>, RunConfig, String) {
     let cfg = RunConfig { task: "object-permanence".into(), t: Some(100), ..RunConfig::default() };
     let mut run = sec_playground::experiment::Run::new(cfg.clone(), 3).unwrap();
     sec_playground::experiment::fixtures::fill_ltm(&mut run, 6);
-    run.episode();
+    let log = run.episode().to_json() + "\n";
     let mut bytes = Vec::new();
     run.save_checkpoint(&mut bytes).unwrap();
-    (bytes, cfg)
+    (bytes, cfg, log)
 }
 
 thread_local! {
-    static CHECKPOINT: (Vec<u8>, RunConfig) = sec_checkpoint();
+    static CHECKPOINT: (Vec<u8>, RunConfig, String) = sec_checkpoint();
 }
 
 proptest! {
-    // Each case builds a run (its encoders), so fewer of them.
-    #![proptest_config(Config { cases: cases().cases / 8, ..cases() })]
+    #![proptest_config(cases())]
 
     /// Three cases in four get their checksum recomputed, so the value checks behind it are
-    /// reached; a checkpoint that loads must play an episode of finite numbers.
+    /// reached; half of those resume beside the run's log. A checkpoint that loads must play an
+    /// episode of finite numbers, without a panic (the tests build with overflow checks: a walk
+    /// counter at 2^32 - 1 panicked in the first decision before its check).
     #[test]
     fn run_checkpoints(edits in edits(), fix in 0u8..4) {
-        let (file, cfg) = CHECKPOINT.with(|c| c.clone());
+        let (file, cfg, log) = CHECKPOINT.with(|c| c.clone());
         let bytes = mutate_checked(&file, &edits, fix != 0);
-        if let Ok(mut run) = sec_playground::experiment::Run::resume(cfg, 3, None, &mut bytes.as_slice()) {
+        let check = ResumeCheck { max_episodes: 1000, log: (fix >= 2).then_some(log.as_str()), legacy: false };
+        if let Ok(mut run) = sec_playground::experiment::Run::resume(cfg, 3, None, &mut bytes.as_slice(), &check) {
             let m = run.episode();
             prop_assert!(m.reward.is_finite() && m.entropy.is_finite() && m.contextual_share.is_finite());
         }

@@ -3,6 +3,7 @@
 //! the episodes of computing everything, and a run resumed with an empty cache goes on as the
 //! uninterrupted one with a warm cache did.
 
+use sec_playground::experiment::checkpoint::ResumeCheck;
 use sec_playground::experiment::{Run, RunConfig};
 
 fn log(run: &mut Run, n: usize) -> Vec<String> {
@@ -31,7 +32,7 @@ fn a_default_run_is_the_same_with_and_without_reuse() {
     assert_eq!(log(&mut first, 25), a[..25]);
     let mut bytes = Vec::new();
     first.save_checkpoint(&mut bytes).unwrap();
-    let mut resumed = Run::resume(cfg, 4, None, &mut bytes.as_slice()).unwrap();
+    let mut resumed = Run::resume(cfg, 4, None, &mut bytes.as_slice(), &ResumeCheck::at_most(1000)).unwrap();
     assert!(resumed.frame_cache().is_empty());
     assert_eq!(log(&mut resumed, 25), a[25..]);
 }

@@ -6,7 +6,7 @@ use sec_playground::arena::trace::scripted_run;
 use sec_playground::arena::TASK_NAMES;
 use sec_playground::render::Surface;
 use sec_playground::web::ArenaEnv;
-use wasm_bindgen::JsValue;
+use wasm_bindgen::{JsError, JsValue};
 use wasm_bindgen_test::*;
 
 /// An argument as JS passes it.
@@ -231,6 +231,48 @@ fn the_run_api_refuses_bad_configurations_by_name_and_keeps_running() {
     run.run_decisions(v(10)).unwrap();
 }
 
+/// What `SecRun.configure` answered: "live" or "restart".
+fn applied(answer: Result<JsValue, JsError>) -> String {
+    let v: serde_json::Value = serde_wasm_bindgen::from_value(answer.unwrap()).unwrap();
+    v["applied"].as_str().unwrap().to_string()
+}
+
+#[wasm_bindgen_test]
+fn configure_changes_only_the_fields_it_names() {
+    models();
+    use sec_playground::web::SecRun;
+    let mut run =
+        SecRun::new(js(r#"{"task": "object-permanence", "t": 300, "agent": {"memory": {"alpha": 0.05}}}"#), v(2.0))
+            .unwrap();
+    let config = |run: &SecRun| -> serde_json::Value { serde_wasm_bindgen::from_value(run.config().unwrap()).unwrap() };
+    let before = config(&run);
+    let answer: serde_json::Value =
+        serde_wasm_bindgen::from_value(run.configure(js(r#"{"agent": {"memory": {"tau": 0.5}}}"#)).unwrap()).unwrap();
+    assert_eq!(answer["applied"], "live");
+    assert_eq!(
+        answer["changed"],
+        serde_json::json!([{"field": "agent.memory.tau", "from": before["agent"]["memory"]["tau"], "to": 0.5, "live": true}])
+    );
+    let mut expected = before.clone();
+    expected["agent"]["memory"]["tau"] = 0.5.into();
+    assert_eq!(config(&run), expected, "alpha, t and the task kept their values");
+    let answer: serde_json::Value =
+        serde_wasm_bindgen::from_value(run.configure(js(r#"{"t": 400, "agent": {"memory": {"beta": 0.5}}}"#)).unwrap())
+            .unwrap();
+    assert_eq!(answer["applied"], "restart");
+    let fields: Vec<(&str, bool)> = answer["changed"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| (c["field"].as_str().unwrap(), c["live"].as_bool().unwrap()))
+        .collect();
+    assert_eq!(fields, [("agent.memory.beta", true), ("t", false)]);
+    assert_eq!(config(&run)["agent"]["memory"]["alpha"], 0.05);
+    // A whole configuration replaces: what it leaves out takes the default.
+    assert_eq!(applied(run.replace_config(js(r#"{"task": "object-permanence"}"#))), "restart");
+    assert_eq!(config(&run)["t"], serde_json::Value::Null);
+}
+
 #[wasm_bindgen_test]
 fn live_changes_and_restarts_through_the_js_api() {
     models();
@@ -246,7 +288,7 @@ fn live_changes_and_restarts_through_the_js_api() {
     let stored = ltm(&mut run);
     assert!(stored >= 2, "object permanence stores early: {stored}");
     let live = r#"{"task": "object-permanence", "agent": {"memory": {"alpha": 0.2, "thetaAbs": 0.9, "tau": 2}}}"#;
-    assert_eq!(run.configure(js(live)).unwrap(), "live");
+    assert_eq!(applied(run.configure(js(live))), "live");
     assert_eq!(ltm(&mut run), stored, "a live change keeps the memory");
     let cfg: serde_json::Value = serde_wasm_bindgen::from_value(run.config().unwrap()).unwrap();
     assert_eq!(cfg["agent"]["memory"]["alpha"], 0.2);
@@ -258,7 +300,7 @@ fn live_changes_and_restarts_through_the_js_api() {
     let rows = ltm(&mut run);
     assert_eq!(run.memory_map(v("t")).unwrap().length() as u64, rows * run.stm_length() as u64);
     let restart = r#"{"task": "detour", "agent": {"memory": {"n": 20}}}"#;
-    assert_eq!(run.configure(js(restart)).unwrap(), "restart");
+    assert_eq!(applied(run.configure(js(restart))), "restart");
     assert_eq!((ltm(&mut run), run.stm_length(), run.seed()), (0, 20, 2.0), "a new run with the same seed");
 }
 
@@ -372,7 +414,7 @@ fn bad_js_arguments_are_refused_by_name_and_leave_the_state_as_it_was() {
     assert!(m.starts_with("config:") && m.contains("boom"), "{m}");
     run.run_decisions(v(10)).unwrap();
     assert_eq!(
-        run.configure(js(r#"{"task": "object-permanence", "agent": {"memory": {"alpha": 0.02}}}"#)).unwrap(),
+        applied(run.configure(js(r#"{"task": "object-permanence", "agent": {"memory": {"alpha": 0.02}}}"#))),
         "live"
     );
 }

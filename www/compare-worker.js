@@ -2,7 +2,8 @@
 // no views. Episodes go out as they finish, tagged with the seed.
 //
 // Messages in:  {type: 'start', settings, seeds}, {type: 'play'}, {type: 'pause'}
-// Messages out: {type: 'started', settings}, {type: 'episodes', seed, list}, {type: 'error', message}
+// Messages out: {type: 'started', settings}, {type: 'episodes', seed, list, wasmBytes},
+//               {type: 'error', message}
 import init, { ensureModel, gateModel, SecRun, parseSettings } from './wasm.js';
 import { AdaptiveBatch, serveMessages } from './slices.js';
 
@@ -20,7 +21,7 @@ function loop() {
       // Round robin, so that the seeds advance together.
       for (const r of runs) {
         const list = r.run.runDecisions(n);
-        if (list.length) post({ type: 'episodes', seed: r.seed, list });
+        if (list.length) post({ type: 'episodes', seed: r.seed, list, wasmBytes: memory.buffer.byteLength });
       }
     });
   } catch (e) {
@@ -51,5 +52,6 @@ const handlers = {
 
 serveMessages(handlers, (e) => post({ type: 'error', message: String(e?.message ?? e) }));
 
-await init();
+// The instance's memory, whose size goes out with the episodes (a leak shows).
+const { memory } = await init();
 post({ type: 'ready' });

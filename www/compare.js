@@ -185,6 +185,7 @@ export class Compare {
         arm.resolved = data.settings; // every setting the arm's runs use, defaults included
       } else if (data.type === 'episodes') {
         arm.runs.get(data.seed)?.push(...data.list);
+        arm.wasmBytes = data.wasmBytes;
         this.chart.touch();
         this.listSoon();
       } else if (data.type === 'error') {
@@ -330,6 +331,8 @@ export class Compare {
           label: a.label, name: a.referenceName, seeds: a.reference?.seeds.length ?? null, episodes: a.reference?.episodes ?? null,
         }));
       },
+      /** Each arm's worker's wasm memory in bytes, as of its last episodes (null before). */
+      get wasmBytes() { return me.arms.map((a) => a.wasmBytes ?? null); },
       /** Each arm's settings as its runs use them (null until its worker has started). */
       get resolved() { return me.arms.map((a) => a.resolved ?? null); },
     };

@@ -367,6 +367,8 @@ export class Playground {
       get explanation() { return me.lastExplanation ?? null; },
       /** The decisions/s readout's value. */
       get rate() { return me.rate.perSecond; },
+      /** The run's worker's wasm memory in bytes, as of the last view. */
+      get wasmBytes() { return me.wasmBytes ?? null; },
       /** Test hook: makes the simulation panic. */
       crash() { me.send({ type: 'crash' }); },
     };
@@ -478,6 +480,7 @@ Playground.prototype.handlers = {
     }
     if (msg.heat) drawHeat($('heat'), new Float32Array(msg.heat), msg.n, new Uint32Array(msg.selected), $('heat-kind').value);
     const v = msg.view;
+    this.wasmBytes = msg.wasmBytes;
     this.measureRate(v);
     drawProbs($('probs'), v.p, v.action);
     // Memory always votes; the grid and its entropy say whether its vote was acted on.

@@ -28,6 +28,7 @@ let owed = 0; // decisions owed at a watch speed
 let lastTick = 0;
 let dead = false; // the wasm instance trapped: only a new start can help
 let driver = null; // {action, record} while a person drives; kept across new runs
+let wasmMemory = null; // the instance's memory: its size goes out with each view (a leak shows)
 
 const post = (msg, transfer) => self.postMessage(msg, transfer ?? []);
 
@@ -42,7 +43,7 @@ function postView(force = false) {
   const now = performance.now();
   if (!run || (!force && now - lastView < 1000 / want.hz)) return;
   lastView = now;
-  const msg = { type: 'view', view: run.view(), n: run.stmLength };
+  const msg = { type: 'view', view: run.view(), n: run.stmLength, wasmBytes: wasmMemory?.buffer.byteLength ?? null };
   if (want.explain) msg.explain = run.explain();
   const transfer = [];
   if (want.camera) {
@@ -181,7 +182,7 @@ const handlers = {
       mode = 'restart';
     } else {
       if (gateModel(next.config) !== gateModel(run.config())) await ensureModel(gateModel(next.config));
-      mode = run.configure(next.config);
+      mode = run.replaceConfig(next.config).applied;
     }
     settings = next.settings;
     post({ type: 'started', settings, errors: [], refused, mode, changes });
@@ -273,7 +274,8 @@ const handlers = {
 serveMessages(handlers, (e) => (e instanceof WebAssembly.RuntimeError ? trapped(e) : fail(e)));
 
 init()
-  .then(() => {
+  .then((wasm) => {
+    wasmMemory = wasm.memory;
     const parsed = parseSettings({});
     post({ type: 'ready', params: parameters(), agents: agents(), defaults: parsed.settings, build });
   })

@@ -5,6 +5,7 @@
 use super::controller::{Controller, EpisodeEnd, Input, MemoryUse, Observation, Step};
 use super::{Decision, Layer};
 use crate::arena::Action;
+use crate::error::FileError;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
@@ -15,8 +16,29 @@ pub const TURN_1: Action = Action::RIGHT;
 /// The walk's turn in place the other way (0, 2), left.
 pub const TURN_2: Action = Action::LEFT;
 
-/// The walk's state: a counter through `straight` forward steps then `turns` turns.
+/// The longest straight run or turn of a cycle after the first (numpy `randint(1, 21)`).
+const MAX_LENGTH: u32 = 20;
+
+/// The walk's state as its four counters: what a checkpoint holds, checked into a `Reactive`.
+#[derive(serde::Deserialize)]
+struct Words {
+    c: u32,
+    straight: u32,
+    turns: u32,
+    dir: u32,
+}
+
+impl TryFrom<Words> for Reactive {
+    type Error = FileError;
+    fn try_from(w: Words) -> Result<Self, FileError> {
+        Reactive::from_words([w.c, w.straight, w.turns, w.dir])
+    }
+}
+
+/// The walk's state: a counter through `straight` forward steps then `turns` turns. Read back
+/// from a checkpoint only through `from_words`, which refuses a state no walk reaches.
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "Words")]
 pub struct Reactive {
     c: u32,
     straight: u32,
@@ -38,8 +60,23 @@ impl Reactive {
         [self.c, self.straight, self.turns, self.dir]
     }
 
-    pub(crate) fn from_words([c, straight, turns, dir]: [u32; 4]) -> Self {
-        Reactive { c, straight, turns, dir }
+    /// The walk of `words`, refused (by the counter's name and value) unless a walk reaches it:
+    /// lengths in 1..=20, a direction of 0 or 1, the counter within the cycle. An unchecked
+    /// length of 2^32 - 1 overflows the next step's sum.
+    pub fn from_words([c, straight, turns, dir]: [u32; 4]) -> Result<Self, FileError> {
+        let bad = |name: &str, rule: String| FileError::field("checkpoint", format!("reactive.{name}"), rule);
+        for (name, v) in [("straight", straight), ("turns", turns)] {
+            if !(1..=MAX_LENGTH).contains(&v) {
+                return Err(bad(name, format!("{v} is out of range 1..={MAX_LENGTH}")));
+            }
+        }
+        if dir > 1 {
+            return Err(bad("dir", format!("{dir} is out of range 0..=1")));
+        }
+        if c > straight + turns {
+            return Err(bad("c", format!("{c} is out of range 0..={} (straight + turns)", straight + turns)));
+        }
+        Ok(Reactive { c, straight, turns, dir })
     }
 
     /// The next action. After the first cycle each one is `straight + 1` forward steps then
@@ -49,8 +86,8 @@ impl Reactive {
         if self.c > self.straight + self.turns {
             self.c = 0;
             self.dir = rng.gen_range(0..2u32);
-            self.straight = rng.gen_range(1..21u32);
-            self.turns = rng.gen_range(1..21u32);
+            self.straight = rng.gen_range(1..=MAX_LENGTH);
+            self.turns = rng.gen_range(1..=MAX_LENGTH);
         }
         if self.c <= self.straight {
             FORWARD

@@ -278,9 +278,14 @@ impl Controller for Sec {
             }
             let action = Action::new(r.take(1)?[0].into())
                 .map_err(|_| crate::error::FileError::field("checkpoint", "previous", "not an action"))?;
+            if let Some(v) = embedding.iter().find(|v| !v.is_finite()) {
+                let rule = format!("holds {v}, not a finite number");
+                return Err(crate::error::FileError::field("checkpoint", "previous.embedding", rule));
+            }
             let pushed = r.bool()?;
+            let walk = Reactive::from_words(words)?;
             self.memory.take_state(&mut r)?;
-            self.reactive = Reactive::from_words(words);
+            self.reactive = walk;
             (self.previous, self.previous_pushed) = (Couplet { embedding, action }, pushed);
             Ok(())
         };

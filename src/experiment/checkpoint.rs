@@ -5,22 +5,28 @@
 //! its saved position, and the controller restores its own state (`Controller::save_state`).
 //! Resumed, the run gives the same episodes as one never interrupted.
 //!
-//! Layout (version 3): `SECCKPT3`, a little-endian u32 length, that many bytes of a JSON header
-//! (seed, configuration, episodes played, the agent stream's word position), a u64 length and that
-//! many bytes of the reconstruction gate's state, the controller's state, and an FNV-1a 64 checksum
-//! (u64) of every byte before it, as the memory files have. Loading checks the checksum first, then
-//! every value with a live run's rules (finite rewards within the memory files' bounds, finite T,
-//! G, p and entropy, sizes that fit n and m, a gate MSE that is a number, counters in range), so an
-//! edited file is refused by name, never resumed into another run. Version 2 (`SECCKPT2`, no
-//! checksum: what the grid wrote before) and version 1 (`SECCKPT1`, also no gate section) still
-//! load, with the same value checks.
+//! Layout (version 4): `SECCKPT4`, a little-endian u32 length, that many bytes of a JSON header
+//! (seed, configuration, episodes played, the agent stream's word position, the digest of the
+//! episode log so far), a u64 length and that many bytes of the reconstruction gate's state, the
+//! controller's state, and an FNV-1a 64 checksum (u64) of every byte before it, as the memory
+//! files have. Loading checks the checksum first, then every value with a live run's rules
+//! (finite rewards within the memory files' bounds, finite T, G, p and entropy, sizes that fit n
+//! and m, a gate MSE that is a number, the walk's counters within a cycle), so an edited file is
+//! refused by name, never resumed into another run. The caller bounds the episodes replayed
+//! (`ResumeCheck::max_episodes`) and may hand the log: its head must be the one the checkpoint
+//! continues, so a claimed count above or below the state's is refused. Earlier versions load
+//! only when the caller says so (`ResumeCheck::legacy`), through the same value checks: version 3
+//! has no log digest, version 2 (`SECCKPT2`) no checksum either, version 1 (`SECCKPT1`) no gate
+//! section.
 
 use super::{AgentFactory, Run, RunConfig};
 use crate::error::{Error, FileError};
 use std::io::{Read, Write};
 
-const MAGIC: &[u8; 8] = b"SECCKPT3";
-/// Version 2: no checksum.
+const MAGIC: &[u8; 8] = b"SECCKPT4";
+/// Version 3: no log digest.
+const MAGIC_V3: &[u8; 8] = b"SECCKPT3";
+/// Version 2: no checksum either.
 const MAGIC_V2: &[u8; 8] = b"SECCKPT2";
 /// The first version: no gate section (only agents without the gate wrote it) and no checksum.
 const MAGIC_V1: &[u8; 8] = b"SECCKPT1";
@@ -46,9 +52,57 @@ pub struct Header {
     pub episodes: u64,
     /// `ChaCha8Rng::get_word_pos` of the agent stream, as a decimal string (a u128).
     agent_stream: String,
+    /// The episode log's digest (`Run::log_digest`) as 16 hex digits; absent before version 4.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    log: Option<String>,
     /// The reconstruction gate's state (`None` in a version-1 checkpoint).
     #[serde(skip)]
     gate: Option<Vec<u8>>,
+    /// The format's version (1-4), from the magic.
+    #[serde(skip)]
+    pub version: u8,
+}
+
+/// The magics, newest first.
+const VERSIONS: [&[u8; 8]; 4] = [MAGIC, MAGIC_V3, MAGIC_V2, MAGIC_V1];
+
+/// What a resume holds a checkpoint to besides the run's configuration and seed: bounds the
+/// caller sets, never the file.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ResumeCheck<'a> {
+    /// The most episodes the checkpoint may claim (each costs a reset to replay): the count of
+    /// the caller's log, or the episodes it asked for.
+    pub max_episodes: u64,
+    /// The run's episode log so far (one `EpisodeMetrics::to_json` line per episode, as the
+    /// runner writes it): it must hold every episode the checkpoint claims, and their lines must
+    /// be the ones the checkpoint was written after (lines past them are episodes to play again).
+    pub log: Option<&'a str>,
+    /// Whether a checkpoint of an earlier format (versions 1-3) is loaded; it has no log digest,
+    /// so it resumes only beside its log.
+    pub legacy: bool,
+}
+
+impl ResumeCheck<'_> {
+    /// No more than `max_episodes`, no log, the current format only.
+    pub fn at_most(max_episodes: u64) -> Self {
+        ResumeCheck { max_episodes, log: None, legacy: false }
+    }
+}
+
+/// The digest of a log continued by one episode's line (`Run`'s running digest).
+pub(crate) fn extend_log(digest: u64, line: &str) -> u64 {
+    crate::util::fnv1a_extend(crate::util::fnv1a_extend(digest, line.as_bytes()), b"\n")
+}
+
+/// The digest of the first `episodes` whole lines of `log`, or `None` when it holds fewer.
+fn log_head_digest(log: &str, episodes: u64) -> Option<u64> {
+    let mut digest = crate::util::FNV_OFFSET;
+    let mut lines = log.split_inclusive('\n');
+    for _ in 0..episodes {
+        let line = lines.next().filter(|l| l.ends_with('\n'))?;
+        digest = extend_log(digest, &line[..line.len() - 1]);
+    }
+    Some(digest)
 }
 
 /// A little-endian length of `width` bytes (4 or 8), at most `max`, and that many bytes.
@@ -71,7 +125,7 @@ impl Header {
     pub fn read(input: &mut dyn Read) -> Result<Header, Error> {
         let mut magic = [0u8; 8];
         input.read_exact(&mut magic).map_err(io)?;
-        if ![MAGIC, MAGIC_V2, MAGIC_V1].contains(&&magic) {
+        if ![MAGIC, MAGIC_V3, MAGIC_V2, MAGIC_V1].contains(&&magic) {
             return Err(FileError::new(
                 "checkpoint",
                 "not a run checkpoint, or of another version (re-run: it starts again from episode 0)",
@@ -87,6 +141,11 @@ impl Header {
         if header.episodes > MAX_EPISODES {
             let message = format!("{} is out of range 0..={MAX_EPISODES}", header.episodes);
             return Err(FileError::field("checkpoint", "episodes", message).into());
+        }
+        header.version = VERSIONS.iter().position(|m| *m == &magic).map_or(0, |i| 4 - i as u8);
+        if (header.version == 4) != header.log.is_some() {
+            let message = format!("present in a version-{} checkpoint", header.version);
+            return Err(FileError::field("checkpoint", "log", message).into());
         }
         Ok(header)
     }
@@ -151,7 +210,9 @@ impl Run {
             config: self.cfg.clone(),
             episodes: self.env.episode(),
             agent_stream: self.rng.get_word_pos().to_string(),
+            log: Some(format!("{:016x}", self.log_digest)),
             gate: None,
+            version: 4,
         };
         let json = serde_json::to_vec(&header).expect("headers serialise");
         let mut gate = Vec::new();
@@ -169,13 +230,21 @@ impl Run {
     }
 
     /// The run of `cfg` and `seed` brought to the checkpoint `input`; a checkpoint of another
-    /// configuration or seed, or a corrupt one, is refused.
-    pub fn resume(cfg: RunConfig, seed: u64, extra: Option<AgentFactory>, input: &mut dyn Read) -> Result<Run, Error> {
+    /// configuration or seed, a corrupt one, one that claims more episodes than `check` allows or
+    /// whose log disagrees, or one of an earlier format unless `check.legacy`, is refused by name
+    /// before anything is replayed.
+    pub fn resume(
+        cfg: RunConfig,
+        seed: u64,
+        extra: Option<AgentFactory>,
+        input: &mut dyn Read,
+        check: &ResumeCheck,
+    ) -> Result<Run, Error> {
         let mut bytes = Vec::new();
         input.read_to_end(&mut bytes).map_err(io)?;
         let mut body: &[u8] = &bytes;
-        // Version 3: the checksum over all the rest, checked before anything is read.
-        if bytes.starts_with(MAGIC) {
+        // Versions 3 and 4: the checksum over all the rest, checked before anything is read.
+        if bytes.starts_with(MAGIC) || bytes.starts_with(MAGIC_V3) {
             if bytes.len() < MAGIC.len() + 8 {
                 return Err(FileError::new("checkpoint", "truncated").into());
             }
@@ -188,6 +257,40 @@ impl Run {
         }
         let input = &mut body;
         let header = Header::read(input)?;
+        if header.version < 4 && !check.legacy {
+            let message = format!(
+                "a version-{} checkpoint (the current is 4) loads only when asked for (--legacy-checkpoint, \
+                 allow_legacy=True), beside its log",
+                header.version
+            );
+            return Err(FileError::field("checkpoint", "version", message).into());
+        }
+        if header.episodes > check.max_episodes {
+            let message = format!("{} claimed, more than the {} expected", header.episodes, check.max_episodes);
+            return Err(FileError::field("checkpoint", "episodes", message).into());
+        }
+        let log_digest = match (check.log, &header.log) {
+            (Some(log), claimed) => {
+                let Some(head) = log_head_digest(log, header.episodes) else {
+                    let message = format!("holds fewer than the checkpoint's {} episodes", header.episodes);
+                    return Err(FileError::field("checkpoint", "log", message).into());
+                };
+                if claimed.as_ref().is_some_and(|c| *c != format!("{head:016x}")) {
+                    let message = format!(
+                        "its first {} lines are not the ones the checkpoint continues (a count or a log edited)",
+                        header.episodes
+                    );
+                    return Err(FileError::field("checkpoint", "log", message).into());
+                }
+                head
+            }
+            (None, Some(claimed)) => u64::from_str_radix(claimed, 16)
+                .map_err(|_| FileError::field("checkpoint", "log", format!("'{claimed}' is not 16 hex digits")))?,
+            (None, None) => {
+                let message = format!("a version-{} checkpoint resumes only beside its log", header.version);
+                return Err(FileError::field("checkpoint", "log", message).into());
+            }
+        };
         if header.seed != seed {
             let message = format!("written by seed {}, not {seed}", header.seed);
             return Err(FileError::field("checkpoint", "seed", message).into());
@@ -216,6 +319,7 @@ impl Run {
             None => {}
         }
         run.controller.load_state(input).map_err(|e| FileError::field("checkpoint", "agent", e))?;
+        run.log_digest = log_digest;
         Ok(run)
     }
 }
@@ -252,7 +356,7 @@ mod tests {
         let mut bytes = Vec::new();
         first.save_checkpoint(&mut bytes).unwrap();
         drop(first);
-        let mut resumed = Run::resume(reactive(), 7, None, &mut bytes.as_slice()).unwrap();
+        let mut resumed = Run::resume(reactive(), 7, None, &mut bytes.as_slice(), &ResumeCheck::at_most(1000)).unwrap();
         got.extend(log(&mut resumed, 3));
         assert_eq!(got, expected);
     }
@@ -264,17 +368,20 @@ mod tests {
         let mut bytes = Vec::new();
         run.save_checkpoint(&mut bytes).unwrap();
         let field = |r: Result<Run, Error>| r.err().expect("refused").field().to_string();
-        assert_eq!(field(Run::resume(reactive(), 8, None, &mut bytes.as_slice())), "seed");
+        assert_eq!(field(Run::resume(reactive(), 8, None, &mut bytes.as_slice(), &ResumeCheck::at_most(1000))), "seed");
         let other = RunConfig { t: Some(300), ..reactive() };
-        assert_eq!(field(Run::resume(other, 7, None, &mut bytes.as_slice())), "config");
+        assert_eq!(field(Run::resume(other, 7, None, &mut bytes.as_slice(), &ResumeCheck::at_most(1000))), "config");
         assert_eq!(
-            field(Run::resume(reactive(), 7, None, &mut &bytes[..20])),
+            field(Run::resume(reactive(), 7, None, &mut &bytes[..20], &ResumeCheck::at_most(1000))),
             "checksum",
             "a cut file fails its checksum"
         );
         let mut bad = bytes.clone();
         bad[0] = b'X';
-        assert_eq!(field(Run::resume(reactive(), 7, None, &mut bad.as_slice())), "checkpoint");
+        assert_eq!(
+            field(Run::resume(reactive(), 7, None, &mut bad.as_slice(), &ResumeCheck::at_most(1000))),
+            "checkpoint"
+        );
         run.tick();
         assert!(run.save_checkpoint(&mut Vec::new()).is_err(), "mid-episode");
         let mfec = Run::new(RunConfig { kind: AgentKind::Mfec, ..reactive() }, 7).unwrap();
@@ -298,7 +405,7 @@ mod tests {
         let mut bytes = Vec::new();
         first.save_checkpoint(&mut bytes).unwrap();
         drop(first);
-        let mut resumed = Run::resume(cfg, 2, None, &mut bytes.as_slice()).unwrap();
+        let mut resumed = Run::resume(cfg, 2, None, &mut bytes.as_slice(), &ResumeCheck::at_most(1000)).unwrap();
         got.extend(full(&mut resumed, 6));
         assert_eq!(got, expected);
     }

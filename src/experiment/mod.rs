@@ -17,6 +17,7 @@ use crate::error::Error;
 use crate::memory;
 use crate::render::{Frame, Surface};
 use crate::seed::{self, Stream};
+pub mod change;
 pub mod checkpoint;
 #[cfg(feature = "test-hooks")]
 pub mod fixtures;
@@ -221,6 +222,10 @@ pub struct Run {
     current: Option<Episode>,
     /// A person at the controls, if any.
     driver: Option<Driver>,
+    /// FNV-1a 64 of the episode log so far (each episode's `EpisodeMetrics::to_json` and a
+    /// newline, as the runner writes it): a checkpoint carries it, so a resume can tell whether
+    /// a log's head is the one the checkpoint continues.
+    log_digest: u64,
 }
 
 /// Which views (`Env::view_serial`) a run's image and cache entry hold.
@@ -284,6 +289,7 @@ impl Run {
             rng,
             current: None,
             driver: None,
+            log_digest: crate::util::FNV_OFFSET,
         })
     }
 
@@ -548,6 +554,7 @@ impl Run {
         }
         let mut metrics = ep.metrics.finish(self.env.steps(), self.controller.memory_use().used);
         metrics.census = self.controller.census();
+        self.log_digest = checkpoint::extend_log(self.log_digest, &metrics.to_json());
         self.env.reset(None);
         Tick { decision, finished: Some(metrics) }
     }

@@ -253,6 +253,9 @@ impl Memory {
             *v = r.f64()?;
         }
         let entropy = r.f64()?;
+        if sel.iter().chain(&sel_prev).any(|&b| b > 1) {
+            return Err(FileError::field("checkpoint", "sel", "a selection mask holds a byte other than 0 or 1"));
+        }
         let sound = ltm.len() == rows * n * EMBEDDING
             && actions.len() == rows * n
             && rewards.len() == rows

@@ -36,6 +36,16 @@ impl Applied {
     }
 }
 
+/// What `Session::configure_patch` did: "live" or "restart" for the change as a whole, and each
+/// field it changed.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct ConfigChange {
+    /// "live" (the change acts from the next decision) or "restart" (a new run, the same seed).
+    pub applied: &'static str,
+    /// The fields that changed, in path order.
+    pub changed: Vec<crate::experiment::change::FieldChange>,
+}
+
 /// The memory maps a view can draw, sequences x STM positions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MemoryMap {
@@ -65,6 +75,10 @@ pub struct Session {
     trail: Trail,
 }
 
+/// The decisions a resumed session may say it has counted: far beyond any run, far below where
+/// counting on overflows.
+pub const MAX_DECISIONS: u64 = 1 << 50;
+
 impl Session {
     /// A session of `cfg` with `seed` (see `Run::new`).
     pub fn new(cfg: RunConfig, seed: u64) -> Result<Self, Error> {
@@ -85,9 +99,14 @@ impl Session {
         seed: u64,
         extra: Option<AgentFactory>,
         checkpoint: &mut dyn std::io::Read,
+        check: &crate::experiment::checkpoint::ResumeCheck,
         decisions: u64,
     ) -> Result<Self, Error> {
-        let run = Run::resume(cfg, seed, extra, checkpoint)?;
+        if decisions > MAX_DECISIONS {
+            let message = format!("{decisions} is out of range 0..={MAX_DECISIONS}");
+            return Err(crate::error::ConfigError::new("decisions", message).into());
+        }
+        let run = Run::resume(cfg, seed, extra, checkpoint, check)?;
         let trail = Trail::new(run.env().world().agent.pos);
         Ok(Session { run, extra, last: None, decisions, trail })
     }
@@ -130,6 +149,21 @@ impl Session {
         }
         *self = Self::with_agents(cfg, self.seed(), self.extra)?;
         Ok(Applied::Restart)
+    }
+
+    /// Applies a partial change (`RunConfig::patched`: a JSON object naming only the fields to
+    /// change; the others keep their values) as `configure` does, and says which fields changed
+    /// and whether each alone would act live. A refused change is an error and changes nothing.
+    pub fn configure_patch(&mut self, patch: &str) -> Result<ConfigChange, Error> {
+        let next = self.config().patched(patch)?;
+        self.replace_config(next)
+    }
+
+    /// `configure` with `next` whole, answered as `configure_patch`.
+    pub fn replace_config(&mut self, next: RunConfig) -> Result<ConfigChange, Error> {
+        let changed = self.config().changes(&next);
+        let applied = self.configure(next)?;
+        Ok(ConfigChange { applied: applied.as_str(), changed })
     }
 
     /// Starts over with `seed` (or the run's own); on an error nothing changes.

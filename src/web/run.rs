@@ -18,6 +18,13 @@ use wasm_bindgen::prelude::*;
 
 #[wasm_bindgen(typescript_custom_section)]
 const TS_TYPES: &str = r#"
+/** What `SecRun.configure` did: "live" or "restart", and each field it changed (its path,
+ *  old and new values, and whether a change of it alone acts live). */
+export interface ConfigChange {
+  applied: "live" | "restart";
+  changed: { field: string; from: unknown; to: unknown; live: boolean }[];
+}
+
 /** A run's configuration (every field optional; defaults are the authors' code). */
 export interface RunConfig {
   task?: string;
@@ -201,16 +208,31 @@ impl SecRun {
         self.session.seed() as f64
     }
 
-    /// Applies a new configuration. SEC's parameters (thresholds, alpha, beta, tau, m, the value
-    /// function, forgetting, the bias, the gate) change live and this returns "live"; anything
-    /// else (task, t, n, the agent...) restarts the run with the same seed and returns "restart".
-    /// A bad configuration throws and changes nothing.
+    /// Applies a change of the configuration: `config` names the fields to change (a partial
+    /// `RunConfig`, `{agent: {memory: {tau: 0.5}}}`); the fields it leaves out keep their values.
+    /// SEC's parameters (thresholds, alpha, beta, tau, m, the value function, forgetting, the
+    /// bias, the gate) change live; anything else (task, t, n, the agent...) restarts the run
+    /// with the same seed. Returns `{applied: "live" | "restart", changed: [{field, from, to,
+    /// live}]}`. A bad change throws, naming the field, and changes nothing.
+    #[wasm_bindgen(unchecked_return_type = "ConfigChange")]
     pub fn configure(
         &mut self,
+        #[wasm_bindgen(unchecked_param_type = "Partial<RunConfig>")] config: JsValue,
+    ) -> Result<JsValue, JsError> {
+        let patch =
+            if config.is_undefined() || config.is_null() { "{}".to_string() } else { args::json(&config, "config")? };
+        to_js(&self.session.configure_patch(&patch).map_err(js_err)?)
+    }
+
+    /// Replaces the whole configuration: the fields `config` leaves out take their defaults
+    /// (what the page's settings table makes is a whole configuration). Answers as `configure`.
+    #[wasm_bindgen(js_name = replaceConfig, unchecked_return_type = "ConfigChange")]
+    pub fn replace_config(
+        &mut self,
         #[wasm_bindgen(unchecked_param_type = "RunConfig")] config: JsValue,
-    ) -> Result<String, JsError> {
+    ) -> Result<JsValue, JsError> {
         let cfg = config_from_js(config)?;
-        Ok(self.session.configure(cfg).map_err(js_err)?.as_str().into())
+        to_js(&self.session.replace_config(cfg).map_err(js_err)?)
     }
 
     /// Restarts the run from scratch, with `seed` or the run's own.

@@ -4,7 +4,7 @@
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { fileURLToPath } from 'node:url';
-import { ARTIFACTS, launch, colours as coloursOf } from './harness.mjs';
+import { ARTIFACTS, launch, colours as coloursOf, untilColours } from './harness.mjs';
 
 let server, browser, page, base;
 const problems = [];
@@ -26,7 +26,8 @@ after(async () => {
 const colours = (id) => coloursOf(page, `#${id}`);
 
 test('the page loads without console errors and draws both views', async () => {
-  await page.waitForTimeout(300);
+  await untilColours(page, '#camera', 2);
+  await untilColours(page, '#arena', 8);
   assert.deepEqual(problems, []);
   // The T-maze start may face a fence (floor and fence only); the top-down view shows it all.
   assert.ok(await colours('camera') >= 2, 'camera canvas is blank');
@@ -43,16 +44,16 @@ test('the page loads without console errors and draws both views', async () => {
 
 test('arrow keys drive the agent', async () => {
   await page.selectOption('#task', 'detour');
-  await page.waitForTimeout(100);
+  await page.waitForFunction(() => window.secPlayground.env.taskName() === 'detour');
   const before = await page.evaluate(() => window.secPlayground.env.agent());
   await page.locator('body').click({ position: { x: 5, y: 5 } });
+  // Held until the agent has moved, however slowly a loaded machine steps (60 ms a step at best).
   await page.keyboard.down('ArrowUp');
-  await page.waitForTimeout(1000);
+  await page.waitForFunction((z) => window.secPlayground.env.agent().z - z > 3, before.z, { timeout: 60000 });
   await page.keyboard.up('ArrowUp');
   const mid = await page.evaluate(() => window.secPlayground.env.agent());
-  assert.ok(mid.z - before.z > 3, `forward moved from z=${before.z} to z=${mid.z}`);
   await page.keyboard.down('ArrowRight');
-  await page.waitForTimeout(500);
+  await page.waitForFunction(() => window.secPlayground.env.agent().heading > 20, null, { timeout: 60000 });
   await page.keyboard.up('ArrowRight');
   const after = await page.evaluate(() => window.secPlayground.env.agent());
   assert.ok(after.heading > 20 && after.heading < 180, `right turned to ${after.heading}`);
@@ -65,9 +66,7 @@ test('a bad seed shows an error naming it and the run goes on', async () => {
   await page.dispatchEvent('#seed', 'change');
   const msg = await page.textContent('#error');
   assert.match(msg, /^seed: .*out of range 0\.\.=/);
-  await page.waitForTimeout(300);
-  const later = await page.evaluate(() => window.secPlayground.env.agent().steps);
-  assert.ok(later > steps || later < steps, 'the previous run keeps stepping');
+  await page.waitForFunction((s) => window.secPlayground.env.agent().steps !== s, steps, { timeout: 60000 });
   await page.fill('#seed', '1');
   await page.dispatchEvent('#seed', 'change');
   assert.equal(await page.isHidden('#error'), true);
@@ -96,7 +95,7 @@ test('an arena file that is too large or not text is refused by name before it i
   await page.setInputFiles('#yaml', { name: 'picture.yaml', mimeType: 'text/yaml', buffer: Buffer.from([0x89, 0x50, 0xff, 0xfe]) });
   await page.waitForFunction(() => document.getElementById('error').textContent.includes('picture.yaml'));
   assert.match(await page.textContent('#error'), /^yaml: picture\.yaml is not UTF-8 text/);
-  await page.waitForTimeout(200);
-  assert.notEqual(await page.evaluate(() => window.secPlayground.env.agent().steps), steps, 'the arena goes on');
+  // The arena goes on.
+  await page.waitForFunction((s) => window.secPlayground.env.agent().steps !== s, steps, { timeout: 60000 });
   assert.deepEqual(problems, []);
 });

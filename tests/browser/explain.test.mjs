@@ -43,16 +43,17 @@ test('the warm-up says why the reactive layer acts, and a decision explains its 
   await page.waitForFunction(() => window.secPlayground.view.ltm >= 5, null, { timeout: 120000, polling: 250 });
   await page.click('#play');
   await page.waitForFunction(() => !window.secPlayground.playing);
+  // Each step waits for its decision's view (which carries its explanation), not for a time.
   let e = null;
+  let layer = null;
   for (let i = 0; i < 400 && !(e?.couplets.length); i++) {
+    const before = await page.evaluate(() => window.secPlayground.view.decisions);
     await page.click('#step-decision');
-    await page.waitForTimeout(15);
-    e = await page.evaluate(() => window.secPlayground.explanation);
+    await page.waitForFunction((b) => window.secPlayground.view.decisions > b, before);
+    ({ e, layer } = await page.evaluate(() => ({ e: window.secPlayground.explanation, layer: window.secPlayground.view.layer })));
   }
   assert.ok(e?.couplets.length, 'memory selected couplets within 400 decisions');
-  await page.waitForTimeout(200);
-  e = await page.evaluate(() => window.secPlayground.explanation);
-  if (await page.evaluate(() => window.secPlayground.view.layer === 'C')) {
+  if (layer === 'C') {
     assert.match(await page.textContent('#policy-caption'), /acted on: the outlined action is drawn from it/);
     assert.ok(!(await page.$eval('.policy', (f) => f.classList.contains('not-acted'))));
   }
@@ -75,45 +76,52 @@ test('at max speed the views keep moving and decisions/s is the true rate', asyn
   const { page } = await open('#task=double-t-maze');
   await maxSpeed(page);
   await page.waitForFunction(() => window.secPlayground.playing);
-  const pixels = () => page.evaluate(() => {
-    const c = document.getElementById('camera');
-    const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
-    let h = 0;
-    for (let i = 0; i < d.length; i += 7) h = (h * 31 + d[i]) | 0;
-    return h;
+  // The camera and the run's decision count sampled inside the page at every animation frame,
+  // so what the test compares is read at the moments the page drew, whatever the machine's load.
+  await page.evaluate(() => {
+    const hash = () => {
+      const c = document.getElementById('camera');
+      const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+      let h = 0;
+      for (let i = 0; i < d.length; i += 7) h = (h * 31 + d[i]) | 0;
+      return h;
+    };
+    window.samples = { hashes: new Set(), counts: [] };
+    const tick = () => {
+      window.samples.hashes.add(hash());
+      window.samples.counts.push({ t: performance.now(), d: window.secPlayground.view.decisions });
+      requestAnimationFrame(tick);
+    };
+    tick();
   });
-  await page.waitForTimeout(1500);
-  // Sampled every 0.5 s for 3 s: one pair of samples can match where the agent stands against a
-  // wall (half the double T-maze's views have an identical view elsewhere), but frozen views
-  // never change at all.
-  const seen = new Set();
-  for (let i = 0; i < 6; i += 1) {
-    seen.add(await pixels());
-    await page.waitForTimeout(500);
-  }
-  assert.ok(seen.size >= 2, `the camera image changed within 3 s at max speed (${seen.size} distinct)`);
-  // The readout against a count of the run's own decisions over the readout's own window (the
-  // page's last 3 s): over another window a machine whose load changes gives another rate.
-  const count = () => page.evaluate(() => ({ t: performance.now(), d: window.secPlayground.view.decisions }));
-  await page.waitForTimeout(2000);
-  const c0 = await count();
-  await page.waitForTimeout(3000);
-  const c1 = await count();
-  const truth = ((c1.d - c0.d) * 1000) / (c1.t - c0.t);
-  const shown = await page.evaluate(() => window.secPlayground.rate);
-  const text = await page.evaluate(() => [...document.querySelectorAll('#status dt')]
-    .find((dt) => dt.textContent === 'decisions/s').nextElementSibling.textContent);
-  assert.equal(text, shown.toFixed(0));
-  assert.ok(Math.abs(shown - truth) <= 0.1 * truth, `readout ${shown} vs ${truth} decisions/s counted`);
-  // A slow speed is right too.
+  // Frozen views never change; moving ones show several distinct images (one pair can match
+  // where the agent faces a wall: views repeat in the double T-maze).
+  await page.waitForFunction(() => window.samples.hashes.size >= 3, null, { timeout: 60000 });
+  // The readout against the run's own decisions counted over the readout's window (its last 3 s),
+  // both read in one evaluation, with its text: over another window, or read a moment apart, a
+  // machine whose load changes gives another rate.
+  await page.waitForFunction(() => {
+    const c = window.samples.counts;
+    return c.length > 10 && c[c.length - 1].t - c[0].t > 5000;
+  }, null, { timeout: 60000 });
+  const r = await page.evaluate(() => {
+    const c = window.samples.counts;
+    const last = c[c.length - 1];
+    const first = c.find((x) => x.t >= last.t - 3000);
+    const text = [...document.querySelectorAll('#status dt')]
+      .find((dt) => dt.textContent === 'decisions/s').nextElementSibling.textContent;
+    return { shown: window.secPlayground.rate, text, truth: ((last.d - first.d) * 1000) / (last.t - first.t) };
+  });
+  assert.equal(r.text, r.shown.toFixed(0));
+  assert.ok(Math.abs(r.shown - r.truth) <= 0.1 * r.truth, `readout ${r.shown} vs ${r.truth} decisions/s counted`);
+  // A slow speed is right too: the readout settles at 10/s once its window holds only the slow
+  // decisions.
   await page.evaluate(() => {
     const s = document.getElementById('speed');
     s.value = '3'; // 10/s
     s.dispatchEvent(new Event('input'));
   });
-  await page.waitForTimeout(4500);
-  const slow = await page.evaluate(() => window.secPlayground.rate);
-  assert.ok(slow > 7 && slow < 13, `at 10/s the readout says ${slow}`);
+  await page.waitForFunction(() => window.secPlayground.rate > 7 && window.secPlayground.rate < 13, null, { timeout: 60000 });
 });
 
 test('on a phone-sized screen nothing is wider than the screen and the camera comes first', async () => {
@@ -162,8 +170,7 @@ test('opened from disk, the page says how to serve it', async () => {
   assert.match(await page.textContent('#file-note'), /http\.server/);
   // A course page opened from disk: its element cannot start and shows the text inside its tag.
   await page.goto(new URL('../../www/examples/course.html', import.meta.url).href);
-  await page.waitForTimeout(500);
-  assert.ok(await page.isVisible('#sec .sec-fallback'));
+  await page.waitForSelector('#sec .sec-fallback', { state: 'visible' });
   assert.match(await page.textContent('#sec .sec-fallback'), /http\.server/);
 });
 

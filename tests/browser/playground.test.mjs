@@ -4,7 +4,7 @@
 // force, and pause stops the run. Screenshots go to test-artifacts/.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { ARTIFACTS, launch, colours } from './harness.mjs';
+import { ARTIFACTS, launch, colours, until } from './harness.mjs';
 
 let server, browser, base;
 const problems = [];
@@ -77,7 +77,8 @@ test('the page loads, plays, draws its views and fills the reward chart', async 
   await page.waitForFunction(() => window.secPlayground.points >= 2, null, { timeout: 30000 });
   const view = await page.evaluate(() => window.secPlayground.view);
   // The share of contextual actions (0 while memory is empty) keeps its 0-1 axis.
-  await page.waitForTimeout(400); // the charts redraw a few times a second
+  // The charts redraw a few times a second: wait for the redraw that holds the episodes.
+  await page.waitForFunction(() => window.secPlayground.chartRanges.decisions[1] > 1, null, { timeout: 30000 });
   const ranges = await page.evaluate(() => window.secPlayground.chartRanges);
   assert.deepEqual(ranges.contextual, [0, 1]);
   assert.ok(ranges.decisions[1] > 1 && ranges.decisions[0] === 0, JSON.stringify(ranges));
@@ -100,9 +101,8 @@ test('moving the alpha control changes the hash and marks the charts', async () 
   assert.equal(await page.inputValue('#p-alpha'), '0.2');
   await page.waitForFunction(() => window.secPlayground.marks.length === 1);
   assert.match(await page.textContent('#notice'), /Applied live: α=0\.2/);
-  // The chart redraws within 100 ms and shows the mark.
-  await page.waitForTimeout(300);
-  assert.ok(await markerPixels(page, 'reward') > 20, 'the change is drawn on the reward chart');
+  // The chart redraws and shows the mark.
+  await until(async () => (await markerPixels(page, 'reward')) > 20, 'the change drawn on the reward chart');
   // A live change keeps the run: no reset of the episode count.
   assert.ok(await page.evaluate(() => window.secPlayground.points) >= 1);
   // A change that needs a new run says so and restarts it.
@@ -196,8 +196,8 @@ test('pause stops the run, step advances it by one decision, a hidden tab pauses
   const page = await open('#task=object-permanence');
   await page.waitForFunction(() => window.secPlayground.points >= 1, null, { timeout: 30000 });
   await page.click('#play');
+  // Paused once the worker says so: the views it sent before arrive before that message.
   await page.waitForFunction(() => !window.secPlayground.playing);
-  await page.waitForTimeout(200);
   const before = await page.evaluate(() => [window.secPlayground.points, window.secPlayground.view.step]);
   await page.waitForTimeout(1500);
   const after = await page.evaluate(() => [window.secPlayground.points, window.secPlayground.view.step]);

@@ -10,7 +10,7 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { gunzipSync } from 'node:zlib';
 import { fileURLToPath } from 'node:url';
-import { ARTIFACTS, launch } from './harness.mjs';
+import { ARTIFACTS, launch, until as waitUntil } from './harness.mjs';
 import { serve } from '../../scripts/serve.mjs';
 
 let server, browser, base;
@@ -102,10 +102,12 @@ test('compare mode: a preset starts its runs; two configurations draw two series
     assert.ok(short.split(/\s+/).length <= 60 && short.length > 20, short);
     assert.ok((await c()).caption.length > short.length);
     // The x axis follows the live runs (within a factor 2), not the reference runs' thousands.
-    await page.waitForFunction(() => window.secPlayground.compare.drawn.live >= 3, null, { timeout: 120000, polling: 500 });
-    await page.waitForTimeout(300);
+    // Read in one evaluation with the live count it follows (the two change between redraws).
+    await page.waitForFunction(() => {
+      const d = window.secPlayground.compare.drawn;
+      return d.live >= 3 && d.x[1] >= d.live - 1 && d.x[1] <= Math.max(20, 2 * d.live);
+    }, null, { timeout: 120000, polling: 500 });
     let d = (await c()).drawn;
-    assert.ok(d.x[1] >= d.live - 1 && d.x[1] <= Math.max(20, 2 * d.live), JSON.stringify(d));
     assert.ok(d.episodes >= 1000, 'the reference runs are longer');
     // "The reference runs' full length" shows them all.
     await page.click('#compare-full');
@@ -257,11 +259,11 @@ test('driving: arrow keys move the agent, and a recorded rewarded episode raises
   await page.waitForFunction(() => window.secPlayground.episodes === 0 && window.secPlayground.view.step < 8);
   const at = () => page.evaluate(() => ({ x: window.secPlayground.view.x, z: window.secPlayground.view.z }));
   const p0 = await at();
+  // Held until the agent has moved (however slowly a loaded machine plays), then let go.
   await page.keyboard.down('ArrowUp');
-  await page.waitForTimeout(1200);
+  await page.waitForFunction((p) => Math.hypot(window.secPlayground.view.x - p.x, window.secPlayground.view.z - p.z) > 0.5,
+    p0, { timeout: 60000 });
   await page.keyboard.up('ArrowUp');
-  const p1 = await at();
-  assert.ok(Math.hypot(p1.x - p0.x, p1.z - p0.z) > 0.5, `the agent moved from ${JSON.stringify(p0)} to ${JSON.stringify(p1)}`);
   assert.equal(await page.evaluate(() => window.secPlayground.view.layer), 'H');
   // Steer to the small goal at (20, 25): the episode ends rewarded, driven, with one sequence stored.
   const rewarded = () => page.evaluate(() => window.secPlayground.log.some((m) => m.human && m.goal));
@@ -299,25 +301,36 @@ test('the drive pad moves the agent by touch, and stops when the finger lifts', 
   // A fresh run, driven from its start.
   await page.tap('#reset');
   await page.waitForFunction(() => window.secPlayground.episodes === 0 && window.secPlayground.view.step < 8);
-  await page.waitForTimeout(100); // the notice above has moved the pad down
+  // The notice above moves the pad down: wait until the pad stays put between two frames.
+  await page.waitForFunction(() => {
+    const top = document.querySelector('#drive-pad button[data-action="3"]').getBoundingClientRect().top;
+    const still = top === window.padTop;
+    window.padTop = top;
+    return still;
+  }, null, { polling: 'raf' });
   const box = await page.locator('#drive-pad button[data-action="3"]').boundingBox();
   const point = { x: box.x + box.width / 2, y: box.y + box.height / 2 };
   const p0 = await at();
   await touch.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: [point] });
-  await page.waitForTimeout(700);
-  assert.equal(await page.evaluate(() => window.secPlayground.view.layer), 'H', 'the person acts');
-  assert.equal(await page.evaluate(() => window.secPlayground.view.action), 3, 'forward, the held button');
+  // Held until the person's forward has moved the agent (a condition: a loaded machine is slow).
+  await page.waitForFunction((p) => {
+    const v = window.secPlayground.view;
+    return v.layer === 'H' && v.action === 3 && Math.hypot(v.x - p.x, v.z - p.z) > 0.5;
+  }, p0, { timeout: 60000 });
   await touch.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
   const p1 = await at();
   assert.equal(p1.episode, p0.episode);
-  assert.ok(Math.hypot(p1.x - p0.x, p1.z - p0.z) > 0.5, `the agent moved forward: ${JSON.stringify(p0)} to ${JSON.stringify(p1)}`);
   // Let go: the person's action is "stand still" (0) again, and the agent coasts to a stop.
   await page.waitForFunction(() => window.secPlayground.view.action === 0 && window.secPlayground.view.layer === 'H');
-  await page.waitForTimeout(1000);
-  const p2 = await at();
-  await page.waitForTimeout(500);
-  const p3 = await at();
-  assert.ok(p3.episode !== p2.episode || Math.hypot(p3.x - p2.x, p3.z - p2.z) < 0.05, `the agent stopped: ${JSON.stringify(p2)} to ${JSON.stringify(p3)}`);
+  // It comes to a stop: two positions 40 decisions apart (the run's own clock, not the wall's)
+  // within 0.05 of each other.
+  await waitUntil(async () => {
+    const p2 = await at();
+    const d2 = await page.evaluate(() => window.secPlayground.view.decisions);
+    await page.waitForFunction((d) => window.secPlayground.view.decisions >= d + 40, d2, { timeout: 60000 });
+    const p3 = await at();
+    return p3.episode !== p2.episode || Math.hypot(p3.x - p2.x, p3.z - p2.z) < 0.05;
+  }, 'the agent to stop', 120000);
   assert.deepEqual(problems, []);
 });
 

@@ -55,6 +55,32 @@ fn network_from(net: NatureCnn, bytes: ByteBuf, what: &str) -> Result<NatureCnn,
     net.try_load_record(record).map_err(|e| format!("{what}: {e}"))
 }
 
+/// Counters a checkpoint may claim: far beyond any run, far below where `+= 1` overflows.
+const MAX_COUNT: u64 = 1 << 50;
+
+/// Every float of a burnpack buffer (a network's parameters, the optimiser's averages) finite:
+/// a NaN weight would load and turn every Q value into NaN.
+fn finite_pack(bytes: &[u8], what: &str) -> Result<(), String> {
+    let reader =
+        burn_pack::Reader::from_bytes(Bytes::from_bytes_vec(bytes.to_vec())).map_err(|e| format!("{what}: {e}"))?;
+    for t in reader.into_tensors().map_err(|e| format!("{what}: {e}"))? {
+        let data = t.to_bytes().map_err(|e| format!("{what}: {e}"))?;
+        let finite = match t.dtype {
+            burn_pack::DType::F32 => {
+                data.chunks_exact(4).all(|c| f32::from_le_bytes(c.try_into().unwrap()).is_finite())
+            }
+            burn_pack::DType::F64 => {
+                data.chunks_exact(8).all(|c| f64::from_le_bytes(c.try_into().unwrap()).is_finite())
+            }
+            _ => true,
+        };
+        if !finite {
+            return Err(format!("{what}: tensor {} holds a value that is not a finite number", t.name));
+        }
+    }
+    Ok(())
+}
+
 pub(crate) fn save(dqn: &Dqn, out: &mut dyn Write) -> Result<(), String> {
     let memory = match &dqn.memory {
         Memory::Replay(r) => MemoryOut::Replay(r),
@@ -94,6 +120,14 @@ pub(crate) fn load(dqn: &mut Dqn, input: &mut dyn Read) -> Result<(), String> {
                 Some((s, e)) => Some((s.into_vec(), e)),
                 None => None,
             };
+            if episodes > MAX_COUNT {
+                return Err(format!("erlam.episodes: {episodes} is out of range 0..={MAX_COUNT}"));
+            }
+            if let Some((_, e)) = &a.state {
+                if let Some(v) = e.iter().find(|v| !v.is_finite()) {
+                    return Err(format!("erlam.start: its embedding holds {v}, not a finite number"));
+                }
+            }
             a.episodes = episodes;
         }
         _ => return Err("the checkpoint is of the other agent (dqn or erlam)".into()),
@@ -103,15 +137,36 @@ pub(crate) fn load(dqn: &mut Dqn, input: &mut dyn Read) -> Result<(), String> {
     if !(low..=high).contains(&epsilon) {
         return Err(format!("epsilon: {epsilon} is out of range {low}..={high}"));
     }
-    if !pending.is_finite() || !entropy.is_finite() {
-        return Err("the pending reward or the entropy is not sound".into());
+    if !pending.is_finite() {
+        return Err(format!("pending: {pending} is not a finite number"));
     }
+    if !(entropy.is_finite() && (0.0..=(sec_playground::arena::Action::COUNT as f64).log2() + 1e-9).contains(&entropy))
+    {
+        return Err(format!("entropy: {entropy} is out of range [0, log2 9]"));
+    }
+    if progress.decisions > MAX_COUNT {
+        return Err(format!("decisions: {} is out of range 0..={MAX_COUNT}", progress.decisions));
+    }
+    finite_pack(&online, "online network")?;
+    finite_pack(&target, "target network")?;
+    finite_pack(&optimiser, "optimiser")?;
     dqn.net = Some(network_from(dqn.network().clone(), online, "online network")?);
     dqn.target = network_from(dqn.target.clone(), target, "target network")?;
-    dqn.optim = optimiser_config()
+    let optim = optimiser_config()
         .init()
-        .from_bytes(Bytes::from_bytes_vec(optimiser.into_vec()))
+        .from_bytes(Bytes::from_bytes_vec(optimiser.to_vec()))
         .map_err(|e| format!("optimiser: {e}"))?;
+    // burn skips a parameter whose state it cannot rebuild (re-initialising it at the next step):
+    // a state that does not load whole would make another run, so it must write back the same.
+    let names = |b: Vec<u8>| -> Result<Vec<String>, String> {
+        let reader = burn_pack::Reader::from_bytes(Bytes::from_bytes_vec(b)).map_err(|e| format!("optimiser: {e}"))?;
+        Ok(reader.tensor_names().into_iter().map(str::to_string).collect())
+    };
+    let written = optim.into_bytes().map_err(|e| format!("optimiser: {e}"))?.to_vec();
+    if names(written)? != names(optimiser.into_vec())? {
+        return Err("optimiser: the state does not load whole (a parameter's averages are missing or foreign)".into());
+    }
+    dqn.optim = optim;
     dqn.progress = progress;
     Ok(())
 }

@@ -21,6 +21,9 @@ use sec_playground::encoder::EMBEDDING;
 use sec_playground::memory::ACTIONS;
 use std::collections::{BTreeMap, HashMap};
 
+/// The most sweeps one propagation makes (it stops there if it has not converged).
+const MAX_SWEEPS: usize = 100_000;
+
 /// What a node's links are keyed by: the action that led to the next node, or (after an
 /// eviction re-keyed them, as the authors' code does) that node's id.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -156,10 +159,32 @@ impl Graph {
                 self.cfg.nodes
             ));
         }
+        // Counters that `+= 1` must never overflow: far beyond any run.
+        const MAX_COUNT: u64 = 1 << 50;
+        if self.next_id > MAX_COUNT || self.stamp > MAX_COUNT {
+            return Err(format!(
+                "graph: next id {} or stamp {} is out of range 0..={MAX_COUNT}",
+                self.next_id, self.stamp
+            ));
+        }
+        if self.last_sweeps > MAX_SWEEPS {
+            return Err(format!("graph: last sweeps {} is out of range 0..={MAX_SWEEPS}", self.last_sweeps));
+        }
         for id in &self.order {
             let node = self.nodes.get(id).ok_or_else(|| format!("graph: node {id} is listed but not stored"))?;
+            let links = node.next.iter().all(|(k, &n)| {
+                n < self.next_id
+                    && match *k {
+                        LinkKey::Action(a) => (a as usize) < ACTIONS,
+                        LinkKey::Node(m) => m < self.next_id,
+                    }
+            });
+            if !links {
+                return Err(format!("graph: node {id} links to a node or by an action that never was"));
+            }
             let sound = node.id == *id
                 && *id < self.next_id
+                && node.t <= u32::MAX as usize
                 && (node.action as usize) < ACTIONS
                 && node.state.len() == frame_len
                 && node.next_state.len() == frame_len
@@ -366,7 +391,7 @@ impl Graph {
                 }
             }
             self.last_sweeps += 1;
-            if change <= self.cfg.converge || self.last_sweeps >= 100_000 {
+            if change <= self.cfg.converge || self.last_sweeps >= MAX_SWEEPS {
                 break;
             }
         }

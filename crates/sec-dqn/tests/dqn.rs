@@ -8,6 +8,7 @@ use sec_dqn::replay::{Meta, Replay};
 use sec_dqn::{factory, Dqn};
 use sec_playground::agent::controller::{Controller, Step};
 use sec_playground::agent::dqn::DqnConfig;
+use sec_playground::experiment::checkpoint::ResumeCheck;
 use sec_playground::experiment::{AgentKind, EpisodeMetrics, Run, RunConfig};
 
 fn rng() -> ChaCha8Rng {
@@ -298,7 +299,8 @@ fn resumed_equals_uninterrupted(cfg: RunConfig, seed: u64, before: usize, after:
     let mut bytes = Vec::new();
     first.save_checkpoint(&mut bytes).unwrap();
     drop(first);
-    let mut resumed = Run::resume(cfg, seed, Some(factory), &mut bytes.as_slice()).unwrap();
+    let mut resumed =
+        Run::resume(cfg, seed, Some(factory), &mut bytes.as_slice(), &ResumeCheck::at_most(1000)).unwrap();
     got.extend(play(&mut resumed, after));
     assert_eq!(got, expected);
     bytes
@@ -329,9 +331,10 @@ fn a_dqn_run_resumed_from_a_checkpoint_plays_as_if_never_interrupted() {
     let bytes = resumed_equals_uninterrupted(cfg.clone(), 3, 2, 3);
     // A checkpoint is refused by a run of another agent, and a truncated one by its checksum.
     let erlam = RunConfig { kind: AgentKind::Erlam, ..cfg.clone() };
-    let e = Run::resume(erlam, 3, Some(factory), &mut bytes.as_slice()).err().unwrap();
+    let e = Run::resume(erlam, 3, Some(factory), &mut bytes.as_slice(), &ResumeCheck::at_most(1000)).err().unwrap();
     assert_eq!(e.field(), "config");
-    let e = Run::resume(cfg, 3, Some(factory), &mut &bytes[..bytes.len() / 2]).err().unwrap();
+    let e =
+        Run::resume(cfg, 3, Some(factory), &mut &bytes[..bytes.len() / 2], &ResumeCheck::at_most(1000)).err().unwrap();
     assert_eq!(e.field(), "checksum");
 }
 
@@ -387,4 +390,138 @@ fn the_census_finds_a_goal_merged_with_a_later_state_and_the_inflated_values_it_
     let c = g.census();
     assert_eq!(c.rewarded_linked, 1, "the goal's node is linked on all the same");
     assert_eq!(c.values, [0.0, 0.5, 1.0], "but keeps its reward: B leads to 1, A to 0.5");
+}
+
+/// A run checkpoint's parts: everything before the agent's state, the agent's CBOR state.
+fn split_checkpoint(b: &[u8]) -> (Vec<u8>, ciborium::Value) {
+    let hlen = u32::from_le_bytes(b[8..12].try_into().unwrap()) as usize;
+    let gate = 12 + hlen;
+    let state = gate + 8 + u64::from_le_bytes(b[gate..gate + 8].try_into().unwrap()) as usize;
+    let value = ciborium::from_reader(&b[state..b.len() - 8]).unwrap();
+    (b[..state].to_vec(), value)
+}
+
+/// `head` and `state` as a checkpoint, its checksum computed.
+fn sealed(head: &[u8], state: &ciborium::Value) -> Vec<u8> {
+    let mut b = head.to_vec();
+    ciborium::into_writer(state, &mut b).unwrap();
+    let sum = sec_playground::render::fnv1a(&b);
+    b.extend_from_slice(&sum.to_le_bytes());
+    b
+}
+
+/// Every leaf of `v` as (path, the leaf with indices and map keys written `*`): the format's
+/// fields, each once however many entries hold it.
+fn leaves(v: &ciborium::Value, path: &mut Vec<String>, out: &mut Vec<(Vec<String>, String)>) {
+    use ciborium::Value;
+    let pattern = |p: &[String]| {
+        p.iter().map(|s| if s.starts_with('#') { "*" } else { s.as_str() }).collect::<Vec<_>>().join(".")
+    };
+    match v {
+        Value::Array(items) => {
+            for (i, item) in items.iter().enumerate() {
+                path.push(format!("#{i}"));
+                leaves(item, path, out);
+                path.pop();
+            }
+        }
+        Value::Map(entries) => {
+            for (i, (k, item)) in entries.iter().enumerate() {
+                path.push(match k {
+                    Value::Text(t) => t.clone(),
+                    _ => format!("#{i}"),
+                });
+                leaves(item, path, out);
+                path.pop();
+            }
+        }
+        _ => {
+            if !out.iter().any(|(_, p)| *p == pattern(path)) {
+                out.push((path.clone(), pattern(path)));
+            }
+        }
+    }
+}
+
+/// The leaf at `path` (map entries by key text, or by position where `#i`).
+fn leaf_mut<'a>(v: &'a mut ciborium::Value, path: &[String]) -> &'a mut ciborium::Value {
+    use ciborium::Value;
+    let Some((first, rest)) = path.split_first() else { return v };
+    let index = first.strip_prefix('#').map(|i| i.parse::<usize>().unwrap());
+    match v {
+        Value::Array(items) => leaf_mut(&mut items[index.unwrap()], rest),
+        Value::Map(entries) => {
+            let at = match index {
+                Some(i) => i,
+                None => entries.iter().position(|(k, _)| matches!(k, Value::Text(t) if t == first)).unwrap(),
+            };
+            leaf_mut(&mut entries[at].1, rest)
+        }
+        _ => panic!("no leaf at {path:?}"),
+    }
+}
+
+/// A value no run writes there: NaN for a number with a fraction, the largest integer, an empty
+/// byte string (a frame or a network of no bytes), an unknown name; `None` for a boolean (both
+/// values are legal).
+fn poison(v: &ciborium::Value) -> Option<ciborium::Value> {
+    use ciborium::Value;
+    match v {
+        Value::Float(_) => Some(Value::Float(f64::NAN)),
+        Value::Integer(_) => Some(Value::Integer(u64::MAX.into())),
+        Value::Bytes(_) => Some(Value::Bytes(Vec::new())),
+        Value::Text(_) => Some(Value::Text("?".into())),
+        Value::Null => Some(Value::Integer(7.into())),
+        Value::Bool(_) => None,
+        other => panic!("an unexpected leaf {other:?}"),
+    }
+}
+
+/// Every field of DQN's and ERLAM's checkpoint state, poisoned in turn, is refused: the walk goes
+/// over the CBOR the agent writes, so a field added to it is poisoned too, and a field without a
+/// check behind it fails this test. The networks' and optimiser's bytes get a NaN in their last
+/// tensor value as well.
+#[test]
+fn every_field_of_dqns_and_erlams_checkpoints_is_checked() {
+    for kind in [AgentKind::Dqn, AgentKind::Erlam] {
+        let cfg = RunConfig {
+            task: "object-permanence".into(),
+            kind,
+            t: Some(100),
+            dqn: short_dqn(),
+            erlam: ErlamConfig { propagate_every: 2, nodes: 40, ..ErlamConfig::default() },
+            ..RunConfig::default()
+        };
+        let mut run = Run::with_agents(cfg.clone(), 4, Some(factory)).unwrap();
+        let log: String = (0..3).map(|_| run.episode().to_json() + "\n").collect();
+        let mut bytes = Vec::new();
+        run.save_checkpoint(&mut bytes).unwrap();
+        let check = ResumeCheck { max_episodes: 3, log: Some(&log), legacy: false };
+        let resume =
+            |b: &[u8]| Run::resume(cfg.clone(), 4, Some(factory), &mut &b[..], &check).err().map(|e| e.to_string());
+        assert_eq!(resume(&bytes), None, "{kind:?}: the file itself loads");
+        let (head, state) = split_checkpoint(&bytes);
+        let mut fields = Vec::new();
+        leaves(&state, &mut Vec::new(), &mut fields);
+        let mut checked = 0;
+        for (path, pattern) in &fields {
+            let mut edited = state.clone();
+            let leaf = leaf_mut(&mut edited, path);
+            let Some(bad) = poison(leaf) else { continue };
+            *leaf = bad;
+            let err = resume(&sealed(&head, &edited)).unwrap_or_else(|| panic!("{kind:?} {pattern}: resumed"));
+            assert!(err.contains("agent"), "{kind:?} {pattern}: {err}");
+            checked += 1;
+        }
+        for net in ["online", "target", "optimiser"] {
+            let mut edited = state.clone();
+            let ciborium::Value::Bytes(b) = leaf_mut(&mut edited, &[net.to_string()]) else { panic!("{net}") };
+            let n = b.len();
+            b[n - 4..].copy_from_slice(&f32::NAN.to_le_bytes());
+            let err = resume(&sealed(&head, &edited)).unwrap_or_else(|| panic!("{kind:?} {net} NaN: resumed"));
+            assert!(err.contains(net), "{kind:?} {net}: {err}");
+        }
+        assert!(checked >= 12, "{kind:?}: {checked} fields");
+        eprintln!("{kind:?}: {checked} fields of {} poisoned and refused", fields.len());
+    }
 }

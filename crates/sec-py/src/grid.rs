@@ -44,9 +44,11 @@ pub fn grid_prepare(experiment: &str, seeds: &str, episodes: usize, out: PathBuf
 
 /// Makes one run of the grid under `out/EXPERIMENT` (what `sec-experiment run` would write for it:
 /// the log, its manifest), resuming from the checkpoint an interrupted run left and doing nothing
-/// when the run is finished; returns whether it played. The GIL is released while it plays.
+/// when the run is finished (from one of an earlier format only with `legacy_checkpoint`; else
+/// it starts again); returns whether it played. The GIL is released while it plays.
 #[pyfunction]
-#[pyo3(signature = (experiment, condition, seed, episodes, out, checkpoint_every=runner::CHECKPOINT_EVERY))]
+#[pyo3(signature = (experiment, condition, seed, episodes, out, checkpoint_every=runner::CHECKPOINT_EVERY, legacy_checkpoint=false))]
+#[allow(clippy::too_many_arguments)] // Python's keyword arguments, one each
 pub fn grid_run(
     py: Python<'_>,
     experiment: &str,
@@ -55,6 +57,7 @@ pub fn grid_run(
     episodes: usize,
     out: PathBuf,
     checkpoint_every: usize,
+    legacy_checkpoint: bool,
 ) -> PyResult<bool> {
     let c = conditions(experiment, Some(condition))?.into_iter().next().expect("select keeps at least one");
     if c.name != condition {
@@ -67,7 +70,7 @@ pub fn grid_run(
             runner::MAX_EPISODES
         )));
     }
-    let job = Job { condition: c.name, config: c.config, seed, agents: None };
+    let job = Job { condition: c.name, config: c.config, seed, agents: None, legacy_checkpoint };
     let dir = out.join(experiment);
     py.detach(|| runner::run_one(&job, &dir, episodes, checkpoint_every)).map_err(value_error)
 }

@@ -15,6 +15,7 @@ use sec_playground::arena::{
     Action, ConfigError, Env, EnvConfig, StepOutcome, Task, FRAMES_PER_STEP, FRAME_DT, TASK_NAMES,
 };
 use sec_playground::encoder::{Perception, PerceptionKind, Scratch, EMBEDDING, IMAGE};
+use sec_playground::experiment::checkpoint::ResumeCheck;
 use sec_playground::experiment::RunConfig;
 use sec_playground::render::{Frame, Surface, Trail};
 use sec_playground::seed::MAX_SEED;
@@ -490,10 +491,10 @@ impl PyRun {
             .map_err(value_error)
     }
 
-    /// Applies a configuration (JSON): "live" or "restart" (see `Session::configure`).
-    fn configure(&self, config: &str) -> PyResult<&'static str> {
-        let cfg = RunConfig::from_json(config).map_err(value_error)?;
-        Ok(self.session().configure(cfg).map_err(value_error)?.as_str())
+    /// Applies a partial change (JSON naming only the fields to change; `Session::configure_patch`):
+    /// `{"applied": "live" | "restart", "changed": [{"field", "from", "to", "live"}]}` as JSON.
+    fn configure(&self, config: &str) -> PyResult<String> {
+        Ok(json(&self.session().configure_patch(config).map_err(value_error)?))
     }
 
     /// The last decision and the run's state (the page's `DecisionView`), as JSON.
@@ -511,22 +512,37 @@ impl PyRun {
         json(self.session().config())
     }
 
-    /// The run as checkpoint bytes (`Run::save_checkpoint`) and its decisions so far; refused in
-    /// the middle of an episode and for agents that do not checkpoint (MFEC, the reactive walk).
-    fn checkpoint<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, pyo3::types::PyBytes>, u64)> {
+    /// The run as checkpoint bytes (`Run::save_checkpoint`), its decisions and its episodes so
+    /// far; refused in the middle of an episode and for agents that do not checkpoint (MFEC, the
+    /// reactive walk).
+    fn checkpoint<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, pyo3::types::PyBytes>, u64, u64)> {
         let session = self.session();
         let mut bytes = Vec::new();
         session.run().save_checkpoint(&mut bytes).map_err(value_error)?;
-        Ok((pyo3::types::PyBytes::new(py, &bytes), session.decisions()))
+        Ok((pyo3::types::PyBytes::new(py, &bytes), session.decisions(), session.run().env().episode()))
     }
 
-    /// The run of `config` and `seed` brought to `checkpoint` (from `checkpoint`); a checkpoint of
-    /// another configuration or seed, or a corrupt one, is refused.
+    /// The run of `config` and `seed` brought to `checkpoint` (from `checkpoint`), which may
+    /// claim at most `max_episodes` (the caller's count, never the file's); with `log` (the
+    /// episodes' JSON lines) the log's head must be the one the checkpoint continues. A checkpoint
+    /// of another configuration or seed, a corrupt one, or one of an earlier format unless
+    /// `allow_legacy`, is refused.
     #[staticmethod]
-    fn resume(config: &str, seed: u64, checkpoint: &[u8], decisions: u64) -> PyResult<Self> {
+    #[pyo3(signature = (config, seed, checkpoint, decisions, max_episodes, log=None, allow_legacy=false))]
+    fn resume(
+        config: &str,
+        seed: u64,
+        checkpoint: &[u8],
+        decisions: u64,
+        max_episodes: u64,
+        log: Option<&str>,
+        allow_legacy: bool,
+    ) -> PyResult<Self> {
         check_seed(seed)?;
         let cfg = RunConfig::from_json(config).map_err(value_error)?;
-        let session = Session::resume(cfg, seed, None, &mut Cursor::new(checkpoint), decisions).map_err(value_error)?;
+        let check = ResumeCheck { max_episodes, log, legacy: allow_legacy };
+        let session =
+            Session::resume(cfg, seed, None, &mut Cursor::new(checkpoint), &check, decisions).map_err(value_error)?;
         Ok(PyRun { session: Mutex::new(session) })
     }
 }
@@ -552,15 +568,9 @@ impl PyEncoder {
     }
 
     /// The embedding of one camera frame (84x84x3 bytes): 20 floats.
-    fn encode<'py>(
-        &mut self,
-        py: Python<'py>,
-        frame: PyReadonlyArray3<'py, u8>,
-    ) -> PyResult<Bound<'py, PyArray1<f32>>> {
+    fn encode<'py>(&mut self, py: Python<'py>, frame: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f32>>> {
+        let frame = frame_of(frame)?;
         let bytes = frame.as_array();
-        if bytes.shape() != [SIDE, SIDE, 3] {
-            return Err(value_error(format!("frame: shape {:?} is not (84, 84, 3)", bytes.shape())));
-        }
         let image: Vec<f32> = bytes.iter().map(|&b| b as f32 / 255.0).collect();
         let mut e = [0.0f32; EMBEDDING];
         self.perception.embed(&image, &mut self.scratch, &mut e);
@@ -568,13 +578,35 @@ impl PyEncoder {
     }
 }
 
+/// A camera frame: a uint8 array of shape (84, 84, 3); anything else is refused naming what it
+/// is (its dtype and shape, or its type), not with numpy's "type mismatch".
+fn frame_of<'py>(obj: &Bound<'py, PyAny>) -> PyResult<PyReadonlyArray3<'py, u8>> {
+    let what = || match (obj.getattr("dtype"), obj.getattr("shape")) {
+        (Ok(dtype), Ok(shape)) => format!("an array of {dtype} and shape {shape}"),
+        _ => format!("a {}", obj.get_type().name().map(|n| n.to_string()).unwrap_or_default()),
+    };
+    let frame = obj
+        .extract::<PyReadonlyArray3<'py, u8>>()
+        .map_err(|_| value_error(format!("frame: {} is not a uint8 array of shape (84, 84, 3)", what())))?;
+    if frame.as_array().shape() != [SIDE, SIDE, 3] {
+        return Err(value_error(format!("frame: {} is not a uint8 array of shape (84, 84, 3)", what())));
+    }
+    Ok(frame)
+}
+
+/// A user's text file (an Animal-AI YAML arena): a regular file of at most
+/// `MAX_TEXT_FILE_BYTES` of UTF-8, else ValueError naming `what` (a named pipe, a device or a
+/// directory is refused before any read).
+#[pyfunction]
+fn read_text_file(path: std::path::PathBuf, what: &str) -> PyResult<String> {
+    sec_playground::util::read_text_file(&path, what).map_err(value_error)
+}
+
 /// The fingerprint the golden traces hold of a frame: FNV-1a over its RGBA bytes (alpha 255).
 #[pyfunction]
-fn fingerprint(frame: PyReadonlyArray3<'_, u8>) -> PyResult<u64> {
+fn fingerprint(frame: &Bound<'_, PyAny>) -> PyResult<u64> {
+    let frame = frame_of(frame)?;
     let bytes = frame.as_array();
-    if bytes.shape() != [SIDE, SIDE, 3] {
-        return Err(value_error(format!("frame: shape {:?} is not (84, 84, 3)", bytes.shape())));
-    }
     let rgb: Vec<u8> = bytes.iter().copied().collect();
     let rgba: Vec<u8> = rgb.chunks_exact(3).flat_map(|p| [p[0], p[1], p[2], 255]).collect();
     Ok(sec_playground::render::fnv1a(&rgba))
@@ -587,6 +619,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyRun>()?;
     m.add_class::<PyEncoder>()?;
     m.add_function(wrap_pyfunction!(fingerprint, m)?)?;
+    m.add_function(wrap_pyfunction!(read_text_file, m)?)?;
     m.add_function(wrap_pyfunction!(grid::grid_conditions, m)?)?;
     m.add_function(wrap_pyfunction!(grid::grid_seeds, m)?)?;
     m.add_function(wrap_pyfunction!(grid::grid_prepare, m)?)?;

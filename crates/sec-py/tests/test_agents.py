@@ -36,7 +36,7 @@ def test_bad_configurations_raise_value_error_by_name():
         ({"agnet": {}}, "agnet"),
         ({"task": "nowhere"}, "task"),
         ({"kind": "dqn"}, "kind"),
-        ({"agent": {"memory": {"beta": float("nan")}}}, "NaN"),
+        ({"agent": {"memory": {"beta": float("nan")}}}, "agent.memory.beta: NaN"),
     ]
     for config, name in cases:
         with pytest.raises(ValueError, match=name):
@@ -89,9 +89,9 @@ def test_a_run_shows_and_explains_its_decisions_as_the_page_does():
     view = run.view()
     assert view["selected"] == len(explained["couplets"]) and len(view["embedding"]) == 20
     assert view["decisions"] >= 500 and view["ltm"] >= 1
-    assert run.configure({"task": "object-permanence", "agent": {"memory": {"tau": 0.5}}}) == "live"
+    assert run.configure({"task": "object-permanence", "agent": {"memory": {"tau": 0.5}}})["applied"] == "live"
     assert run.explain()["tau"] == 0.5
-    assert run.configure({"task": "object-permanence", "agent": {"memory": {"n": 30}}}) == "restart"
+    assert run.configure({"task": "object-permanence", "agent": {"memory": {"n": 30}}})["applied"] == "restart"
     assert run.view()["decisions"] == 0
     with pytest.raises(ValueError, match="tau"):
         run.configure({"agent": {"memory": {"tau": -1}}})

@@ -164,7 +164,7 @@ def test_a_pickled_run_continues_bit_for_bit(kind):
 def test_a_pickled_run_keeps_a_live_change():
     run = Run({"task": "object-permanence"}, seed=4)
     run.episodes(3)
-    assert run.configure({"task": "object-permanence", "agent": {"memory": {"tau": 0.5}}}) == "live"
+    assert run.configure({"task": "object-permanence", "agent": {"memory": {"tau": 0.5}}})["applied"] == "live"
     run.decisions(17)
     copy_ = pickle.loads(pickle.dumps(run))
     assert copy_.config["agent"]["memory"]["tau"] == 0.5

@@ -13,6 +13,7 @@
 use flate2::read::GzDecoder;
 use flate2::write::GzEncoder;
 use indicatif::{ProgressBar, ProgressStyle};
+use sec_playground::experiment::checkpoint::ResumeCheck;
 use sec_playground::experiment::presets::Condition;
 use sec_playground::experiment::{AgentFactory, Run, RunConfig};
 use sec_playground::seed::MAX_SEED;
@@ -58,6 +59,9 @@ pub struct Job {
     pub seed: u64,
     /// The agents a native crate builds (`sec_dqn::factory`), or `None`.
     pub agents: Option<AgentFactory>,
+    /// Whether an interrupted run resumes from a checkpoint of an earlier format (`ResumeCheck::legacy`:
+    /// `--legacy-checkpoint`); otherwise such a run starts again.
+    pub legacy_checkpoint: bool,
 }
 
 /// What an experiment directory holds besides the runs: written by `run`, read by `report`.
@@ -259,7 +263,13 @@ pub fn jobs(
     agents: Option<AgentFactory>,
 ) -> Vec<Job> {
     let all = seeds.iter().flat_map(|&seed| {
-        conditions.iter().map(move |c| Job { condition: c.name.clone(), config: c.config.clone(), seed, agents })
+        conditions.iter().map(move |c| Job {
+            condition: c.name.clone(),
+            config: c.config.clone(),
+            seed,
+            agents,
+            legacy_checkpoint: false,
+        })
     });
     all.enumerate().filter(|(i, _)| i % of == shard - 1).map(|(_, j)| j).collect()
 }
@@ -340,30 +350,21 @@ pub fn checkpoint_path(out: &Path, condition: &str, seed: u64) -> PathBuf {
 /// The run to continue, the episodes it has played and the length in bytes of their lines at
 /// the head of its `.part` file: from the checkpoint an interrupted run left (any lines written
 /// after it are played again), or a fresh run (0, 0).
-fn start(job: &Job, part: &Path, ckpt: &Path) -> Result<(Run, usize, u64), String> {
+fn start(job: &Job, part: &Path, ckpt: &Path, legacy: bool) -> Result<(Run, usize, u64), String> {
     if let (Ok(bytes), Ok(text)) = (fs::read(ckpt), fs::read_to_string(part)) {
-        // The log must hold every episode the checkpoint claims before anything is replayed: a
-        // forged count is refused at once, never replayed. Whole lines only: a last line cut by
-        // the interruption does not count.
-        let claimed = sec_playground::experiment::checkpoint::Header::peek(&bytes).map(|h| h.episodes as usize);
-        let head =
-            |n: usize| -> Vec<&str> { text.split_inclusive('\n').take(n).take_while(|l| l.ends_with('\n')).collect() };
-        match claimed {
-            Ok(played) if head(played).len() == played => {
-                match Run::resume(job.config.clone(), job.seed, job.agents, &mut bytes.as_slice()) {
-                    Ok(run) => {
-                        eprintln!("{}: resumed after episode {played}", ckpt.display());
-                        return Ok((run, played, head(played).iter().map(|l| l.len() as u64).sum()));
-                    }
-                    Err(e) => eprintln!("{}: not resumed ({e}); the run starts again", ckpt.display()),
-                }
+        // The log bounds what the checkpoint may claim, and its head must be the lines the
+        // checkpoint was written after (`ResumeCheck`): a count edited above or below is refused
+        // before anything is replayed. Whole lines only: a last line cut by the interruption
+        // does not count.
+        let whole = text.split_inclusive('\n').take_while(|l| l.ends_with('\n')).count();
+        let check = ResumeCheck { max_episodes: whole as u64, log: Some(&text), legacy };
+        match Run::resume(job.config.clone(), job.seed, job.agents, &mut bytes.as_slice(), &check) {
+            Ok(run) => {
+                let played = run.env().episode() as usize;
+                eprintln!("{}: resumed after episode {played}", ckpt.display());
+                let kept = text.split_inclusive('\n').take(played).map(|l| l.len() as u64).sum();
+                return Ok((run, played, kept));
             }
-            Ok(played) => eprintln!(
-                "{}: not resumed (its log {} holds {} of the checkpoint's {played} episodes); the run starts again",
-                ckpt.display(),
-                part.display(),
-                head(played).len(),
-            ),
             Err(e) => eprintln!("{}: not resumed ({e}); the run starts again", ckpt.display()),
         }
     }
@@ -385,7 +386,7 @@ fn save_checkpoint(run: &Run, ckpt: &Path) -> Result<(), String> {
 fn play(job: &Job, out: &Path, episodes: usize, every: usize, stop: usize, bar: &ProgressBar) -> Result<(), String> {
     let path = run_path(out, &job.condition, job.seed);
     let (part, ckpt) = (path.with_extension("part"), checkpoint_path(out, &job.condition, job.seed));
-    let (mut run, played, kept) = start(job, &part, &ckpt)?;
+    let (mut run, played, kept) = start(job, &part, &ckpt, job.legacy_checkpoint)?;
     let err = |e: std::io::Error| format!("{}: {e}", part.display());
     let file = fs::OpenOptions::new().write(true).create(true).truncate(false).open(&part).map_err(err)?;
     file.set_len(kept).map_err(err)?;
@@ -705,7 +706,13 @@ mod tests {
             dqn,
             ..RunConfig::default()
         };
-        let job = Job { condition: "c/dqn".into(), config, seed: 2, agents: Some(sec_dqn::factory) };
+        let job = Job {
+            condition: "c/dqn".into(),
+            config,
+            seed: 2,
+            agents: Some(sec_dqn::factory),
+            legacy_checkpoint: false,
+        };
         let bar = ProgressBar::hidden();
         let whole = dir("whole");
         run_job(&job, &whole, 6, 0, &bar).unwrap();
@@ -718,17 +725,19 @@ mod tests {
         assert!(ckpt.exists(), "a checkpoint was left");
         let part = run_path(&cut, "c/dqn", 2).with_extension("part");
         assert_eq!(fs::read_to_string(&part).unwrap().lines().count(), 5);
-        // Resumed, the run leaves the lines its checkpoint continues as they are (it neither
-        // plays nor rewrites them): a marked first line survives, where a silent restart
-        // would write it again.
+        // Resumed after the checkpoint's four episodes (the log's head is the one it continues),
+        // not restarted; the fifth line is played again.
+        let (_, played, kept) = start(&job, &part, &ckpt, false).unwrap();
         let text = fs::read_to_string(&part).unwrap();
+        assert_eq!((played, kept as usize), (4, text.split_inclusive('\n').take(4).map(str::len).sum()));
+        // A log whose head was edited is not the one the checkpoint continues: it is not resumed.
         let (first, rest) = text.split_once('\n').unwrap();
-        let marked = first.replacen("{", "{\"mark\":1,", 1);
-        fs::write(&part, format!("{marked}\n{rest}")).unwrap();
+        fs::write(&part, format!("{}\n{rest}", first.replacen("{", "{\"mark\":1,", 1))).unwrap();
+        assert_eq!(start(&job, &part, &ckpt, false).unwrap().1, 0, "an edited log restarts the run");
+        fs::write(&part, &text).unwrap();
         run_job(&job, &cut, 6, 2, &bar).unwrap();
         let log = read_run_text(&run_path(&cut, "c/dqn", 2)).unwrap();
-        assert_eq!(log.lines().next().unwrap(), marked, "resumed, not restarted");
-        assert_eq!(log.replacen("\"mark\":1,", "", 1), expected);
+        assert_eq!(log, expected);
         let mut left: Vec<_> = fs::read_dir(cut.join("c/dqn")).unwrap().map(|e| e.unwrap().file_name()).collect();
         left.sort();
         assert_eq!(
@@ -744,29 +753,36 @@ mod tests {
         run_job(&job, &bad, 6, 2, &bar).unwrap();
         assert_eq!(read_run_text(&run_path(&bad, "c/dqn", 2)).unwrap(), expected);
 
-        // A checkpoint claiming ten million episodes, its checksum recomputed, against a log of
-        // three: refused before any replay (no reset is played), and the run starts again.
-        let forged = dir("forged");
-        play(&job, &forged, 6, 2, 3, &bar).unwrap();
-        let ckpt = checkpoint_path(&forged, "c/dqn", 2);
-        let bytes = fs::read(&ckpt).unwrap();
-        let hlen = u32::from_le_bytes(bytes[8..12].try_into().unwrap()) as usize;
-        let mut h: serde_json::Value = serde_json::from_slice(&bytes[12..12 + hlen]).unwrap();
-        h["episodes"] = 10_000_000.into();
-        let json = serde_json::to_vec(&h).unwrap();
-        let mut out = bytes[..8].to_vec();
-        out.extend_from_slice(&(json.len() as u32).to_le_bytes());
-        out.extend_from_slice(&json);
-        out.extend_from_slice(&bytes[12 + hlen..bytes.len() - 8]);
-        let sum = sec_playground::render::fnv1a(&out);
-        out.extend_from_slice(&sum.to_le_bytes());
-        fs::write(&ckpt, out).unwrap();
-        let part = run_path(&forged, "c/dqn", 2).with_extension("part");
-        let (_, played, kept) = start(&job, &part, &ckpt).unwrap();
-        assert_eq!((played, kept), (0, 0), "not resumed");
-        run_job(&job, &forged, 6, 2, &bar).unwrap();
-        assert_eq!(read_run_text(&run_path(&forged, "c/dqn", 2)).unwrap(), expected);
-        for d in [whole, cut, bad, forged] {
+        // A checkpoint whose claim is edited (its checksum recomputed) against a log of three:
+        // ten million is refused before any replay (no reset is played), one (the state is of
+        // episode two's end) by the log's digest; either way the run starts again.
+        let forge = |name: &str, episodes: u64| {
+            let d = dir(name);
+            play(&job, &d, 6, 2, 3, &bar).unwrap();
+            let ckpt = checkpoint_path(&d, "c/dqn", 2);
+            let bytes = fs::read(&ckpt).unwrap();
+            let hlen = u32::from_le_bytes(bytes[8..12].try_into().unwrap()) as usize;
+            let mut h: serde_json::Value = serde_json::from_slice(&bytes[12..12 + hlen]).unwrap();
+            assert_eq!(h["episodes"], 2);
+            h["episodes"] = episodes.into();
+            let json = serde_json::to_vec(&h).unwrap();
+            let mut out = bytes[..8].to_vec();
+            out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+            out.extend_from_slice(&json);
+            out.extend_from_slice(&bytes[12 + hlen..bytes.len() - 8]);
+            let sum = sec_playground::render::fnv1a(&out);
+            out.extend_from_slice(&sum.to_le_bytes());
+            fs::write(&ckpt, out).unwrap();
+            let part = run_path(&d, "c/dqn", 2).with_extension("part");
+            let (_, played, kept) = start(&job, &part, &ckpt, false).unwrap();
+            assert_eq!((played, kept), (0, 0), "a claim of {episodes}: not resumed");
+            run_job(&job, &d, 6, 2, &bar).unwrap();
+            assert_eq!(read_run_text(&run_path(&d, "c/dqn", 2)).unwrap(), expected);
+            d
+        };
+        let forged = forge("forged", 10_000_000);
+        let below = forge("below", 1);
+        for d in [whole, cut, bad, forged, below] {
             fs::remove_dir_all(d).unwrap();
         }
     }
@@ -782,13 +798,14 @@ mod tests {
             fs::write(d.join("config.json"), serde_json::to_string(c).unwrap()).unwrap();
         };
         let bar = ProgressBar::hidden();
-        let first = Job { condition: "g/a".into(), config: config.clone(), seed: 3, agents: None };
+        let first =
+            Job { condition: "g/a".into(), config: config.clone(), seed: 3, agents: None, legacy_checkpoint: false };
         write_config(&root.join("e1/g/a"), &config);
         run_job(&first, &root.join("e1"), 4, 0, &bar).unwrap();
 
         let same = Job { condition: "h/b".into(), ..first.clone() };
         let other =
-            Job { condition: "h/c".into(), config: RunConfig { t: Some(41), ..config.clone() }, seed: 3, agents: None };
+            Job { config: RunConfig { t: Some(41), ..config.clone() }, condition: "h/c".into(), ..first.clone() };
         let longer = Job { condition: "h/d".into(), ..first.clone() };
         let (e2, e3) = (root.join("e2"), root.join("e3"));
         for (d, c) in [(e2.join("h/b"), &config), (e2.join("h/c"), &other.config), (e3.join("h/b"), &config)] {
@@ -823,7 +840,13 @@ mod tests {
     fn a_longer_run_replaces_a_shorter_log_only_when_it_is_its_head() {
         let out = dir("longer");
         let config = RunConfig { task: "object-permanence".into(), t: Some(40), ..RunConfig::default() };
-        let job = Job { condition: "c/dqn".into(), config, seed: 5, agents: Some(sec_dqn::factory) };
+        let job = Job {
+            condition: "c/dqn".into(),
+            config,
+            seed: 5,
+            agents: Some(sec_dqn::factory),
+            legacy_checkpoint: false,
+        };
         let bar = ProgressBar::hidden();
         run_job(&job, &out, 3, 0, &bar).unwrap();
         let short = read_run_text(&run_path(&out, "c/dqn", 5)).unwrap();
@@ -859,7 +882,13 @@ mod tests {
             let d = root.join(exp).join("g/a");
             fs::create_dir_all(&d).unwrap();
             fs::write(d.join("config.json"), serde_json::to_string(&config).unwrap()).unwrap();
-            let job = Job { condition: "g/a".into(), config: config.clone(), seed: 2, agents: None };
+            let job = Job {
+                condition: "g/a".into(),
+                config: config.clone(),
+                seed: 2,
+                agents: None,
+                legacy_checkpoint: false,
+            };
             run_job(&job, &root.join(exp), n, 0, &bar).unwrap();
         }
         let v = verify(&root).unwrap();

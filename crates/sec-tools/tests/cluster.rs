@@ -156,8 +156,13 @@ fn a_config_file_that_is_endless_or_binary_is_refused_by_name() {
     std::fs::create_dir_all(&dir).unwrap();
     let binary = dir.join("binary.json");
     std::fs::write(&binary, [0x7bu8, 0xff, 0xfe, 0x00]).unwrap();
-    for (path, want) in [("/dev/zero", "is larger than 1048576 bytes"), (binary.to_str().unwrap(), "is not UTF-8 text")]
-    {
+    let large = dir.join("large.json");
+    std::fs::write(&large, vec![b' '; (1 << 20) + 1]).unwrap();
+    for (path, want) in [
+        ("/dev/zero", "/dev/zero is a device, not a regular file"),
+        (large.to_str().unwrap(), "is larger than 1048576 bytes"),
+        (binary.to_str().unwrap(), "is not UTF-8 text"),
+    ] {
         let o = Command::new(BIN).args(["run", "--config", path, "--name", "a/b", "--out"]).arg(&dir).output().unwrap();
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(!o.status.success() && err.contains("--config: ") && err.contains(want), "{path}: {err}");

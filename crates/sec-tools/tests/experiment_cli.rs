@@ -119,6 +119,58 @@ fn bad_input_is_refused_by_name() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A named pipe with no writer, a directory or a device as `--config` is refused by kind before
+/// any read (a pipe blocked `open` itself before); so are the trace's events.
+#[cfg(unix)]
+#[test]
+fn text_inputs_are_regular_files_only() {
+    let dir = temp("fifo");
+    std::fs::create_dir_all(&dir).unwrap();
+    let pipe = dir.join("p");
+    assert!(Command::new("mkfifo").arg(&pipe).status().unwrap().success());
+    let p = pipe.to_str().unwrap();
+    let cfg = dir.join("c.json");
+    std::fs::write(&cfg, r#"{"task": "object-permanence"}"#).unwrap();
+    let c = cfg.to_str().unwrap();
+    let cases: [(&[&str], &str); 5] = [
+        (&["run", "--config", p, "--name", "a/b", "--out", dir.to_str().unwrap()], "a named pipe"),
+        (&["config", "--config", p], "a named pipe"),
+        (&["config", "--config", dir.to_str().unwrap()], "a directory"),
+        (&["config", "--config", "/dev/zero"], "a device"),
+        (&["trace", "--config", c, "--seed", "1", "--events", p], "a named pipe"),
+    ];
+    for (args, kind) in cases {
+        let (ok, _, err) = cli(args);
+        assert!(!ok && err.contains(kind) && err.contains("not a regular file"), "{args:?}: {err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `--set` changes the fields it names; the others keep the file's values (never the defaults),
+/// and `config` says what changed and whether it acts live.
+#[test]
+fn set_changes_only_the_fields_it_names() {
+    let dir = temp("set");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("c.json");
+    std::fs::write(&file, r#"{"task": "object-permanence", "t": 300, "agent": {"memory": {"alpha": 0.05}}}"#).unwrap();
+    let f = file.to_str().unwrap();
+    let (ok, base, err) = cli(&["config", "--config", f]);
+    assert!(ok && err.is_empty(), "{err}");
+    let (ok, out, err) = cli(&["config", "--config", f, "--set", r#"{"agent": {"memory": {"tau": 0.5}}}"#]);
+    assert!(ok, "{err}");
+    let mut expected: serde_json::Value = serde_json::from_str(&base).unwrap();
+    let from = expected["agent"]["memory"]["tau"].clone();
+    expected["agent"]["memory"]["tau"] = 0.5.into();
+    assert_eq!(serde_json::from_str::<serde_json::Value>(&out).unwrap(), expected, "alpha, t and the task kept");
+    assert_eq!(err.trim(), format!("agent.memory.tau: {from} -> 0.5 (live)"));
+    let (_, _, err) = cli(&["config", "--config", f, "--set", r#"{"t": 400}"#]);
+    assert_eq!(err.trim(), "t: 300 -> 400 (needs a restart)");
+    let (ok, _, err) = cli(&["config", "--config", f, "--set", r#"{"agent": {"memory": {"tua": 1}}}"#]);
+    assert!(!ok && err.contains("--set: agent.memory") && err.contains("tua"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn runs_of_parts_of_an_experiment_add_up_in_its_report() {
     let dir = temp("only");

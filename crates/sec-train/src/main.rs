@@ -116,7 +116,8 @@ fn run() -> Result<(), String> {
         return Err("--resume and --init exclude each other: a resumed run starts from its own weights".into());
     }
     let start = if let Some(path) = &init {
-        let bytes = std::fs::read(path).map_err(|e| format!("--init: {}: {e}", path.display()))?;
+        // A weights file is a few hundred KiB; 64 MiB is far beyond any.
+        let bytes = sec_playground::util::read_regular_file(path, "--init", 64 << 20)?;
         let weights = Weights::from_bytes(&bytes)
             .and_then(|w| Autoencoder::from_weights(&w))
             .map_err(|e| format!("--init: {}: {e}", path.display()))?;

@@ -15,6 +15,7 @@ Two limits, each with one meaning in every constructor (`gym.make`, `gym.make_ve
 """
 
 import json
+import os
 import operator
 from typing import Any, Optional
 
@@ -69,17 +70,12 @@ def _optional(name: str, value: Any, lo: int, hi: int) -> Optional[int]:
 
 
 def _read_yaml(yaml_path) -> str:
-    try:
-        with open(yaml_path, "rb") as f:
-            data = f.read(MAX_YAML_BYTES + 1)
-    except OSError as e:
-        raise ValueError(f"yaml_path: {e}") from None
-    if len(data) > MAX_YAML_BYTES:
-        raise ValueError(f"yaml_path: {yaml_path} is larger than {MAX_YAML_BYTES} bytes, the most an arena file may be")
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError as e:
-        raise ValueError(f"yaml_path: {yaml_path} is not UTF-8 text (byte {e.start}): not an Animal-AI YAML file") from None
+    # A path is a str or an os.PathLike: an int would be a file descriptor (0 reads stdin and
+    # blocks; True is 1, which closing would take from the process).
+    if isinstance(yaml_path, (bool, int, np.integer)) or not isinstance(yaml_path, (str, os.PathLike)):
+        raise ValueError(f"yaml_path: {yaml_path!r} is not a path (a str or os.PathLike)")
+    # The core reads it: regular files only (a named pipe is refused before it could block).
+    return _core.read_text_file(os.fspath(yaml_path), "yaml_path")
 
 
 def _arena(task: Optional[str], yaml_path) -> tuple:
@@ -366,6 +362,10 @@ class ArenaVectorEnv(_Pickled, VectorEnv):
             raise ValueError(f"actions: dtype {actions.dtype} is not an integer type")
         if actions.shape != (self.num_envs,):
             raise ValueError(f"actions: shape {actions.shape} is not ({self.num_envs},)")
+        bad = np.flatnonzero((actions < 0) | (actions > 8))
+        if bad.size:
+            i = int(bad[0])
+            raise ValueError(f"actions[{i}]: {int(actions[i])} is out of range 0..=8")
         obs, rewards, terminated, truncated = self._env.step(actions.astype(np.int64))
         return obs, rewards, terminated, truncated, self._infos()
 

@@ -1,6 +1,7 @@
 """SEC and its baselines from Python, with the RunConfig of the CLI and the page."""
 
 import json
+import math
 from typing import Any, Optional
 
 from . import _core
@@ -25,7 +26,7 @@ class Run:
         # What rebuilds the run when its agent does not checkpoint: the first configuration and
         # every call since (a run is a pure function of them), consecutive episodes counted.
         self._first = _config_json(config)
-        self._base = None  # (configuration, checkpoint, decisions) the calls start from, if any
+        self._base = None  # (configuration, checkpoint, decisions, episodes) the calls start from, if any
         self._calls: list = []
 
     @property
@@ -33,19 +34,26 @@ class Run:
         """The configuration with every field filled in."""
         return json.loads(self._run.config())
 
-    def configure(self, config: dict[str, Any]) -> str:
-        """Applies a new configuration: "live" when only live parameters changed (SEC's
-        thresholds, alpha, beta, tau, m, ...; they act from the next decision), else "restart"
-        (a new run with the same seed). A refused value raises ValueError and changes nothing."""
+    def configure(self, config: dict[str, Any]) -> dict[str, Any]:
+        """Changes the fields `config` names (a partial RunConfig: {"agent": {"memory": {"tau":
+        0.5}}}); every field it leaves out keeps its value. Returns {"applied": "live" or
+        "restart", "changed": [{"field", "from", "to", "live"}]}: "live" when only live
+        parameters changed (SEC's thresholds, alpha, beta, tau, m, ...; they act from the next
+        decision), else "restart" (a new run with the same seed); each changed field with its
+        path, old and new values, and whether a change of it alone acts live. A refused value
+        raises ValueError naming it and changes nothing."""
         if not isinstance(config, dict):
-            raise ValueError(f"config: {type(config).__name__} is not a dict (a RunConfig)")
+            raise ValueError(f"config: {type(config).__name__} is not a dict (a partial RunConfig)")
         text = _config_json(config)
-        applied = self._run.configure(text)
+        applied = json.loads(self._run.configure(text))
         self._calls.append(("configure", text))
         return applied
 
     def episode(self) -> dict[str, Any]:
-        """Plays the current episode to its end; its metrics (the runner's JSON line as a dict)."""
+        """Plays the current episode to its end; its metrics (the runner's JSON line as a dict).
+        "rawReward" is the episode's return as a Gymnasium loop sums it: the goal's reward plus
+        the penalty of every env step (-1/t each), so -1.0 for an episode that times out;
+        "reward" is the paper's tables' value, rawReward when positive and 0.0 otherwise."""
         return json.loads(self.episode_json())
 
     def episode_json(self) -> str:
@@ -93,8 +101,8 @@ class Run:
         calls since, replayed on unpickling (a run is a pure function of them). Either way it
         continues bit for bit; only `view()`'s last decision is not kept (none until the next)."""
         try:
-            checkpoint, decisions = self._run.checkpoint()
-            base, calls = (self._run.config(), checkpoint, decisions), []
+            checkpoint, decisions, episodes = self._run.checkpoint()
+            base, calls = (self._run.config(), checkpoint, decisions, episodes), []
         except ValueError:
             base, calls = self._base, list(self._calls)
         return {"seed": self.seed, "first": self._first, "base": base, "calls": calls}
@@ -104,8 +112,8 @@ class Run:
         if self._base is None:
             self._run = _core.Run(self._first, self.seed)
         else:
-            config, checkpoint, decisions = self._base
-            self._run = _core.Run.resume(config, self.seed, checkpoint, decisions)
+            config, checkpoint, decisions, episodes = self._base
+            self._run = _core.Run.resume(config, self.seed, checkpoint, decisions, episodes)
         self._calls = []
         for call, arg in state["calls"]:
             if call == "configure":
@@ -121,9 +129,31 @@ class Run:
 
 
 def _config_json(config: dict[str, Any]) -> str:
-    try:
-        return json.dumps(config, allow_nan=False)
-    except (ValueError, TypeError) as e:
-        raise ValueError(
-            f"config: {e} (values must be numbers, strings, booleans, lists or dicts; no NaN or infinity)"
-        ) from None
+    bad = _not_json(config, "")
+    if bad:
+        raise ValueError(bad)
+    return json.dumps(config, allow_nan=False)
+
+
+def _not_json(value: Any, path: str) -> Optional[str]:
+    """Why `value` (at `path`, dotted) is not a JSON value of a configuration, or None."""
+    where = path or "config"
+    if isinstance(value, dict):
+        for k, v in value.items():
+            if not isinstance(k, str):
+                return f"{where}: key {k!r} is not a string"
+            bad = _not_json(v, f"{path}.{k}" if path else k)
+            if bad:
+                return bad
+        return None
+    if isinstance(value, (list, tuple)):
+        for i, v in enumerate(value):
+            bad = _not_json(v, f"{where}[{i}]")
+            if bad:
+                return bad
+        return None
+    if isinstance(value, float) and not math.isfinite(value):
+        return f"{where}: {'NaN' if math.isnan(value) else value} is not a finite number"
+    if value is None or isinstance(value, (str, bool, int, float)):
+        return None
+    return f"{where}: {value!r} ({type(value).__name__}) is not a number, string, boolean, list or dict"

@@ -41,7 +41,12 @@ use std::process::ExitCode;
 const USAGE: &str = "usage:
   sec-experiment run EXPERIMENT [--seeds N|A..B|A,B,C] [--episodes N] [--jobs N] [--shard i/N] [--out DIR]
                      [--only GROUP/MODEL,GROUP/,...] [--checkpoint-every N] [--reuse yes|no]
-  sec-experiment run --config FILE.json --name GROUP/MODEL [the same options]
+                     [--legacy-checkpoint]
+  sec-experiment run --config FILE.json [--set JSON] --name GROUP/MODEL [the same options]
+  sec-experiment config [--config FILE.json] [--set JSON]   (the whole configuration they make, on
+                         standard output; each field --set changed, and whether it acts live, on
+                         standard error. --set '{\"agent\": {\"memory\": {\"tau\": 0.5}}}' changes only
+                         the fields it names; record, trace and run --config take it too)
   sec-experiment report EXPERIMENT [--out DIR] [--to DIR] [--quote PAGE.md] [--partial]
   sec-experiment orderings [--out DIR] [--trained DIR] [--authors DIR] [--to DIR] [--quote PAGE.md] [--partial]
   sec-experiment matching [--out DIR] [--frames N] [--seeds N|A..B|A,B,C] [--quote PAGE.md]
@@ -69,7 +74,9 @@ const USAGE: &str = "usage:
   sec-experiment trace --config FILE.json --seed S --events IN.jsonl [--trace OUT.jsonl]
 defaults: --seeds 1..20, --episodes 5000, --jobs all cores, --shard 1/1 (in a Slurm array job:
   task SLURM_ARRAY_TASK_ID of SLURM_ARRAY_TASK_COUNT), --out results/experiments,
-  --checkpoint-every 50 (episodes; 0: never; SEC, DQN and ERLAM runs resume from it mid-run),
+  --checkpoint-every 50 (episodes; 0: never; SEC, DQN and ERLAM runs resume from it mid-run, if
+  its log holds the lines it continues; --legacy-checkpoint resumes from one of an earlier format,
+  which otherwise starts the run again),
   --reuse yes (a run whose configuration, seed and episodes equal a finished run's under --out is
   copied from it, not played again: runs are deterministic; no plays every run),
   --to OUT/EXPERIMENT for report; --quote rewrites the page's quotes of the tables made, each between
@@ -89,7 +96,7 @@ fn main() -> ExitCode {
 
 /// `--key value` options after the positional arguments; every key must be one of `allowed`.
 /// Options that take no value.
-const SWITCHES: [&str; 2] = ["partial", "near-quoted"];
+const SWITCHES: [&str; 3] = ["partial", "near-quoted", "legacy-checkpoint"];
 
 /// Refuses (unless `partial`) to report on experiment folders with gaps (`runner::gaps`: planned
 /// runs missing or short, runs of another configuration); with `partial` it says what is missing
@@ -154,13 +161,41 @@ fn number<T: std::str::FromStr + PartialOrd + std::fmt::Display>(
     }
 }
 
-fn read_config(path: &str) -> Result<RunConfig, String> {
-    let text = sec_playground::util::read_text_file(Path::new(path), "--config")?;
-    // The field is named as well as the line and column (`agent.memory.tau: invalid type ...`).
-    let cfg = RunConfig::from_json(&text).map_err(|e| format!("--config {path}: {e}"))?;
+/// The configuration of `--config FILE` (the defaults without one, where `optional`), with the
+/// fields of `--set JSON` changed (`RunConfig::patched`: the others keep the file's values).
+fn read_config(o: &HashMap<&str, &str>, command: &str, optional: bool) -> Result<RunConfig, String> {
+    let cfg = match o.get("config") {
+        Some(path) => {
+            let text = sec_playground::util::read_text_file(Path::new(path), "--config")?;
+            // The field is named as well as the line and column (`agent.memory.tau: invalid type ...`).
+            RunConfig::from_json(&text).map_err(|e| format!("--config {path}: {e}"))?
+        }
+        None if optional => RunConfig::default(),
+        None => return Err(format!("{command} needs --config")),
+    };
+    let cfg = match o.get("set") {
+        Some(patch) => cfg.patched(patch).map_err(|e| format!("--set: {e}"))?,
+        None => cfg,
+    };
     // Building a run checks what only a run can (the task's model; DQN's settings).
-    Run::with_agents(cfg.clone(), 0, Some(sec_dqn::factory)).map_err(|e| format!("--config {path}: {e}"))?;
+    Run::with_agents(cfg.clone(), 0, Some(sec_dqn::factory)).map_err(|e| format!("--config: {e}"))?;
     Ok(cfg)
+}
+
+/// `config`: the whole configuration `--config` and `--set` make, as JSON on standard output,
+/// and each field `--set` changed on standard error.
+fn config_cmd(args: &[String]) -> Result<(), String> {
+    let (pos, o) = options(args, &["config", "set"])?;
+    if let Some(p) = pos.first() {
+        return Err(format!("config takes no argument '{p}'\n{USAGE}"));
+    }
+    let before = read_config(&HashMap::from_iter(o.get("config").map(|c| ("config", *c))), "config", true)?;
+    let after = read_config(&o, "config", true)?;
+    for c in before.changes(&after) {
+        eprintln!("{}: {} -> {} ({})", c.field, c.from, c.to, if c.live { "live" } else { "needs a restart" });
+    }
+    println!("{}", serde_json::to_string_pretty(&after).expect("configurations serialise"));
+    Ok(())
 }
 
 /// The core's agent table as text, one agent per line.
@@ -386,6 +421,7 @@ fn dispatch(args: &[String]) -> Result<(), String> {
             Ok(())
         }
         "record" => record(rest),
+        "config" => config_cmd(rest),
         "trace" => trace_cmd(rest),
         "-h" | "--help" | "help" => {
             println!("{USAGE}");
@@ -398,7 +434,20 @@ fn dispatch(args: &[String]) -> Result<(), String> {
 fn run(args: &[String]) -> Result<(), String> {
     let (pos, o) = options(
         args,
-        &["seeds", "episodes", "jobs", "shard", "out", "config", "name", "only", "checkpoint-every", "reuse"],
+        &[
+            "seeds",
+            "episodes",
+            "jobs",
+            "shard",
+            "out",
+            "config",
+            "name",
+            "only",
+            "checkpoint-every",
+            "reuse",
+            "legacy-checkpoint",
+            "set",
+        ],
     )?;
     let seeds = runner::parse_seeds(o.get("seeds").copied().unwrap_or("1..20"))?;
     let episodes = number("episodes", o.get("episodes").copied().unwrap_or("5000"), 1usize, runner::MAX_EPISODES)?;
@@ -423,19 +472,24 @@ fn run(args: &[String]) -> Result<(), String> {
     let out = PathBuf::from(o.get("out").copied().unwrap_or("results/experiments"));
     let (experiment, conditions): (String, Vec<Condition>) = match (pos.as_slice(), o.get("config")) {
         ([name], None) => (name.to_string(), presets::experiment(name).map_err(|e| e.to_string())?),
-        ([], Some(path)) => {
+        ([], Some(_)) => {
             let name = o.get("name").ok_or("--config needs --name GROUP/MODEL")?;
             if !name.contains('/') || name.split('/').any(|p| p.is_empty() || p == ".." || p == ".") {
                 return Err(format!("--name: '{name}' is not GROUP/MODEL"));
             }
-            ("custom".into(), vec![Condition { name: name.to_string(), config: read_config(path)?, paper_total: None }])
+            (
+                "custom".into(),
+                vec![Condition { name: name.to_string(), config: read_config(&o, "run", false)?, paper_total: None }],
+            )
         }
         _ => return Err(format!("run takes one EXPERIMENT or --config\n{USAGE}")),
     };
     let conditions = runner::select(&experiment, conditions, o.get("only").copied())?;
     let dir = out.join(&experiment);
     runner::prepare(&dir, &runner::manifest(&experiment, episodes, &seeds, &conditions))?;
-    let jobs_list = runner::jobs(&conditions, &seeds, shard, Some(sec_dqn::factory));
+    let mut jobs_list = runner::jobs(&conditions, &seeds, shard, Some(sec_dqn::factory));
+    let legacy = o.contains_key("legacy-checkpoint");
+    jobs_list.iter_mut().for_each(|j| j.legacy_checkpoint = legacy);
     eprintln!(
         "{experiment}: {} conditions x {} seeds, shard {}/{}: {} runs of {episodes} episodes on {jobs} threads into {}",
         conditions.len(),
@@ -475,8 +529,8 @@ fn report(args: &[String]) -> Result<(), String> {
 }
 
 fn record(args: &[String]) -> Result<(), String> {
-    let (_, o) = options(args, &["config", "seed", "episodes", "events"])?;
-    let cfg = read_config(o.get("config").ok_or("record needs --config")?)?;
+    let (_, o) = options(args, &["config", "set", "seed", "episodes", "events"])?;
+    let cfg = read_config(&o, "record", false)?;
     if cfg.kind != AgentKind::Sec {
         return Err("--config: record and trace are for SEC (kind \"sec\")".into());
     }
@@ -499,11 +553,11 @@ fn record(args: &[String]) -> Result<(), String> {
 }
 
 fn trace_cmd(args: &[String]) -> Result<(), String> {
-    let (_, o) = options(args, &["config", "seed", "events", "trace"])?;
-    let cfg = read_config(o.get("config").ok_or("trace needs --config")?)?;
+    let (_, o) = options(args, &["config", "set", "seed", "events", "trace"])?;
+    let cfg = read_config(&o, "trace", false)?;
     let seed = number("seed", o.get("seed").ok_or("trace needs --seed")?, 0u64, MAX_SEED)?;
     let input = o.get("events").ok_or("trace needs --events")?;
-    let reader = BufReader::new(std::fs::File::open(input).map_err(|e| format!("--events {input}: {e}"))?);
+    let reader = BufReader::new(sec_playground::util::open_regular_file(Path::new(input), "--events")?);
     let n = match o.get("trace") {
         Some(path) => {
             let file = std::fs::File::create(Path::new(path)).map_err(|e| format!("--trace {path}: {e}"))?;
