@@ -1,7 +1,8 @@
 // The page over the paper's horizon, in Debian's Chromium: what it holds while a run plays 5000
 // episodes at max speed in one tab, then while a compare of four workers runs for 30 minutes.
 //   npm run bench:page-memory            (after scripts/build.sh; about an hour)
-//   EPISODES=1000 COMPARE_MINUTES=5 npm run bench:page-memory     (a shorter look)
+//   EPISODES=1000 COMPARE_MINUTES=5 npm run bench:page-memory     (a shorter look; EPISODES=0 or
+//   COMPARE_MINUTES=0 leaves that part out)
 // Each sample is taken after a garbage collection (DevTools' HeapProfiler.collectGarbage): the
 // page's JS heap in use and its DOM nodes (Performance.getMetrics), and the wasm memory of the
 // run's worker and of each compare worker (their last messages). Flat after the warm-up means no
@@ -23,7 +24,7 @@ const browser = await chromium.launch({
 });
 const mib = (b) => (b == null ? '-' : (b / 1048576).toFixed(2));
 const row = (label, m, t0) => console.log([label, ((Date.now() - t0) / 60000).toFixed(1), mib(m.heap), m.nodes, m.listeners,
-  mib(m.wasm), m.compareWasm.map(mib).join(' ') || '-', m.compareEpisodes.map((e) => e.join('/')).join(' ') || '-'].join('\t'));
+  mib(m.wasm), m.compareWasm.map(mib).join(' ') || '-', m.compareEpisodes.join(' ') || '-'].join('\t'));
 
 try {
   const page = await browser.newPage({ viewport: { width: 1300, height: 1000 } });
@@ -45,15 +46,17 @@ try {
   }
   // The compare: four arms (the current settings, added four times), one seed each, while the
   // main run keeps playing.
-  await page.click('#compare-clear');
-  await page.selectOption('#compare-seeds', '1');
-  for (let i = 0; i < ARMS; i++) await page.click('#compare-add');
-  await page.click('#compare-run');
-  console.log(`compare: ${ARMS} workers for ${COMPARE_MINUTES} minutes`);
-  const t1 = Date.now();
-  for (let i = 1; i <= 10; i++) {
-    await page.waitForTimeout((COMPARE_MINUTES * 60000) / 10);
-    row(`+${i}/10`, await pageMemory(page, cdp), t1);
+  if (COMPARE_MINUTES > 0) {
+    await page.click('#compare-clear');
+    await page.selectOption('#compare-seeds', '1');
+    for (let i = 0; i < ARMS; i++) await page.click('#compare-add');
+    await page.click('#compare-run');
+    console.log(`compare: ${ARMS} workers for ${COMPARE_MINUTES} minutes`);
+    const t1 = Date.now();
+    for (let i = 1; i <= 10; i++) {
+      await page.waitForTimeout((COMPARE_MINUTES * 60000) / 10);
+      row(`+${i}/10`, await pageMemory(page, cdp), t1);
+    }
   }
 } finally {
   await browser.close();

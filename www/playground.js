@@ -367,6 +367,8 @@ export class Playground {
       get explanation() { return me.lastExplanation ?? null; },
       /** The decisions/s readout's value. */
       get rate() { return me.rate.perSecond; },
+      /** What the readout divides: decisions over ms of its window (the worker's clock). */
+      get rateWindow() { return me.rate.window ?? null; },
       /** The run's worker's wasm memory in bytes, as of the last view. */
       get wasmBytes() { return me.wasmBytes ?? null; },
       /** Test hook: makes the simulation panic. */
@@ -383,15 +385,19 @@ export class Playground {
     for (const off of this.listeners) off();
   }
 
-  /** The decision rate: decisions counted by the run over the last few seconds of views. */
-  measureRate(v) {
-    const now = performance.now();
+  /** The decision rate: decisions counted by the run over the last few seconds of views, timed
+   *  by the worker when it took each view (`at`), not when this thread got round to it. */
+  measureRate(v, at) {
+    const now = at ?? performance.timeOrigin + performance.now();
     const s = this.rate.samples;
     if (s.length && v.decisions < s[s.length - 1].d) s.length = 0; // a new run
     s.push({ t: now, d: v.decisions });
     while (s.length > 2 && now - s[1].t > RATE_WINDOW_MS) s.shift();
     const dt = now - s[0].t;
-    this.rate.perSecond = dt >= 400 ? ((v.decisions - s[0].d) * 1000) / dt : this.rate.perSecond;
+    if (dt >= 400) {
+      this.rate.perSecond = ((v.decisions - s[0].d) * 1000) / dt;
+      this.rate.window = { decisions: v.decisions - s[0].d, ms: dt };
+    }
   }
 
   status() {
@@ -481,7 +487,7 @@ Playground.prototype.handlers = {
     if (msg.heat) drawHeat($('heat'), new Float32Array(msg.heat), msg.n, new Uint32Array(msg.selected), $('heat-kind').value);
     const v = msg.view;
     this.wasmBytes = msg.wasmBytes;
-    this.measureRate(v);
+    this.measureRate(v, msg.at);
     drawProbs($('probs'), v.p, v.action);
     // Memory always votes; the grid and its entropy say whether its vote was acted on.
     const memoryVotes = !!this.agentInfo()?.hasMemory && v.layer != null;

@@ -43,7 +43,13 @@ function postView(force = false) {
   const now = performance.now();
   if (!run || (!force && now - lastView < 1000 / want.hz)) return;
   lastView = now;
-  const msg = { type: 'view', view: run.view(), n: run.stmLength, wasmBytes: wasmMemory?.buffer.byteLength ?? null };
+  // `at`: when the view was taken, on the clock both threads share (epoch ms): the page's rate
+  // readout counts decisions against it, so a busy main thread that handles views late does not
+  // bend the rate.
+  const msg = {
+    type: 'view', view: run.view(), n: run.stmLength, at: performance.timeOrigin + now,
+    wasmBytes: wasmMemory?.buffer.byteLength ?? null,
+  };
   if (want.explain) msg.explain = run.explain();
   const transfer = [];
   if (want.camera) {

@@ -4,7 +4,7 @@
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { fileURLToPath } from 'node:url';
-import { ARTIFACTS, launch, colours as coloursOf, untilColours } from './harness.mjs';
+import { ARTIFACTS, launch, untilColours } from './harness.mjs';
 
 let server, browser, page, base;
 const problems = [];
@@ -23,15 +23,11 @@ after(async () => {
   server?.close();
 });
 
-const colours = (id) => coloursOf(page, `#${id}`);
-
 test('the page loads without console errors and draws both views', async () => {
+  // The T-maze start may face a fence (floor and fence only); the top-down view shows it all.
   await untilColours(page, '#camera', 2);
   await untilColours(page, '#arena', 8);
   assert.deepEqual(problems, []);
-  // The T-maze start may face a fence (floor and fence only); the top-down view shows it all.
-  assert.ok(await colours('camera') >= 2, 'camera canvas is blank');
-  assert.ok(await colours('arena') >= 8, 'arena canvas is blank');
   // The canvas holds exactly what the wasm camera rendered.
   const same = await page.evaluate(() => {
     const d = document.getElementById('camera').getContext('2d').getImageData(0, 0, 84, 84).data;

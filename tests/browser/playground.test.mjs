@@ -161,15 +161,15 @@ test('the textured surface fetches its own gate model and runs; flat frames and 
   assert.equal(await page.evaluate(() => window.secPlayground.settings.surface), 'textured');
   assert.equal((await page.textContent('#error')).trim(), '');
   assert.ok(asked.some((u) => u.includes('double-t-maze-textured.secae')), 'the textured gate model is fetched');
-  // The floor of a textured camera frame has more than the flat floor's one colour: wait for the
-  // view to draw it (a busy machine draws it after the first steps).
+  // The floor of a textured camera frame has more than the flat floor's one colour: wait for a
+  // view that shows it (a busy machine draws it after the first steps; a view facing a fence has
+  // fewer colours, so the count is not read again later: the next frame may be such a view).
   await page.waitForFunction(() => {
     const d = document.querySelector('#camera').getContext('2d').getImageData(0, 0, 84, 84).data;
     const seen = new Set();
     for (let i = 0; i < d.length; i += 4) seen.add((d[i] << 16) | (d[i + 1] << 8) | d[i + 2]);
     return seen.size > 40;
   }, null, { timeout: 60000, polling: 250 });
-  assert.ok(await colours(page, '#camera') > 40);
   await page.close();
 });
 
