@@ -12,7 +12,9 @@ use std::time::{Instant, SystemTime, UNIX_EPOCH};
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "camelCase")]
 pub struct RunManifest {
-    /// FNV-1a 64 of the configuration's JSON, hex: equal hashes, equal configurations.
+    /// FNV-1a 64 of the configuration's JSON as the writing version serialised it, hex: a name
+    /// to show, not to compare (a setting added later changes the JSON, not the configuration:
+    /// readers compare `config`, parsed with defaults filled in).
     pub config_hash: String,
     pub config: RunConfig,
     pub seed: u64,

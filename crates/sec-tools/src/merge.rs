@@ -85,11 +85,13 @@ pub fn merge(sources: &[PathBuf], into: &Path) -> Result<Merged, String> {
             for folder in &folders {
                 for (seed, path) in finished_runs(&folder.join(name).join(&c.name)) {
                     if let Some(mf) = manifest::read(&path)? {
-                        if mf.config_hash != hash || mf.seed != seed {
+                        // Parsed configurations, defaults filled in (a setting added since takes its
+                        // default on both sides).
+                        if mf.config != c.config || mf.seed != seed {
                             return Err(format!(
                                 "{}: its manifest names configuration {} seed {}, not {name}/{}'s {hash} seed {seed}; not merged",
                                 path.display(),
-                                mf.config_hash,
+                                config_hash(&mf.config),
                                 mf.seed,
                                 c.name
                             ));

@@ -138,7 +138,7 @@ fn merge_refuses_a_differing_duplicate_and_another_configuration_by_name() {
     std::fs::write(&cfg, text).unwrap();
     let (ok, out) = merge(&[&a, &c], &temp("target2"));
     assert!(!ok && out.contains("has another configuration"), "{out}");
-    // A run whose manifest names another configuration.
+    // A run whose manifest names another configuration (compared parsed; the hash is a name).
     let d = temp("d");
     assert!(run(&d, &["--shard", "1/1"], &[]).0);
     let mf = d.join("smoke/object-permanence/SEC/seed-1.manifest.json");
@@ -146,8 +146,10 @@ fn merge_refuses_a_differing_duplicate_and_another_configuration_by_name() {
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     let hash = v["configHash"].as_str().unwrap().to_string();
     std::fs::write(&mf, text.replace(&hash, "0123456789abcdef")).unwrap();
-    let (ok, out) = merge(&[&d], &temp("target3"));
-    assert!(!ok && out.contains("seed-1.jsonl.gz: its manifest names configuration 0123456789abcdef"), "{out}");
+    assert!(merge(&[&d], &temp("target3")).0, "a stale hash of the same configuration is not another configuration");
+    std::fs::write(&mf, text.replacen("\"tau\": 0.9", "\"tau\": 0.5", 1)).unwrap();
+    let (ok, out) = merge(&[&d], &temp("target4"));
+    assert!(!ok && out.contains("seed-1.jsonl.gz: its manifest names configuration"), "{out}");
 }
 
 #[test]
