@@ -255,6 +255,34 @@ pub fn params() -> Vec<Param> {
     table().into_iter().map(|s| s.param).collect()
 }
 
+/// The settings `agent` uses (an agent table key; `None`: every setting): what the page builds
+/// that agent's controls from, and what Python's and the CLI's `parameters` list. An unknown
+/// agent is an error naming the agents.
+pub fn params_for(agent: Option<&str>) -> Result<Vec<Param>, ConfigError> {
+    let Some(agent) = agent else { return Ok(params()) };
+    if !crate::agent::AGENTS.iter().any(|a| a.key == agent) {
+        let keys: Vec<&str> = crate::agent::AGENTS.iter().map(|a| a.key).collect();
+        return Err(ConfigError::new("agent", format!("'{}' is not one of {}", shown(agent), keys.join(", "))));
+    }
+    Ok(params().into_iter().filter(|p| p.agents.is_empty() || p.agents.contains(&agent)).collect())
+}
+
+/// `cfg` with the settings `pairs` (page keys and their values as the URL hash writes them)
+/// applied in order, checked as a whole; the run's seed is not one of them (a run's seed is
+/// its own argument). On an error, naming the key and its range, `cfg` is returned unchanged.
+pub fn with_settings(cfg: &RunConfig, pairs: &[(String, String)]) -> Result<RunConfig, ConfigError> {
+    let mut next = cfg.clone();
+    let mut seed = 0;
+    for (k, v) in pairs {
+        if canonical_key(k) == Some("seed") {
+            return Err(ConfigError::new("seed", "is the run's own argument, not a setting to change here"));
+        }
+        apply(&mut next, &mut seed, k, v)?;
+    }
+    next.validate()?;
+    Ok(next)
+}
+
 fn range_error(key: &str, value: &str, kind: &Kind) -> ConfigError {
     let range = match kind {
         Kind::Number { min, max, min_open: true, auto: true, .. } => format!("({min}, {max}] or auto"),

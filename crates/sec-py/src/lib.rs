@@ -602,6 +602,25 @@ fn read_text_file(path: std::path::PathBuf, what: &str) -> PyResult<String> {
     sec_playground::util::read_text_file(&path, what).map_err(value_error)
 }
 
+/// The settings table the page builds its controls from, for `agent` (a key of the agent table)
+/// or every agent, as JSON: key, symbol, help, kind (with its range), live, group, agents.
+#[pyfunction]
+#[pyo3(signature = (agent=None))]
+fn parameters_json(agent: Option<&str>) -> PyResult<String> {
+    let params = sec_playground::experiment::settings::params_for(agent).map_err(value_error)?;
+    Ok(json(&params))
+}
+
+/// The configuration (JSON) `config` with the page's settings `pairs` (key, value as the URL hash
+/// writes it) applied in order and checked as a whole, as JSON; a bad one raises ValueError
+/// naming the key and its range.
+#[pyfunction]
+fn apply_settings(config: &str, pairs: Vec<(String, String)>) -> PyResult<String> {
+    let cfg = RunConfig::from_json(config).map_err(value_error)?;
+    let next = sec_playground::experiment::settings::with_settings(&cfg, &pairs).map_err(value_error)?;
+    Ok(json(&next))
+}
+
 /// The fingerprint the golden traces hold of a frame: FNV-1a over its RGBA bytes (alpha 255).
 #[pyfunction]
 fn fingerprint(frame: &Bound<'_, PyAny>) -> PyResult<u64> {
@@ -620,6 +639,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyEncoder>()?;
     m.add_function(wrap_pyfunction!(fingerprint, m)?)?;
     m.add_function(wrap_pyfunction!(read_text_file, m)?)?;
+    m.add_function(wrap_pyfunction!(parameters_json, m)?)?;
+    m.add_function(wrap_pyfunction!(apply_settings, m)?)?;
     m.add_function(wrap_pyfunction!(grid::grid_conditions, m)?)?;
     m.add_function(wrap_pyfunction!(grid::grid_seeds, m)?)?;
     m.add_function(wrap_pyfunction!(grid::grid_prepare, m)?)?;

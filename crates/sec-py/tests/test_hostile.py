@@ -128,3 +128,25 @@ def test_messages_name_the_value_they_were_given():
         sec_playground.Encoder("cylinder").encode([1, 2, 3])
     with pytest.raises(ValueError, match="frame: a list is not a uint8 array"):
         _core.Encoder("cylinder", "trained", 0).encode([1, 2, 3])
+
+
+def test_parameters_are_the_pages_table_and_run_takes_its_keys():
+    table = sec_playground.parameters()
+    alpha = next(p for p in table if p["key"] == "alpha")
+    assert alpha["kind"]["type"] == "number" and alpha["kind"]["max"] == 1 and alpha["live"]
+    assert "alpha" in {p["key"] for p in sec_playground.parameters(agent="sec")}
+    assert "alpha" not in {p["key"] for p in sec_playground.parameters(agent="reactive")}
+    with pytest.raises(ValueError, match="agent: 'nope' is not one of sec"):
+        sec_playground.parameters(agent="nope")
+    run = Run({"task": "object-permanence"}, seed=1, alpha=0.02, bias=False)
+    assert run.config["agent"]["memory"]["alpha"] == 0.02
+    assert run.config["agent"]["memory"]["sequentialBias"] is False
+    answer = run.configure(tau=0.5)
+    assert answer["applied"] == "live" and [c["field"] for c in answer["changed"]] == ["agent.memory.tau"]
+    assert run.config["agent"]["memory"]["alpha"] == 0.02, "kept"
+    with pytest.raises(ValueError, match=r"beta: '7' is out of range \[0, 1\]"):
+        run.configure(beta=7)
+    with pytest.raises(ValueError, match="seed"):
+        run.configure(seed=3)
+    with pytest.raises(ValueError, match="alpah"):
+        Run(alpah=0.1)

@@ -146,6 +146,30 @@ fn text_inputs_are_regular_files_only() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `parameters` is the table the page builds its controls from, per agent: the same JSON as the
+/// core's, and readable text.
+#[test]
+fn parameters_lists_the_pages_settings_per_agent() {
+    use sec_playground::experiment::settings::params_for;
+    for agent in [None, Some("sec"), Some("reactive"), Some("dqn")] {
+        let mut args = vec!["parameters", "--json"];
+        if let Some(a) = agent {
+            args.extend(["--agent", a]);
+        }
+        let (ok, out, err) = cli(&args);
+        assert!(ok, "{err}");
+        let got: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(got, serde_json::to_value(params_for(agent).unwrap()).unwrap(), "{agent:?}");
+    }
+    let (_, sec, _) = cli(&["parameters", "--agent", "sec"]);
+    let alpha = sec.lines().find(|l| l.starts_with("alpha ")).expect("alpha is SEC's");
+    assert!(alpha.contains("[0, 1]") && alpha.contains("live"), "{alpha}");
+    let (_, reactive, _) = cli(&["parameters", "--agent", "reactive"]);
+    assert!(!reactive.lines().any(|l| l.starts_with("alpha ")) && reactive.contains("task "), "{reactive}");
+    let (ok, _, err) = cli(&["parameters", "--agent", "nope"]);
+    assert!(!ok && err.contains("--agent: 'nope' is not one of sec, "), "{err}");
+}
+
 /// `--set` changes the fields it names; the others keep the file's values (never the defaults),
 /// and `config` says what changed and whether it acts live.
 #[test]

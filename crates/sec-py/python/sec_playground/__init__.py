@@ -12,6 +12,7 @@ a run is a pure function of its configuration and seed, on every platform.
 """
 
 import json as _json
+from typing import Optional
 
 from . import _core
 from importlib.metadata import PackageNotFoundError as _NotFound
@@ -30,7 +31,7 @@ except _NotFound:  # imported from a source tree without installing
 
 __all__ = [
     "ArenaEnv", "ArenaVectorEnv", "Encoder", "Run", "TASKS", "ENV_IDS", "MAX_SEED", "ACTION_MEANINGS",
-    "agents", "tasks", "fingerprint", "__version__",
+    "agents", "parameters", "tasks", "fingerprint", "__version__",
 ]
 
 
@@ -68,6 +69,18 @@ def agents() -> list:
     (runs only through sec-experiment), canBeDriven, and the RunConfig `kind` and
     `mfecEmbedding` (`mfec.embedding`) that run it."""
     return _json.loads(_AGENTS_JSON)
+
+
+def parameters(agent: Optional[str] = None) -> list:
+    """The settings the page builds its controls from, for `agent` (a key of `agents()`; None:
+    every setting): one dict each with its key (the page's and the URL hash's, which `Run` and
+    `Run.configure` take as keyword arguments: `Run(alpha=0.02)`), symbol, help, kind (its type
+    and range: number with min, max, minOpen, step and auto; integer with min and max; choice with
+    its options; switch), live (applied to a running agent, or a new run), group and agents. An
+    unknown agent raises ValueError naming the agents."""
+    if agent is not None and not isinstance(agent, str):
+        raise ValueError(f"agent: {agent!r} is not a string (a key of sec_playground.agents())")
+    return _json.loads(_core.parameters_json(agent))
 
 
 def _register():

@@ -15,12 +15,14 @@ class Run:
     agent's `kind` and `mfecEmbedding`. Each
     `episode()` plays one episode and returns the metrics the runner's JSON lines hold."""
 
-    def __init__(self, config: Optional[dict[str, Any]] = None, seed: int = 0):
+    def __init__(self, config: Optional[dict[str, Any]] = None, seed: int = 0, **settings: Any):
         if config is None:
             config = {}
         if not isinstance(config, dict):
             raise ValueError(f"config: {type(config).__name__} is not a dict (a RunConfig)")
         seed = integer("seed", seed, 0, _core.MAX_SEED)
+        if settings:
+            config = json.loads(_core.apply_settings(_config_json(config), _setting_pairs(settings)))
         self._run = _core.Run(_config_json(config), seed)
         self.seed = seed
         # What rebuilds the run when its agent does not checkpoint: the first configuration and
@@ -34,7 +36,7 @@ class Run:
         """The configuration with every field filled in."""
         return json.loads(self._run.config())
 
-    def configure(self, config: dict[str, Any]) -> dict[str, Any]:
+    def configure(self, config: Optional[dict[str, Any]] = None, **settings: Any) -> dict[str, Any]:
         """Changes the fields `config` names (a partial RunConfig: {"agent": {"memory": {"tau":
         0.5}}}); every field it leaves out keeps its value. Returns {"applied": "live" or
         "restart", "changed": [{"field", "from", "to", "live"}]}: "live" when only live
@@ -42,8 +44,16 @@ class Run:
         decision), else "restart" (a new run with the same seed); each changed field with its
         path, old and new values, and whether a change of it alone acts live. A refused value
         raises ValueError naming it and changes nothing."""
+        if config is None:
+            config = {}
         if not isinstance(config, dict):
             raise ValueError(f"config: {type(config).__name__} is not a dict (a partial RunConfig)")
+        if settings:
+            # The page's keys (`tau=0.5`), applied by the core's settings table onto the fields
+            # `config` changes; the whole result goes in as the change.
+            merged = json.loads(self._run.config())
+            _merge(merged, config)
+            config = json.loads(_core.apply_settings(_config_json(merged), _setting_pairs(settings)))
         text = _config_json(config)
         applied = json.loads(self._run.configure(text))
         self._calls.append(("configure", text))
@@ -126,6 +136,28 @@ class Run:
             else:
                 self._run.decisions(arg)
                 self._count(call, arg)
+
+
+def _setting_pairs(settings: dict[str, Any]) -> list:
+    """Keyword arguments as the page's settings: (key, value as the URL hash writes it)."""
+    pairs = []
+    for key, value in settings.items():
+        if isinstance(value, bool):
+            text = "1" if value else "0"
+        elif isinstance(value, (int, float, str)):
+            text = str(value)
+        else:
+            raise ValueError(f"{key}: {value!r} is not a number, a string or a boolean")
+        pairs.append((key, text))
+    return pairs
+
+
+def _merge(into: dict, change: dict) -> None:
+    for k, v in change.items():
+        if isinstance(v, dict) and isinstance(into.get(k), dict):
+            _merge(into[k], v)
+        else:
+            into[k] = v
 
 
 def _config_json(config: dict[str, Any]) -> str:

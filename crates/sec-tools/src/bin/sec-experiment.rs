@@ -43,6 +43,9 @@ const USAGE: &str = "usage:
                      [--only GROUP/MODEL,GROUP/,...] [--checkpoint-every N] [--reuse yes|no]
                      [--legacy-checkpoint]
   sec-experiment run --config FILE.json [--set JSON] --name GROUP/MODEL [the same options]
+  sec-experiment parameters [--agent KEY] [--json]   (the settings the page's controls are built
+                         from: key, symbol, range, live or restart, group, help; --agent one
+                         agent's, a key of `agents`)
   sec-experiment config [--config FILE.json] [--set JSON]   (the whole configuration they make, on
                          standard output; each field --set changed, and whether it acts live, on
                          standard error. --set '{\"agent\": {\"memory\": {\"tau\": 0.5}}}' changes only
@@ -84,6 +87,13 @@ defaults: --seeds 1..20, --episodes 5000, --jobs all cores, --shard 1/1 (in a Sl
   versus-authors)";
 
 fn main() -> ExitCode {
+    // A reader that stops early (`| head`) ends the process as it ends any Unix tool, instead of
+    // a panic in the middle of a print (Rust ignores SIGPIPE by default).
+    #[cfg(unix)]
+    // SAFETY: restoring the default disposition of one signal before any thread starts.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let args: Vec<String> = std::env::args().skip(1).collect();
     match dispatch(&args) {
         Ok(()) => ExitCode::SUCCESS,
@@ -96,7 +106,7 @@ fn main() -> ExitCode {
 
 /// `--key value` options after the positional arguments; every key must be one of `allowed`.
 /// Options that take no value.
-const SWITCHES: [&str; 3] = ["partial", "near-quoted", "legacy-checkpoint"];
+const SWITCHES: [&str; 4] = ["partial", "near-quoted", "legacy-checkpoint", "json"];
 
 /// Refuses (unless `partial`) to report on experiment folders with gaps (`runner::gaps`: planned
 /// runs missing or short, runs of another configuration); with `partial` it says what is missing
@@ -180,6 +190,35 @@ fn read_config(o: &HashMap<&str, &str>, command: &str, optional: bool) -> Result
     // Building a run checks what only a run can (the task's model; DQN's settings).
     Run::with_agents(cfg.clone(), 0, Some(sec_dqn::factory)).map_err(|e| format!("--config: {e}"))?;
     Ok(cfg)
+}
+
+/// `parameters`: the settings table the page builds its controls from (for one agent with
+/// `--agent`), one setting a line, or as JSON with `--json`.
+fn parameters_cmd(args: &[String]) -> Result<(), String> {
+    let (pos, o) = options(args, &["agent", "json"])?;
+    if let Some(p) = pos.first() {
+        return Err(format!("parameters takes no argument '{p}'\n{USAGE}"));
+    }
+    let params =
+        sec_playground::experiment::settings::params_for(o.get("agent").copied()).map_err(|e| format!("--{e}"))?;
+    if o.contains_key("json") {
+        println!("{}", serde_json::to_string_pretty(&params).expect("the table serialises"));
+        return Ok(());
+    }
+    use sec_playground::experiment::settings::Kind;
+    for p in &params {
+        let range = match &p.kind {
+            Kind::Number { min, max, min_open, auto, .. } => {
+                format!("{}{min}, {max}]{}", if *min_open { "(" } else { "[" }, if *auto { " or auto" } else { "" })
+            }
+            Kind::Integer { min, max } => format!("{min}..={max}"),
+            Kind::Choice { options } => options.join(" | "),
+            Kind::Switch => "0 | 1".into(),
+        };
+        let live = if p.live { "live" } else { "restart" };
+        println!("{:<16} {:<10} {:<32} {:<8} {:<10} {}", p.key, p.symbol, range, live, p.group, p.help);
+    }
+    Ok(())
 }
 
 /// `config`: the whole configuration `--config` and `--set` make, as JSON on standard output,
@@ -422,6 +461,7 @@ fn dispatch(args: &[String]) -> Result<(), String> {
         }
         "record" => record(rest),
         "config" => config_cmd(rest),
+        "parameters" => parameters_cmd(rest),
         "trace" => trace_cmd(rest),
         "-h" | "--help" | "help" => {
             println!("{USAGE}");
