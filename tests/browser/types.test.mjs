@@ -33,11 +33,15 @@ function declares(name, value, deep = true) {
   for (const k of deep ? keys(value) : Object.keys(value)) assert.match(text, new RegExp(`\\b${k}\\??:`), `${name} declares ${k}`);
 }
 
-test('RunConfig, EpisodeMetrics, DecisionView, Param and ParsedSettings match what the API returns', () => {
+test('RunConfig, EpisodeMetrics, DecisionView, ConfigChange, Param and ParsedSettings match what the API returns', () => {
   const run = new wasm.SecRun({ task: 'object-permanence' }, 3);
   declares('RunConfig', run.config());
   declares('EpisodeMetrics', run.stepEpisode());
   declares('DecisionView', run.view());
+  const change = run.configure({ agent: { memory: { tau: 0.5 } } });
+  declares('ConfigChange', change, false);
+  declares('ConfigChange', change.changed[0]);
+  declares('ConfigChange', run.replaceConfig({ task: 'object-permanence' }), false);
   for (const p of wasm.parameters()) declares('Param', p);
   // Its config is a RunConfig and its settings a Record: the top level only.
   declares('ParsedSettings', wasm.parseSettings({}), false);
