@@ -28,7 +28,9 @@ const MAX_SWEEPS: usize = 100_000;
 /// eviction re-keyed them, as the authors' code does) that node's id.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum LinkKey {
+    /// The action (0..=8) taken from the node.
     Action(u8),
+    /// The id of the node an evicted link was re-keyed by.
     Node(u64),
 }
 
@@ -36,36 +38,51 @@ pub enum LinkKey {
 #[cfg(test)]
 type NodeLinks = (u64, u64, u64, Vec<(LinkKey, u64)>);
 
+/// One state of the graph: the transition that stored it and what propagation made of it.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Node {
+    /// Its id (ids are never reused).
     pub id: u64,
+    /// The state's embedding, its key.
     pub embedding: [f32; EMBEDDING],
+    /// The state's frame (84x84 RGB bytes), which the network's second target trains on.
     #[serde(with = "serde_bytes")]
     pub state: Vec<u8>,
+    /// The frame of the state its transition led to.
     #[serde(with = "serde_bytes")]
     pub next_state: Vec<u8>,
     /// Position in the episode that created it (value propagation goes from the latest).
     pub t: usize,
+    /// The action taken from it (0..=8).
     pub action: u8,
+    /// The reward of its transition.
     pub reward: f32,
+    /// Whether its transition ended the episode.
     pub done: bool,
     /// The best discounted return seen from this node.
     pub rt: f64,
     /// Successor node ids.
     pub next: HashMap<LinkKey, u64>,
+    /// When its value last improved (unique; the least is evicted first).
     pub stamp: u64,
 }
 
 /// One transition of the episode in progress.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Pending {
+    /// The state's embedding.
     pub embedding: [f32; EMBEDDING],
+    /// The state's frame.
     #[serde(with = "serde_bytes")]
     pub state: Vec<u8>,
+    /// The next state's frame.
     #[serde(with = "serde_bytes")]
     pub next_state: Vec<u8>,
+    /// The action taken (0..=8).
     pub action: u8,
+    /// The transition's reward.
     pub reward: f32,
+    /// Whether it ended the episode.
     pub done: bool,
 }
 
@@ -96,6 +113,7 @@ pub struct Graph {
 /// finds a successor for, where the rewards sit, and how far the rest are from them.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Census {
+    /// Nodes in the graph.
     pub nodes: usize,
     /// Nodes whose own action has a link, so that `value` is not 0.
     pub valued: usize,
@@ -103,7 +121,9 @@ pub struct Census {
     /// successor (a later, non-terminal state merged into them, so propagation carries on past
     /// the goal: the authors' propagation does not look at `done`).
     pub rewarded: usize,
+    /// Of `rewarded`, the terminal ones with a successor.
     pub rewarded_linked: usize,
+    /// The largest reward stored.
     pub max_reward: f64,
     /// `value` of every node, ascending.
     pub values: Vec<f64>,
@@ -129,6 +149,7 @@ fn sq_dist(a: &[f32; EMBEDDING], b: &[f32; EMBEDDING]) -> f32 {
 }
 
 impl Graph {
+    /// An empty graph of `cfg`, discounting by `gamma` when it propagates.
     pub fn new(cfg: ErlamConfig, gamma: f64) -> Self {
         Graph { cfg, gamma, ..Graph::default() }
     }
@@ -138,6 +159,7 @@ impl Graph {
         &self.cfg
     }
 
+    /// Nodes stored.
     pub fn len(&self) -> usize {
         self.nodes.len()
     }
@@ -204,14 +226,17 @@ impl Graph {
         Ok(self)
     }
 
+    /// The most nodes it keeps (the least recently improved one is evicted past it).
     pub fn capacity(&self) -> usize {
         self.cfg.nodes
     }
 
+    /// Whether it stores no node.
     pub fn is_empty(&self) -> bool {
         self.nodes.is_empty()
     }
 
+    /// The node `id`, if stored.
     pub fn node(&self, id: u64) -> Option<&Node> {
         self.nodes.get(&id)
     }
@@ -397,6 +422,7 @@ impl Graph {
         }
     }
 
+    /// What its values rest on now (`Census`).
     pub fn census(&self) -> Census {
         let mut predecessors: HashMap<u64, Vec<u64>> = HashMap::new();
         for id in &self.order {

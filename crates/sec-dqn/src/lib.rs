@@ -1,3 +1,4 @@
+#![warn(missing_docs)]
 //! The paper's DQN baseline as the authors ran it (`agent_dqn.py`, `exp_setup_dqn.py`; see
 //! docs/ALGORITHM.md, "DQN"), trained with burn on the CPU. It is an agent of the core's `Run`
 //! (`kind: "dqn"`), built through `factory`, so the run loop, the metrics and the runner are the
@@ -97,6 +98,8 @@ fn optimiser_config() -> RmsPropConfig {
     RmsPropConfig::new().with_alpha(0.99).with_epsilon(1e-8).with_momentum(0.0)
 }
 
+/// The DQN agent (and ERLAM's, with its graph as `memory`): the networks, the optimiser, the
+/// replay buffer or graph, and where the run stands.
 pub struct Dqn {
     cfg: DqnConfig,
     device: Device,
@@ -124,6 +127,8 @@ struct Progress {
 }
 
 impl Dqn {
+    /// A DQN agent of `cfg`: its network's weights from the run's `seed` (their own stream), its
+    /// reactive walk from the agent stream `rng`. A `cfg` out of range is refused by name.
     pub fn new(cfg: DqnConfig, seed: u64, rng: &mut ChaCha8Rng) -> Result<Self, ConfigError> {
         cfg.validate()?;
         let device = device();
@@ -171,6 +176,7 @@ impl Dqn {
         Ok(dqn)
     }
 
+    /// Its settings.
     pub fn config(&self) -> &DqnConfig {
         &self.cfg
     }
@@ -183,10 +189,12 @@ impl Dqn {
         }
     }
 
+    /// The exploration rate of the next decision.
     pub fn epsilon(&self) -> f64 {
         self.progress.epsilon
     }
 
+    /// Decisions taken so far.
     pub fn decisions(&self) -> u64 {
         self.progress.decisions
     }
@@ -207,6 +215,7 @@ impl Dqn {
         }
     }
 
+    /// The online network.
     pub fn network(&self) -> &NatureCnn {
         self.net.as_ref().expect("the network is back after every step")
     }
@@ -279,6 +288,7 @@ impl Dqn {
         value
     }
 
+    /// Copies the online network into the target network.
     pub fn sync_target(&mut self) {
         self.target = self.network().valid();
     }

@@ -19,6 +19,8 @@ pub const PIXELS: usize = 84 * 84;
 const FLAT: usize = 64 * 7 * 7;
 const HIDDEN: usize = 512;
 
+/// The Nature DQN network (Mnih et al. 2015): three convolutions and two dense layers, from an
+/// 84x84 frame to one Q value per action.
 #[derive(Module, Debug)]
 pub struct NatureCnn {
     conv1: Conv2d,
@@ -54,6 +56,7 @@ fn linear(fan_in: usize, fan_out: usize, rng: &mut ChaCha8Rng, device: &Device) 
 }
 
 impl NatureCnn {
+    /// A network with PyTorch's default initialisation, drawn from `rng`.
     pub fn new(rng: &mut ChaCha8Rng, device: &Device) -> Self {
         NatureCnn {
             conv1: conv(3, 32, 8, 4, rng, device),

@@ -8,13 +8,19 @@ use rand_chacha::ChaCha8Rng;
 use sec_playground::memory::ACTIONS;
 use std::collections::VecDeque;
 
+/// A transition besides its frames.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Meta {
+    /// The action taken (0..=8).
     pub action: u8,
+    /// Its reward.
     pub reward: f32,
+    /// Whether it ended the episode.
     pub done: bool,
 }
 
+/// The replay buffer: a chain of frames, each transition between two neighbours, so a frame is
+/// stored once.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Replay {
     capacity: usize,
@@ -26,20 +32,26 @@ pub struct Replay {
 
 /// One sampled transition.
 pub struct Sample<'a> {
+    /// The state's frame.
     pub state: &'a [u8],
+    /// The next state's frame.
     pub next: &'a [u8],
+    /// The rest of the transition.
     pub meta: Meta,
 }
 
 impl Replay {
+    /// An empty buffer of `capacity` transitions.
     pub fn new(capacity: usize) -> Self {
         Replay { capacity, frames: VecDeque::new(), meta: VecDeque::new() }
     }
 
+    /// Transitions stored.
     pub fn len(&self) -> usize {
         self.meta.len()
     }
 
+    /// Whether it stores no transition.
     pub fn is_empty(&self) -> bool {
         self.meta.is_empty()
     }
@@ -67,6 +79,7 @@ impl Replay {
         }
     }
 
+    /// Transition `i` (0 the oldest).
     pub fn get(&self, i: usize) -> Sample<'_> {
         Sample { state: &self.frames[i], next: &self.frames[i + 1], meta: self.meta[i] }
     }

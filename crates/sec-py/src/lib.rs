@@ -1,3 +1,4 @@
+#![warn(missing_docs)]
 //! `sec_playground._core`: the Rust side of the Python package (crates/sec-py/python holds the
 //! Gymnasium classes built on it). The arenas, the vector of arenas stepped across cores with the
 //! GIL released, the runs of SEC, NSEC, MFEC and the reactive walk, and the bundled encoders.

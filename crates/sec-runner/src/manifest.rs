@@ -16,8 +16,11 @@ pub struct RunManifest {
     /// to show, not to compare (a setting added later changes the JSON, not the configuration:
     /// readers compare `config`, parsed with defaults filled in).
     pub config_hash: String,
+    /// The configuration the run was made with.
     pub config: RunConfig,
+    /// Its seed.
     pub seed: u64,
+    /// The episodes its log holds.
     pub episodes: usize,
     /// The runner's package version (sec-runner).
     pub version: String,
@@ -25,10 +28,13 @@ pub struct RunManifest {
     pub git_commit: String,
     /// The kernels the run used: `avx2` or `scalar` (the bits are the same).
     pub kernel: String,
+    /// The machine's name (`HOSTNAME`, else `/etc/hostname`; `unknown`).
     pub host: String,
-    /// Unix seconds.
+    /// When the run started, in Unix seconds.
     pub start: u64,
+    /// When it ended, in Unix seconds.
     pub end: u64,
+    /// Seconds from start to end.
     pub wall_seconds: f64,
     /// CPU time of the thread that played the run (Linux; None elsewhere).
     pub cpu_seconds: Option<f64>,
@@ -77,6 +83,7 @@ pub struct Clock {
 }
 
 impl Clock {
+    /// Starts timing the run this thread is about to play.
     pub fn start() -> Clock {
         Clock { start: unix_now(), wall: Instant::now(), cpu: thread_cpu_seconds() }
     }

@@ -54,8 +54,11 @@ pub fn experiment_dirs(root: &Path) -> Vec<PathBuf> {
 /// One run to make.
 #[derive(Clone, Debug)]
 pub struct Job {
+    /// Its condition's name, `GROUP/MODEL`: the folder its log goes to.
     pub condition: String,
+    /// The configuration it runs.
     pub config: RunConfig,
+    /// Its seed.
     pub seed: u64,
     /// The agents a native crate builds (`sec_dqn::factory`), or `None`.
     pub agents: Option<AgentFactory>,
@@ -68,17 +71,25 @@ pub struct Job {
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "camelCase")]
 pub struct Manifest {
+    /// The experiment's name (a preset's, or `custom`).
     pub experiment: String,
+    /// The most episodes any `run` into the folder asked for.
     pub episodes: usize,
+    /// Every seed any `run` into the folder asked for.
     pub seeds: Vec<u64>,
+    /// Its conditions.
     pub conditions: Vec<ManifestCondition>,
 }
 
+/// One condition of an experiment folder.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "camelCase")]
 pub struct ManifestCondition {
+    /// `GROUP/MODEL`.
     pub name: String,
+    /// The paper's total reward for it, where the paper gives one.
     pub paper_total: Option<f64>,
+    /// Its configuration.
     pub config: RunConfig,
     /// The runs asked of it, over every `run` into the folder (absent in folders written before
     /// plans were recorded: those are checked for consistency only).
@@ -89,7 +100,9 @@ pub struct ManifestCondition {
 /// What was asked of one condition: its seeds, and the episodes each run must reach.
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Plan {
+    /// The seeds asked for.
     pub seeds: Vec<u64>,
+    /// The episodes each run must reach.
     pub episodes: usize,
 }
 
@@ -530,8 +543,11 @@ pub fn finished_runs(dir: &Path) -> std::collections::BTreeMap<u64, PathBuf> {
 /// and each pair whose shorter log is not the longer one's head.
 #[derive(Debug, Default)]
 pub struct Verified {
+    /// Finished runs read.
     pub runs: usize,
+    /// Pairs of runs of one configuration and seed compared.
     pub pairs: usize,
+    /// One line per pair whose shorter log is not the longer one's head.
     pub failures: Vec<String>,
 }
 

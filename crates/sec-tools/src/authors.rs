@@ -29,13 +29,17 @@ pub const LEARNED_QUANTILE: f64 = 0.95;
 #[derive(Clone, Debug, serde::Deserialize)]
 #[serde(rename_all = "camelCase", deny_unknown_fields)]
 pub struct AuthorsResults {
+    /// The experiment's preset name (exp1, ...).
     pub experiment: String,
+    /// The notebook the numbers were read from.
     pub source: Source,
     /// What the numbers are, in a sentence.
     pub note: String,
     /// The episodes of every run the numbers sum over.
     pub episodes: usize,
+    /// Per-run totals, model by model.
     pub runs: Vec<AuthorsRuns>,
+    /// The notebook's table of means, model by model.
     pub means: Vec<AuthorsMean>,
 }
 
@@ -43,8 +47,11 @@ pub struct AuthorsResults {
 #[derive(Clone, Debug, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Source {
+    /// `owner/name` on GitHub.
     pub repository: String,
+    /// The commit read.
     pub commit: String,
+    /// The notebook's path in the repository.
     pub notebook: String,
 }
 
@@ -58,6 +65,7 @@ pub struct AuthorsRuns {
     pub authors_model: String,
     /// The notebook cell whose output printed them.
     pub cell: usize,
+    /// Each run's total reward, in the notebook's order.
     pub totals: Vec<f64>,
 }
 
@@ -65,17 +73,24 @@ pub struct AuthorsRuns {
 #[derive(Clone, Debug, serde::Deserialize)]
 #[serde(rename_all = "camelCase", deny_unknown_fields)]
 pub struct AuthorsMean {
+    /// This project's condition.
     pub condition: String,
+    /// The notebook's name for it.
     pub authors_model: String,
+    /// The notebook cell whose output printed it.
     pub cell: usize,
+    /// The mean total.
     pub mean: f64,
+    /// Its 95 % confidence interval, where the notebook gives one.
     #[serde(default)]
     pub ci95: Option<[f64; 2]>,
     /// The condition the p values test against.
     #[serde(default)]
     pub versus: Option<String>,
+    /// The notebook's p value against `versus`.
     #[serde(default)]
     pub p: Option<f64>,
+    /// The same, Bonferroni-corrected as the notebook did.
     #[serde(default)]
     pub p_bonferroni: Option<f64>,
 }
@@ -112,8 +127,11 @@ pub fn load_authors(dir: &Path) -> Result<Vec<AuthorsResults>, String> {
 /// per episode over its runs in the task.
 #[derive(Clone, Copy, Debug)]
 pub struct LearnedBar {
+    /// The bar, in reward per episode.
     pub per_episode: f64,
+    /// The reactive runs it was taken over.
     pub runs: usize,
+    /// Their episodes each.
     pub episodes: usize,
 }
 

@@ -88,8 +88,11 @@ pub fn mae(a: &[u8], b: &[u8]) -> f64 {
 /// A found pose: layout index, pose and its error.
 #[derive(Clone, Copy, Debug)]
 pub struct Fit {
+    /// The task layout's index.
     pub layout: usize,
+    /// Where the agent stands and looks.
     pub pose: Pose,
+    /// The mean absolute error (0-255) of the frame rendered there against the real one.
     pub mae: f64,
 }
 
@@ -97,7 +100,9 @@ pub struct Fit {
 /// 5..=34, heading 0..=358, every layout), or those within one step of a given one.
 #[derive(Clone, Copy, Debug)]
 pub enum Search {
+    /// Every whole-number pose of every layout.
     Full,
+    /// The poses of layout `.0` within one step of `.1`.
     Around(usize, Pose),
 }
 
@@ -146,9 +151,13 @@ pub fn best_pose(task: &Task, rgb: &[u8], surface: Surface, search: Search) -> F
 /// surface there has one colour).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Region {
+    /// The arena's floor.
     Floor,
+    /// The fence around it.
     Fence,
+    /// Walls and other objects inside.
     Wall,
+    /// Above the fence.
     Sky,
 }
 
@@ -232,7 +241,9 @@ pub fn row_colour_error(a: &[u8], b: &[u8]) -> Vec<f64> {
 /// One real frame against each surface.
 #[derive(Clone, Debug)]
 pub struct Match {
+    /// The real frame's name (its file's stem).
     pub name: String,
+    /// The task it was taken in.
     pub task: String,
     /// The pose found with the flat renderer (the geometry does not depend on the surface).
     pub fit: Fit,

@@ -1,3 +1,4 @@
+#![warn(missing_docs)]
 //! Shared helpers of the native tools.
 
 use std::fs::File;

@@ -35,6 +35,7 @@ const FAR: f64 = 5.0;
 /// One perception's matching over the walks, pooled over seeds.
 #[derive(Clone, Debug)]
 pub struct Matching {
+    /// The perception's name (trained, untrained x1, ...).
     pub arm: String,
     /// Median and 90 % quantile of each view's nearest-neighbour MAE.
     pub nn: [f64; 2],

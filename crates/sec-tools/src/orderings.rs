@@ -21,9 +21,13 @@ use std::path::Path;
 /// One condition as an ordering needs it.
 #[derive(Clone, Debug)]
 pub struct Arm {
+    /// `GROUP/MODEL`.
     pub name: String,
+    /// Its runs (seeds).
     pub runs: usize,
+    /// The episodes of each run.
     pub episodes: usize,
+    /// The mean reward per episode over all its runs.
     pub per_episode: f64,
     /// Per-run totals, when the runs are there.
     pub totals: Option<Vec<f64>>,
@@ -33,6 +37,7 @@ pub struct Arm {
     /// Per-run mean entropy over the last 10 % of the episodes, when the runs are there; else
     /// only the mean.
     pub entropy_late: Option<Vec<f64>>,
+    /// The mean of `entropy_late` (or summary.csv's, when the runs are not there).
     pub entropy_late_mean: f64,
     /// The corrected and uncorrected p against the group's first model (summary.csv only).
     pub p_vs_reference: Option<f64>,
@@ -123,8 +128,11 @@ enum Claim {
 /// One checked ordering in one tree.
 #[derive(Clone, Debug)]
 pub struct Verdict {
+    /// What the table says of it ("holds", "holds by direction only, ...").
     pub text: String,
+    /// The ratio of the two sides, where it compares two.
     pub ratio: Option<f64>,
+    /// The test's p value, where one was run.
     pub p: Option<f64>,
 }
 

@@ -10,8 +10,11 @@ use std::sync::Once;
 
 /// One model's curve: the mean across runs and its standard error, per episode.
 pub struct Series {
+    /// The legend's name.
     pub label: String,
+    /// The mean across runs, per episode.
     pub mean: Vec<f64>,
+    /// Its standard error, per episode.
     pub se: Vec<f64>,
 }
 

@@ -16,16 +16,21 @@ pub const WINDOW: usize = 20;
 
 /// The finished runs of one condition, cut to a common length.
 pub struct ConditionRuns {
+    /// The condition, as the experiment's manifest holds it.
     pub condition: ManifestCondition,
+    /// The seeds of its finished runs.
     pub seeds: Vec<u64>,
+    /// Each run's episodes, seed by seed.
     pub runs: Vec<Vec<EpisodeMetrics>>,
 }
 
 impl ConditionRuns {
+    /// `GROUP` of `GROUP/MODEL`.
     pub fn group(&self) -> &str {
         self.condition.name.split_once('/').map_or("", |(g, _)| g)
     }
 
+    /// `MODEL` of `GROUP/MODEL`.
     pub fn model(&self) -> &str {
         self.condition.name.split_once('/').map_or(&self.condition.name, |(_, m)| m)
     }
@@ -123,7 +128,9 @@ fn fmt_p(p: f64) -> String {
 /// An experiment's report: the whole text and each group's table on its own (what a page quotes
 /// under `EXPERIMENT/GROUP`, crate::quote).
 pub struct Report {
+    /// `report.md`'s text.
     pub md: String,
+    /// Each group's name and table.
     pub tables: Vec<(String, String)>,
 }
 

@@ -2,6 +2,7 @@
 //! the authors used (two-sided; exact without ties, else normal with tie correction), and the
 //! trailing moving window of the learning curves.
 
+/// The arithmetic mean (NaN of nothing).
 pub fn mean(x: &[f64]) -> f64 {
     x.iter().sum::<f64>() / x.len() as f64
 }
@@ -15,6 +16,7 @@ pub fn sd(x: &[f64]) -> f64 {
     (x.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / (x.len() - 1) as f64).sqrt()
 }
 
+/// The standard error of the mean.
 pub fn se(x: &[f64]) -> f64 {
     sd(x) / (x.len() as f64).sqrt()
 }

@@ -1,3 +1,4 @@
+#![warn(missing_docs)]
 //! Training of the paper's autoencoder with burn (docs/ENCODER.md): RMSprop
 //! (Keras' defaults: rho 0.9, no momentum, epsilon 1e-7), lr 1e-3, MSE, batch 64, Glorot-uniform
 //! initialisation, data reshuffled every epoch. Deterministic given the seed: the initial weights
@@ -14,11 +15,16 @@ use rand_chacha::ChaCha8Rng;
 use sec_playground::encoder::dataset::FRAME_BYTES;
 use sec_playground::encoder::{Autoencoder, Scratch};
 
+/// How a model is trained (the authors' settings by default).
 #[derive(Clone, Debug)]
 pub struct TrainConfig {
+    /// Epochs to train up to (a resumed run counts the ones it continues).
     pub epochs: usize,
+    /// Frames per RMSprop step.
     pub batch: usize,
+    /// RMSprop's learning rate.
     pub lr: f64,
+    /// Draws the initial weights and each epoch's shuffle.
     pub seed: u64,
 }
 
@@ -31,11 +37,15 @@ impl Default for TrainConfig {
 /// One epoch's numbers, as the training curve shows them.
 #[derive(Clone, Debug)]
 pub struct EpochLog {
+    /// Its number, from 1.
     pub epoch: usize,
+    /// Mean MSE over the epoch's training batches.
     pub train_mse: f64,
+    /// MSE on the held-out frames, with the project's own inference.
     pub heldout_mse: f64,
     /// MSE on a third set, used only to choose the epoch to keep (`--keep best`).
     pub validation_mse: f64,
+    /// Wall seconds the epoch took.
     pub seconds: f64,
 }
 
@@ -62,8 +72,15 @@ pub fn heldout_mse(ae: &Autoencoder, rgb: &[u8]) -> f64 {
 /// Where training starts: from Glorot weights drawn with the seed, or from the weights an earlier
 /// run kept after `epoch` epochs.
 pub enum Start {
+    /// Glorot weights drawn with the seed.
     Fresh,
-    Resume { weights: Box<Autoencoder>, epoch: usize },
+    /// The weights an earlier run kept, and the epoch they are from.
+    Resume {
+        /// The kept weights.
+        weights: Box<Autoencoder>,
+        /// The epoch they were kept after.
+        epoch: usize,
+    },
 }
 
 /// Trains up to epoch `cfg.epochs`; calls `log` after every epoch. A resumed run replays the

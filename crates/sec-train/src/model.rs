@@ -13,6 +13,8 @@ use sec_playground::encoder::model::FLAT;
 use sec_playground::encoder::weights::Tensor as WTensor;
 use sec_playground::encoder::{Autoencoder, EMBEDDING};
 
+/// The paper's autoencoder as a burn module (trained here, then written as the project's
+/// weights file for its own inference).
 #[derive(Module, Debug)]
 pub struct BurnAe {
     enc1: Conv2d,
@@ -114,11 +116,13 @@ impl BurnAe {
         relu(self.dec4.forward(x))
     }
 
+    /// The reconstruction of a batch of frames (N, 3, 84, 84).
     pub fn forward(&self, x: Tensor<4>) -> Tensor<4> {
         self.decode(self.encode(x))
     }
 }
 
+/// A tensor's values as f32, in row-major order.
 pub fn vec_of<const D: usize>(t: Tensor<D>) -> Vec<f32> {
     t.into_data().convert::<f32>().try_into_vec::<f32>().expect("f32 tensor")
 }
