@@ -94,7 +94,15 @@ fn mfec(cfg: &RunConfig, seed: u64, rng: &mut ChaCha8Rng) -> Result<Mfec, Config
     })
 }
 
-/// The agents, in the order the page offers them.
+/// The agents, in the order the page offers them: what the page, Python (`agents()`) and the
+/// CLI (`sec-experiment agents`) read.
+///
+/// ```
+/// use sec_playground::agent::AGENTS;
+/// let sec = AGENTS.iter().find(|a| a.key == "sec").expect("SEC is an agent");
+/// assert!(sec.has_memory && !sec.native_only);
+/// assert!(AGENTS.iter().filter(|a| a.native_only).all(|a| ["dqn", "erlam"].contains(&a.key)));
+/// ```
 #[rustfmt::skip]
 pub const AGENTS: &[AgentInfo] = &[
     AgentInfo {

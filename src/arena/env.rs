@@ -132,7 +132,18 @@ pub struct Step<'a> {
     pub info: StepOutcome,
 }
 
-/// An Animal-AI arena with v1 physics and the agent's 84x84 camera.
+/// An Animal-AI arena with v1 physics and the agent's 84x84 camera, with Gymnasium's reset and
+/// step.
+///
+/// ```
+/// use sec_playground::arena::{Action, Env, EnvConfig, Task};
+/// let mut env = Env::new(EnvConfig::new(Task::preset("double-t-maze")?), 42)?;
+/// let first = env.reset(Some(42));
+/// assert_eq!(first.rgba.len(), 84 * 84 * 4);
+/// let step = env.step(Action::FORWARD)?; // observation, reward, terminated, truncated
+/// assert!(step.reward < 0.0 && !step.terminated, "a step costs 1/t");
+/// # Ok::<(), sec_playground::arena::ConfigError>(())
+/// ```
 #[derive(Clone, Debug)]
 pub struct Env {
     config: EnvConfig,

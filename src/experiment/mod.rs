@@ -199,7 +199,18 @@ fn controller(
     }
 }
 
-/// A run in progress.
+/// A run in progress: an agent learning a task, a pure function of its configuration and seed.
+///
+/// ```
+/// use sec_playground::experiment::{Run, RunConfig};
+/// let cfg = RunConfig { task: "object-permanence".into(), t: Some(100), ..RunConfig::default() };
+/// let mut run = Run::new(cfg.clone(), 1)?;
+/// let first = run.episode(); // the metrics of the runner's JSON lines
+/// assert_eq!(first.episode, 0);
+/// assert_eq!(first.reward, first.raw_reward.max(0.0));
+/// assert_eq!(Run::new(cfg, 1)?.episode(), first, "the same configuration and seed, the same run");
+/// # Ok::<(), sec_playground::error::Error>(())
+/// ```
 pub struct Run {
     cfg: RunConfig,
     seed: u64,

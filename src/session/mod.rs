@@ -67,6 +67,17 @@ impl std::str::FromStr for MemoryMap {
 }
 
 /// A run with what its front ends show: the last decision, the decisions so far, the trail.
+/// The page, Python's `Run` and the CLI drive runs through it.
+///
+/// ```
+/// use sec_playground::session::Session;
+/// let mut session = Session::from_json(r#"{"task": "object-permanence", "t": 100}"#, 1)?;
+/// session.run_decisions(10)?;
+/// let change = session.configure_patch(r#"{"agent": {"memory": {"tau": 0.5}}}"#)?;
+/// assert_eq!(change.applied, "live", "tau acts from the next decision, in the same run");
+/// assert_eq!((session.decisions(), session.config().t), (10, Some(100)));
+/// # Ok::<(), sec_playground::error::Error>(())
+/// ```
 pub struct Session {
     run: Run,
     extra: Option<AgentFactory>,

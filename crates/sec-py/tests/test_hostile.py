@@ -150,3 +150,10 @@ def test_parameters_are_the_pages_table_and_run_takes_its_keys():
         run.configure(seed=3)
     with pytest.raises(ValueError, match="alpah"):
         Run(alpah=0.1)
+
+
+def test_the_modules_example_runs():
+    import doctest
+
+    result = doctest.testmod(sec_playground)
+    assert result.attempted >= 8 and result.failed == 0, result

@@ -2,10 +2,19 @@
 memory improves sample and memory efficiency in Episodic Control" as Gymnasium environments,
 SEC, NSEC, MFEC and the reactive walk as runs, and the bundled encoders.
 
-    import gymnasium as gym
-    import sec_playground  # registers SecPlayground/DoubleTMaze-v0 and the others
-    env = gym.make("SecPlayground/DoubleTMaze-v0", frame_skip=4)
-    obs, info = env.reset(seed=1)
+    >>> import gymnasium as gym
+    >>> import sec_playground  # registers SecPlayground/DoubleTMaze-v0 and the others
+    >>> env = gym.make("SecPlayground/DoubleTMaze-v0", frame_skip=4)
+    >>> obs, info = env.reset(seed=1)
+    >>> obs.shape, str(obs.dtype)
+    ((84, 84, 3), 'uint8')
+    >>> run = sec_playground.Run({"task": "object-permanence", "t": 100}, seed=1, tau=0.5)
+    >>> run.config["agent"]["memory"]["tau"]
+    0.5
+    >>> run.configure(alpha=0.02)["applied"]  # the page's keys; the rest keeps its values
+    'live'
+    >>> run.episode()["episode"]
+    0
 
 Everything runs in Rust (the same core as the browser playground and the native experiments);
 a run is a pure function of its configuration and seed, on every platform.
