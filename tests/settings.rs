@@ -244,3 +244,20 @@ fn a_long_bad_value_is_cut_in_the_message() {
     }
     assert_eq!(errors.iter().filter(|e| e.field == "alpha").count(), 1, "the parameter is still named");
 }
+
+/// A batch of changes goes in as one (what the page's worker forwards, once): every bad change
+/// is named, and then nothing applies; good changes that only go together apply together.
+#[test]
+fn a_batch_of_changes_applies_all_or_none() {
+    use sec_playground::experiment::settings::apply_all;
+    let (cfg, seed) = defaults();
+    let errors = apply_all(&cfg, seed, &settings(&[("alpha", "0.2"), ("beta", "7"), ("tau", "x")])).unwrap_err();
+    let messages: Vec<String> = errors.iter().map(|e| e.to_string()).collect();
+    assert_eq!(messages, ["beta: '7' is out of range [0, 1]", "tau: 'x' is not a number in [0.01, 100]"]);
+    let (next, next_seed) = apply_all(&cfg, seed, &settings(&[("alpha", "0.2"), ("seed", "9")])).unwrap();
+    assert_eq!((next.agent.memory.alpha, next_seed), (0.2, 9));
+    assert_eq!(next.agent.memory.tau, cfg.agent.memory.tau, "the rest as it was");
+    // m = 3 is below what SEC needs: refused alone, as a whole.
+    let errors = apply_all(&cfg, seed, &settings(&[("m", "3")])).unwrap_err();
+    assert!(errors[0].to_string().contains("raise m to 5 or more"), "{errors:?}");
+}

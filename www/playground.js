@@ -437,8 +437,6 @@ Playground.prototype.handlers = {
     this.writeHash();
     if (msg.errors.length) {
       this.showError(`${msg.errors.join('; ')}. Using the default for ${msg.errors.length === 1 ? 'it' : 'them'}.`);
-    } else if (msg.refused?.length) {
-      this.showError(`${msg.refused.join('; ')}. Kept the current value; the other changes apply.`);
     } else if (!first) {
       this.showError(null);
     }

@@ -148,38 +148,12 @@ const handlers = {
     postView(true);
   },
   async set({ changes }) {
-    // All together if they go together; else each change that goes (in passes, since m and
-    // minSequences may only go in one order), the others refused by name. Nothing applied: throws.
-    let next;
-    let refused = [];
-    try {
-      next = applySettings(settings, changes);
-    } catch {
-      let left = Object.entries(changes);
-      let current = settings;
-      for (let progress = true; progress && left.length;) {
-        progress = false;
-        refused = [];
-        const still = [];
-        for (const [k, v] of left) {
-          try {
-            next = applySettings(current, { [k]: v });
-            current = next.settings;
-            progress = true;
-          } catch (e) {
-            refused.push(e.message);
-            still.push([k, v]);
-          }
-        }
-        left = still;
-      }
-      if (!next) throw new Error(refused.join('; '));
-      changes = Object.fromEntries(Object.entries(changes).filter(([k]) => !left.some(([l]) => l === k)));
-    }
+    // One batch, applied by the core as one (any order, all or none): a bad change throws,
+    // naming every bad key, and nothing changes.
+    const next = applySettings(settings, changes);
     const same = Object.keys(next.settings).every((k) => next.settings[k] === settings[k]);
     if (same && run && !dead) {
-      // Nothing to change (e.g. the same value twice); a refused part is still reported.
-      if (refused.length) post({ type: 'error', message: refused.join('; '), fatal: false });
+      // Nothing to change (e.g. the same value twice).
       return;
     }
     let mode;
@@ -191,7 +165,7 @@ const handlers = {
       mode = run.replaceConfig(next.config).applied;
     }
     settings = next.settings;
-    post({ type: 'started', settings, errors: [], refused, mode, changes });
+    post({ type: 'started', settings, errors: [], mode, changes });
     postView(true);
   },
   preset({ name }) {

@@ -267,6 +267,21 @@ pub fn params_for(agent: Option<&str>) -> Result<Vec<Param>, ConfigError> {
     Ok(params().into_iter().filter(|p| p.agents.is_empty() || p.agents.contains(&agent)).collect())
 }
 
+/// `cfg` and `seed` with a batch of `changes` applied as one: every change is read (each bad key
+/// or value is reported, naming it and its range), then the whole is checked, so the order of
+/// the changes does not matter (m and minSequences may go together either way). All or none:
+/// on any error nothing is applied and every error is returned.
+pub fn apply_all(cfg: &RunConfig, seed: u64, changes: &Settings) -> Result<(RunConfig, u64), Vec<ConfigError>> {
+    let (mut next, mut next_seed) = (cfg.clone(), seed);
+    let errors: Vec<ConfigError> =
+        changes.iter().filter_map(|(k, v)| apply(&mut next, &mut next_seed, k, v).err()).collect();
+    if !errors.is_empty() {
+        return Err(errors);
+    }
+    next.validate().map_err(|e| vec![e])?;
+    Ok((next, next_seed))
+}
+
 /// `cfg` with the settings `pairs` (page keys and their values as the URL hash writes them)
 /// applied in order, checked as a whole; the run's seed is not one of them (a run's seed is
 /// its own argument). On an error, naming the key and its range, `cfg` is returned unchanged.

@@ -435,19 +435,19 @@ pub fn parse_settings(settings: JsValue) -> Result<JsValue, JsError> {
     parsed(cfg, seed, errors.iter().map(|e| e.to_string()).collect())
 }
 
-/// `current` settings with `changes` applied, as `{config, seed, settings, errors: []}`; a bad
-/// change throws an Error naming the key and its range.
+/// `current` settings with `changes` applied as one batch (`settings::apply_all`: in any order,
+/// all or none), as `{config, seed, settings, errors: []}`; bad changes throw one Error naming
+/// each key and its range, `; `-separated, and nothing is applied.
 #[wasm_bindgen(js_name = applySettings, unchecked_return_type = "ParsedSettings")]
 pub fn apply_settings(current: JsValue, changes: JsValue) -> Result<JsValue, JsError> {
-    let (mut cfg, mut seed, errors) = settings::from_settings(&settings_from_js(current, "current")?);
+    let (cfg, seed, errors) = settings::from_settings(&settings_from_js(current, "current")?);
     if let Some(e) = errors.first() {
         return Err(JsError::new(&e.to_string()));
     }
-    for (k, v) in settings_from_js(changes, "changes")? {
-        settings::apply(&mut cfg, &mut seed, &k, &v).map_err(js_err)?;
+    match settings::apply_all(&cfg, seed, &settings_from_js(changes, "changes")?) {
+        Ok((cfg, seed)) => parsed(cfg, seed, Vec::new()),
+        Err(errors) => Err(JsError::new(&errors.iter().map(|e| e.to_string()).collect::<Vec<_>>().join("; "))),
     }
-    cfg.validate().map_err(js_err)?;
-    parsed(cfg, seed, Vec::new())
 }
 
 /// Makes a weights file (`assets/encoders/<task>.secae`, as bytes) the model of its task; returns

@@ -134,6 +134,12 @@ test('a live hash edit to a bad value is refused and the address bar shows what 
   assert.match(await page.textContent('#error'), /alpha: '7' is out of range \[0, 1\]/);
   await page.waitForFunction(() => new URLSearchParams(location.hash.slice(1)).get('alpha') === '0.02');
   assert.equal(await page.evaluate(() => window.secPlayground.settings.alpha), '0.02');
+  // A batch goes in as one: with one bad change in it nothing applies, and every bad one is named.
+  await page.evaluate(() => { location.hash = '#alpha=0.3&beta=7&tau=x'; });
+  await page.waitForFunction(() => document.getElementById('error').textContent.includes('tau'));
+  assert.match(await page.textContent('#error'), /beta: '7' is out of range \[0, 1\]; tau: 'x' is not a number/);
+  await page.waitForFunction(() => new URLSearchParams(location.hash.slice(1)).get('alpha') === '0.02');
+  assert.equal(await page.evaluate(() => window.secPlayground.settings.alpha), '0.02', 'alpha did not go in alone');
   await page.close();
 });
 
