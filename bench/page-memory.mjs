@@ -7,21 +7,14 @@
 // page's JS heap in use and its DOM nodes (Performance.getMetrics), and the wasm memory of the
 // run's worker and of each compare worker (their last messages). Flat after the warm-up means no
 // leak: the heap may grow only by the episodes the page keeps for its charts and CSV.
-import { chromium } from 'playwright-core';
-import { serve } from '../scripts/serve.mjs';
-import { pageMemory } from '../tests/browser/harness.mjs';
+import { launch, pageMemory } from '../tests/browser/harness.mjs';
 
 const EPISODES = Number(process.env.EPISODES ?? 5000);
 const EVERY = Math.max(1, Math.round(EPISODES / 20));
 const COMPARE_MINUTES = Number(process.env.COMPARE_MINUTES ?? 30);
 const ARMS = 4;
 
-const server = await serve(0);
-const base = `http://127.0.0.1:${server.address().port}/`;
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
-  args: ['--no-sandbox', '--disable-gpu', '--no-first-run', '--disable-background-networking'],
-});
+const { server, browser, base } = await launch();
 const mib = (b) => (b == null ? '-' : (b / 1048576).toFixed(2));
 const row = (label, m, t0) => console.log([label, ((Date.now() - t0) / 60000).toFixed(1), mib(m.heap), m.nodes, m.listeners,
   mib(m.wasm), m.compareWasm.map(mib).join(' ') || '-', m.compareEpisodes.join(' ') || '-'].join('\t'));
