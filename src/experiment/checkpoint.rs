@@ -120,7 +120,7 @@ fn block(input: &mut dyn Read, width: usize, max: u64, field: &str) -> Result<Ve
 
 impl Header {
     /// Reads a checkpoint's header (and the gate's section), leaving `input` at the controller's
-    /// state. The checksum of a version-3 checkpoint is not checked here (`Run::resume` does):
+    /// state. The checksum of a version-3 or -4 checkpoint is not checked here (`Run::resume` does):
     /// this is what a resume looks at first, before it replays anything.
     pub fn read(input: &mut dyn Read) -> Result<Header, Error> {
         let mut magic = [0u8; 8];
@@ -148,11 +148,6 @@ impl Header {
             return Err(FileError::field("checkpoint", "log", message).into());
         }
         Ok(header)
-    }
-
-    /// The header of the checkpoint `bytes` (for a resume that must agree with a log first).
-    pub fn peek(bytes: &[u8]) -> Result<Header, Error> {
-        Header::read(&mut &bytes[..])
     }
 
     /// The agent stream's word position, checked.
