@@ -3,8 +3,9 @@
 //! >= 5,000 renders/s on one core. `bench/wasm-bench.mjs` measures the same work in Node.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
-use sec_playground::arena::trace::{bench_env_steps, bench_worlds};
-use sec_playground::arena::{Env, EnvConfig, Task, TASK_NAMES};
+use sec_playground::arena::{Task, TASK_NAMES};
+use sec_playground::env::trace::{bench_env_steps, bench_worlds};
+use sec_playground::env::{Env, EnvConfig};
 use sec_playground::render::{Camera, Frame, Surface};
 
 fn env_steps(c: &mut Criterion) {

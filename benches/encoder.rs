@@ -2,8 +2,9 @@
 //! Run: `cargo bench --bench encoder`. Uses the bundled T-maze model and an untrained encoder.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use sec_playground::arena::{Env, EnvConfig, Task};
+use sec_playground::arena::Task;
 use sec_playground::encoder::{bundled, Scratch, EMBEDDING, IMAGE};
+use sec_playground::env::{Env, EnvConfig};
 
 fn encoder(c: &mut Criterion) {
     let mut env = Env::new(EnvConfig::new(Task::preset("double-t-maze").unwrap()), 3).unwrap();

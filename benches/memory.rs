@@ -35,8 +35,9 @@ criterion_group!(benches, retrieval);
 /// >= 1,000 decisions/s on one core).
 fn full_decision(c: &mut Criterion) {
     use sec_playground::agent::{Sec, SecConfig};
-    use sec_playground::arena::{Env, EnvConfig, Task};
+    use sec_playground::arena::Task;
     use sec_playground::encoder::{bundled, Scratch, IMAGE};
+    use sec_playground::env::{Env, EnvConfig};
     let mut rng = ChaCha8Rng::seed_from_u64(2);
     let task = Task::preset("double-t-maze").unwrap();
     // t = 0: no episode limit, so the walk goes on through the maze.

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# The fast gate, run first by the test command: the JavaScript modules parse, formatting, clippy
-# (native and wasm32) and the docs, each with warnings as errors. A minute or two on a warm cache.
+# The fast gate, run first by the test command: the JavaScript modules parse, formatting, the
+# core's layers, clippy (native and wasm32) and the docs, each with warnings as errors. A minute
+# or two on a warm cache.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
@@ -15,6 +16,8 @@ for f in www/*.js tests/browser/*.mjs bench/*.mjs scripts/*.mjs; do
 done
 echo "== cargo fmt --check"
 cargo fmt --all --check
+echo "== the core's layers (tests/layers.rs: no import up the layers, no loop among src/ files)"
+cargo test -q --test layers
 echo "== cargo clippy (native, every target)"
 cargo clippy --workspace --all-targets -- -D warnings
 echo "== cargo clippy (the library without the test hooks, native and wasm32)"

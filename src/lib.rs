@@ -10,6 +10,7 @@ pub mod agent;
 pub mod arena;
 mod dispatch;
 pub mod encoder;
+pub mod env;
 pub mod error;
 pub mod experiment;
 pub mod memory;
@@ -22,6 +23,7 @@ pub mod util;
 #[cfg(target_arch = "wasm32")]
 pub mod web;
 
-pub use arena::{Action, Env, EnvConfig, Task};
+pub use arena::{Action, Task};
 pub use dispatch::kernel_path;
+pub use env::{Env, EnvConfig};
 pub use error::{ConfigError, Error, FileError};

@@ -2,7 +2,7 @@
 //! seed, so a run is a pure function of (configuration, seed) and extra draws in one part never
 //! shift another's.
 
-use rand::SeedableRng;
+use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 /// The largest seed: the largest integer a JS number holds exactly (2^53 - 1), so a seed goes
@@ -29,4 +29,22 @@ pub fn rng(seed: u64, stream: Stream) -> ChaCha8Rng {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     rng.set_stream(stream as u64);
     rng
+}
+
+/// Draws an index with probabilities `p` (summing to 1): the first index whose cumulative sum
+/// exceeds a uniform draw; never an index of probability 0.
+pub fn sample(p: &[f64], rng: &mut ChaCha8Rng) -> usize {
+    let u: f64 = rng.gen();
+    let mut c = 0.0;
+    let mut last = 0;
+    for (i, &pi) in p.iter().enumerate() {
+        if pi > 0.0 {
+            c += pi;
+            last = i;
+            if u < c {
+                return i;
+            }
+        }
+    }
+    last
 }

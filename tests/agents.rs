@@ -40,7 +40,7 @@ fn every_kind_has_one_row_and_the_settings_follow_the_capabilities() {
             if p.key == "perception" {
                 assert_eq!(
                     applies,
-                    row.reads == sec_playground::agent::table::Reads::Embedding,
+                    row.reads == sec_playground::agent::controller::Input::Embedding,
                     "perception for {key}"
                 );
             }

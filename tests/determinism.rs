@@ -4,8 +4,8 @@
 //! every target agrees. `SEC_UPDATE_GOLDEN=1` rewrites the traces.
 #![cfg(not(target_arch = "wasm32"))]
 
-use sec_playground::arena::trace::scripted_run;
 use sec_playground::arena::TASK_NAMES;
+use sec_playground::env::trace::scripted_run;
 use sec_playground::render::Surface;
 
 const SEED: u64 = 7;

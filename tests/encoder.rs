@@ -3,10 +3,11 @@
 //! embedding that `tests/wasm.rs` checks bit for bit under Node, and the bundled trained models.
 #![cfg(not(target_arch = "wasm32"))]
 
-use sec_playground::arena::{Env, EnvConfig, Task, TASK_NAMES};
+use sec_playground::arena::{Task, TASK_NAMES};
 use sec_playground::encoder::{
     bundled, Autoencoder, DType, FrameCache, ReconstructionGate, Scratch, Weights, EMBEDDING, IMAGE, PARAMETERS,
 };
+use sec_playground::env::{Env, EnvConfig};
 use sec_playground::render::{fnv1a, Surface};
 
 fn frame(task: &str) -> Vec<f32> {

@@ -202,7 +202,8 @@ fn live_changes_apply_to_the_running_agent_and_others_ask_for_a_new_run() {
 
 #[test]
 fn a_fixed_start_heading_faces_the_centre_from_each_corner() {
-    use sec_playground::arena::{facing_centre, Env, EnvConfig, StartHeading, Task};
+    use sec_playground::arena::{facing_centre, StartHeading, Task};
+    use sec_playground::env::{Env, EnvConfig};
     assert_eq!([facing_centre(3.0, 37.0), facing_centre(37.0, 37.0)], [135.0, 225.0]);
     assert_eq!([facing_centre(3.0, 3.0), facing_centre(37.0, 3.0)], [45.0, 315.0]);
     let headings = |h: StartHeading| {

@@ -2,7 +2,8 @@
 #![cfg(not(target_arch = "wasm32"))]
 
 use glam::Vec2;
-use sec_playground::arena::{Action, AgentSpec, Env, EnvConfig, Layout, ObjectKind, ObjectSpec, Task, AGENT_RADIUS};
+use sec_playground::arena::{Action, AgentSpec, Layout, ObjectKind, ObjectSpec, Task, AGENT_RADIUS};
+use sec_playground::env::{Env, EnvConfig};
 
 /// An arena with only the given objects and the agent at (x, z) facing `heading`.
 fn open_env(objects: Vec<ObjectSpec>, x: f32, z: f32, heading: f32) -> Env {

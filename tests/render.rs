@@ -1,7 +1,8 @@
 //! Golden images of every task's first frame, and pixel checks of what the agent must (not) see.
 #![cfg(not(target_arch = "wasm32"))]
 
-use sec_playground::arena::{Action, Env, EnvConfig, Task, TASK_NAMES};
+use sec_playground::arena::{Action, Task, TASK_NAMES};
+use sec_playground::env::{Env, EnvConfig};
 use sec_playground::render::{colours, Frame, Surface, TopDown, HEIGHT, WIDTH};
 use std::path::PathBuf;
 

@@ -2,8 +2,8 @@
 //! and the JS API refuses bad values with the parameter named.
 #![cfg(target_arch = "wasm32")]
 
-use sec_playground::arena::trace::scripted_run;
 use sec_playground::arena::TASK_NAMES;
+use sec_playground::env::trace::scripted_run;
 use sec_playground::render::Surface;
 use sec_playground::web::ArenaEnv;
 use wasm_bindgen::{JsError, JsValue};
@@ -80,8 +80,9 @@ fn the_js_api_validates_its_inputs() {
 #[wasm_bindgen_test]
 fn wasm_gives_the_native_golden_embedding() {
     models();
-    use sec_playground::arena::{Env, EnvConfig, Task};
+    use sec_playground::arena::Task;
     use sec_playground::encoder::{bundled, Scratch, EMBEDDING, IMAGE};
+    use sec_playground::env::{Env, EnvConfig};
     let mut env = Env::new(EnvConfig::new(Task::preset("double-t-maze").unwrap()), 1).unwrap();
     let mut rgb = vec![0.0; IMAGE];
     env.observation().to_rgb_f32(&mut rgb);

@@ -159,7 +159,7 @@ fn hostile_files_are_refused_quickly_with_the_line_and_field() {
 /// built (the agent used to be put inside the wall, the object silently left out).
 #[test]
 fn an_arena_without_room_for_the_agent_or_an_object_is_refused() {
-    use sec_playground::arena::{Env, EnvConfig};
+    use sec_playground::env::{Env, EnvConfig};
     let full = "arenas:\n  0: !Arena\n    items:\n    - !Item\n      name: Wall\n      positions: [!Vector3 {x: 20, y: 0, z: 20}]\n      sizes: [!Vector3 {x: 40, y: 5, z: 40}]\n      rotations: [0]\n";
     let task = load_task("full", full).unwrap();
     let e = Env::new(EnvConfig::new(task), 1).unwrap_err();

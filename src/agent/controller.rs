@@ -2,22 +2,24 @@
 //! loop alone and talks to agents only through them, so a new agent (DQN, ERLAM) is its own
 //! module implementing `Controller` plus one arm where runs build their agent.
 
-use super::dqn::{DqnConfig, ErlamConfig};
-use super::mfec::MfecConfig;
-use super::{Decision, SecConfig};
+use super::Decision;
 use crate::arena::{Action, ConfigError};
 use crate::encoder::EMBEDDING;
 use crate::error::Error;
 use crate::memory::file::Identity;
 use crate::memory::Memory;
 use rand_chacha::ChaCha8Rng;
+use std::any::Any;
 use std::io::{Read, Write};
 
 /// What a controller without checkpoints answers `save_state` and `load_state`.
 pub const NO_CHECKPOINT: &str = "this agent does not checkpoint";
 
-/// What a controller's decisions read of the frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// What an agent's decisions read of each frame (its table row's `reads`: the run renders and
+/// embeds only what is read, and the perception settings apply to the agents that read the
+/// embedding).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
 pub enum Input {
     /// The perception's embedding (SEC, MFEC-ae).
     Embedding,
@@ -53,8 +55,8 @@ pub struct Observation<'a> {
     pub image: &'a [f32],
     /// This step ends the episode.
     pub terminal: bool,
-    /// The action a person chose, to be followed and learned from (only for a controller that
-    /// `learns_from_person`).
+    /// The action a person chose, to be followed and learned from (only for an agent whose row
+    /// `can_be_driven`).
     pub person: Option<Action>,
 }
 
@@ -91,21 +93,9 @@ pub struct MemoryCensus {
 }
 
 /// An agent as the run loop drives it: told of every env step, asked for a decision every
-/// `decisionPeriod` steps, told of each episode's end.
+/// `decisionPeriod` steps, told of each episode's end. What it reads, whether it has a gate and
+/// whether a person's driving goes through its memory are its table row's (`AgentInfo`), once.
 pub trait Controller: Send {
-    /// What its decisions read.
-    fn input(&self) -> Input;
-
-    /// Whether it arbitrates with the reconstruction gate, which then watches every frame.
-    fn uses_gate(&self) -> bool {
-        false
-    }
-
-    /// Whether a person's driving goes through its memory (the page's "record" option).
-    fn learns_from_person(&self) -> bool {
-        false
-    }
-
     /// Whether `on_step` needs this step's frame (DQN stores a transition with it on decision and
     /// reward frames); the run then renders it.
     fn wants_frame(&self, _step: &Step) -> bool {
@@ -153,11 +143,12 @@ pub trait Controller: Send {
         Err(NO_CHECKPOINT.into())
     }
 
-    /// Applies a live change of the agents' parameters (the page's sliders) from the next
-    /// decision; the run has checked that nothing else changed (`RunConfig::needs_restart`). An
-    /// agent reads its own section and ignores the others; one without live parameters keeps
-    /// this default. On an error nothing changes.
-    fn reconfigure(&mut self, _settings: &AgentSettings) -> Result<(), ConfigError> {
+    /// Applies a live change of its parameters (the page's sliders) from the next decision:
+    /// `section` is its own configuration section (the one its table row names, read with
+    /// `own_section`), and the run has checked that nothing else changed
+    /// (`RunConfig::needs_restart`). An agent without live parameters keeps this default. On an
+    /// error nothing changes.
+    fn reconfigure(&mut self, _section: &dyn Any) -> Result<(), ConfigError> {
         Ok(())
     }
 
@@ -186,18 +177,13 @@ pub trait Controller: Send {
 /// What an agent without memory files answers `save_memory` and `load_memory`.
 pub const NO_MEMORY_FILE: &str = "only SEC keeps a memory file (this run's agent does not)";
 
-/// The agents' parameter sections of a run's configuration, handed to a running controller by a
-/// live change (`Controller::reconfigure`).
-#[derive(Clone, Copy, Debug)]
-pub struct AgentSettings<'a> {
-    /// SEC's (and NSEC's).
-    pub sec: &'a SecConfig,
-    /// MFEC's.
-    pub mfec: &'a MfecConfig,
-    /// DQN's (and ERLAM's network).
-    pub dqn: &'a DqnConfig,
-    /// ERLAM's associative memory.
-    pub erlam: &'a ErlamConfig,
+/// An agent's own configuration section as its type, from the section a run hands its builder
+/// and `Controller::reconfigure` (the core passes each agent the section its table row names,
+/// without knowing its type). Another type is an error naming the section.
+pub fn own_section<'a, T: Any>(section: &'a dyn Any, key: &str) -> Result<&'a T, ConfigError> {
+    section
+        .downcast_ref::<T>()
+        .ok_or_else(|| ConfigError::new(key, format!("is not this agent's section (a {})", std::any::type_name::<T>())))
 }
 
 /// What an agent shows of itself, read-only: the page's views and explanation panel and Python

@@ -8,7 +8,7 @@
 //! starts with a dummy couplet, the terminal frame's decision is taken, and an episode's last
 //! couplet is carried into the next.
 
-use super::controller::{Controller, EpisodeEnd, Input, MemoryUse, Observation, Step};
+use super::controller::{Controller, EpisodeEnd, MemoryUse, Observation, Step};
 use super::{Decision, Layer, Reactive};
 use crate::arena::{Action, ConfigError};
 use crate::encoder::{EMBEDDING, IMAGE};
@@ -393,13 +393,6 @@ impl Mfec {
 }
 
 impl Controller for Mfec {
-    fn input(&self) -> Input {
-        match self.projection {
-            Some(_) => Input::Image,
-            None => Input::Embedding,
-        }
-    }
-
     fn on_step(&mut self, step: &Step, _: Option<&[f32]>, _: &mut ChaCha8Rng) -> bool {
         self.frame(step.reward, step.episode_reward, step.good_goal, step.decides);
         false

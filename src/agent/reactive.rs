@@ -2,7 +2,7 @@
 //! place, the only exploration SEC has. It advances at every decision, even when the contextual
 //! layer's action is the one taken, and keeps its state across episodes.
 
-use super::controller::{Controller, EpisodeEnd, Input, MemoryUse, Observation, Step};
+use super::controller::{Controller, EpisodeEnd, MemoryUse, Observation, Step};
 use super::{Decision, Layer};
 use crate::arena::Action;
 use crate::error::FileError;
@@ -101,10 +101,6 @@ impl Reactive {
 
 /// The reactive walk alone, as a baseline.
 impl Controller for Reactive {
-    fn input(&self) -> Input {
-        Input::Nothing
-    }
-
     fn on_step(&mut self, _: &Step, _: Option<&[f32]>, _: &mut ChaCha8Rng) -> bool {
         false
     }

@@ -3,7 +3,7 @@
 //! only when it selected something, the LTM holds enough sequences and the reconstruction gate is
 //! open.
 
-use super::controller::{AgentSettings, AgentView, Controller, EpisodeEnd, Input, MemoryUse, Observation, Step};
+use super::controller::{own_section, AgentView, Controller, EpisodeEnd, MemoryUse, Observation, Step};
 use super::{Decision, Layer, Reactive};
 use crate::arena::{Action, ConfigError};
 use crate::encoder::EMBEDDING;
@@ -11,6 +11,7 @@ use crate::error::Error;
 use crate::memory::file::Identity;
 use crate::memory::{Couplet, Memory, MemoryConfig};
 use rand_chacha::ChaCha8Rng;
+use std::any::Any;
 
 /// SEC's parameters beyond the memory's. Defaults follow the authors' code.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -206,18 +207,6 @@ impl Sec {
 }
 
 impl Controller for Sec {
-    fn input(&self) -> Input {
-        Input::Embedding
-    }
-
-    fn uses_gate(&self) -> bool {
-        true
-    }
-
-    fn learns_from_person(&self) -> bool {
-        true
-    }
-
     /// Storage on the goal event, before this frame's decision, so the last decision's couplet
     /// is not in the sequence (D4, D12).
     fn on_step(&mut self, step: &Step, _: Option<&[f32]>, rng: &mut ChaCha8Rng) -> bool {
@@ -296,8 +285,8 @@ impl Controller for Sec {
         Ok(())
     }
 
-    fn reconfigure(&mut self, settings: &AgentSettings) -> Result<(), ConfigError> {
-        Sec::reconfigure(self, settings.sec.clone())
+    fn reconfigure(&mut self, section: &dyn Any) -> Result<(), ConfigError> {
+        Sec::reconfigure(self, own_section::<SecConfig>(section, "agent")?.clone())
     }
 
     fn inspect(&self) -> AgentView<'_> {

@@ -4,19 +4,20 @@
 //! the settings that apply to an agent follow from its capabilities. Adding an agent is its
 //! module (a `Controller`) and a row here.
 
-use super::controller::Controller;
-use super::mfec::{Embedding, Mfec, RandomProjection};
-use super::{Reactive, Sec};
+use super::controller::{own_section, Controller, Input};
+use super::mfec::{Embedding, Mfec, MfecConfig, RandomProjection};
+use super::{Reactive, Sec, SecConfig};
 use crate::arena::ConfigError;
 use crate::encoder::Perception;
-use crate::experiment::RunConfig;
 use crate::seed::{self, Stream};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
+use std::any::Any;
 
-/// Builds an agent for a run of `cfg` with `seed`, drawing its initial state from the agent
-/// stream `rng`; `perception` is the run's (an agent that embeds by itself reads it).
-pub type Build = fn(&RunConfig, &Perception, u64, &mut ChaCha8Rng) -> Result<Box<dyn Controller>, ConfigError>;
+/// Builds an agent for a run with `seed` from its own configuration section (the one its row
+/// names; `()` for none), drawing its initial state from the agent stream `rng`; `perception` is
+/// the run's (an agent that embeds by itself reads it).
+pub type Build = fn(&dyn Any, &Perception, u64, &mut ChaCha8Rng) -> Result<Box<dyn Controller>, ConfigError>;
 
 /// The agents a run can hold (`RunConfig.kind`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, serde::Deserialize)]
@@ -32,18 +33,6 @@ pub enum AgentKind {
     Dqn,
     /// DQN with ERLAM's associative memory graph over the trained autoencoder's embeddings.
     Erlam,
-}
-
-/// What an agent reads of each frame to decide.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "camelCase")]
-pub enum Reads {
-    /// The perception's embedding (so the perception settings apply).
-    Embedding,
-    /// The camera image itself.
-    Image,
-    /// Nothing: it walks.
-    Nothing,
 }
 
 /// One row of the agent table.
@@ -64,11 +53,11 @@ pub struct AgentInfo {
     /// The `RunConfig` section of its parameters (`None`: it has none).
     pub section: Option<&'static str>,
     /// What it reads of each frame.
-    pub reads: Reads,
+    pub reads: Input,
     /// A sequential memory the views show (STM, LTM, the couplets of a decision), files of it,
     /// live parameters.
     pub has_memory: bool,
-    /// Arbitrates with the reconstruction gate.
+    /// Arbitrates with the reconstruction gate (which then watches every frame).
     pub has_gate: bool,
     /// Runs only natively (its networks are trained with burn, which the wasm build leaves out).
     pub native_only: bool,
@@ -84,9 +73,10 @@ pub struct AgentInfo {
     pub build: Option<Build>,
 }
 
-fn mfec(cfg: &RunConfig, seed: u64, rng: &mut ChaCha8Rng) -> Result<Mfec, ConfigError> {
-    Mfec::new(cfg.mfec.clone(), rng).map(|m| {
-        if cfg.mfec.embedding == Embedding::RandomProjection {
+fn mfec(section: &dyn Any, seed: u64, rng: &mut ChaCha8Rng) -> Result<Mfec, ConfigError> {
+    let cfg: &MfecConfig = own_section(section, "mfec")?;
+    Mfec::new(cfg.clone(), rng).map(|m| {
+        if cfg.embedding == Embedding::RandomProjection {
             m.with_projection(RandomProjection::new(&mut seed::rng(seed, Stream::Projection)))
         } else {
             m
@@ -108,34 +98,34 @@ pub const AGENTS: &[AgentInfo] = &[
     AgentInfo {
         key: "sec", label: "SEC", unbiased_label: Some("NSEC"),
         about: "Sequential episodic control: stores the views and actions that led to a goal as sequences and replays them, with a reactive walk until memory knows the view.",
-        explores: None, section: Some("agent"), reads: Reads::Embedding,
+        explores: None, section: Some("agent"), reads: Input::Embedding,
         has_memory: true, has_gate: true, native_only: false, can_be_driven: true,
         kind: AgentKind::Sec, embedding: None,
-        build: Some(|cfg, _, _, rng| Ok(Box::new(Sec::new(cfg.agent.clone(), rng)?))),
+        build: Some(|section, _, _, rng| Ok(Box::new(Sec::new(own_section::<SecConfig>(section, "agent")?.clone(), rng)?))),
     },
     AgentInfo {
         key: "mfec-ae", label: "MFEC", unbiased_label: None,
         about: "Model-free episodic control on the autoencoder's embedding: the best return seen per view and action, k nearest neighbours elsewhere.",
         explores: Some("MFEC explores with the reactive walk (its warm-up, or an ε step)."),
-        section: Some("mfec"), reads: Reads::Embedding,
+        section: Some("mfec"), reads: Input::Embedding,
         has_memory: false, has_gate: false, native_only: false, can_be_driven: false,
         kind: AgentKind::Mfec, embedding: Some(Embedding::Autoencoder),
-        build: Some(|cfg, _, seed, rng| Ok(Box::new(mfec(cfg, seed, rng)?))),
+        build: Some(|section, _, seed, rng| Ok(Box::new(mfec(section, seed, rng)?))),
     },
     AgentInfo {
         key: "mfec-rp", label: "MFEC on a random projection", unbiased_label: None,
         about: "MFEC on a fixed random projection of the camera image instead of the autoencoder.",
         explores: Some("MFEC explores with the reactive walk (its warm-up, or an ε step)."),
-        section: Some("mfec"), reads: Reads::Image,
+        section: Some("mfec"), reads: Input::Image,
         has_memory: false, has_gate: false, native_only: false, can_be_driven: false,
         kind: AgentKind::Mfec, embedding: Some(Embedding::RandomProjection),
-        build: Some(|cfg, _, seed, rng| Ok(Box::new(mfec(cfg, seed, rng)?))),
+        build: Some(|section, _, seed, rng| Ok(Box::new(mfec(section, seed, rng)?))),
     },
     AgentInfo {
         key: "reactive", label: "the reactive walk", unbiased_label: None,
         about: "The reactive layer alone: straight runs and turns, no memory.",
         explores: Some("The reactive walk alone: straight runs and turns, no memory."),
-        section: None, reads: Reads::Nothing,
+        section: None, reads: Input::Nothing,
         has_memory: false, has_gate: false, native_only: false, can_be_driven: false,
         kind: AgentKind::Reactive, embedding: None,
         build: Some(|_, _, _, rng| Ok(Box::new(Reactive::new(rng)))),
@@ -144,7 +134,7 @@ pub const AGENTS: &[AgentInfo] = &[
         key: "dqn", label: "DQN", unbiased_label: None,
         about: "The authors' deep Q-network on the camera image (native only: sec-experiment).",
         explores: Some("DQN explores with ε-greedy steps."),
-        section: Some("dqn"), reads: Reads::Image,
+        section: Some("dqn"), reads: Input::Image,
         has_memory: false, has_gate: false, native_only: true, can_be_driven: false,
         kind: AgentKind::Dqn, embedding: None, build: None,
     },
@@ -152,7 +142,7 @@ pub const AGENTS: &[AgentInfo] = &[
         key: "erlam", label: "ERLAM", unbiased_label: None,
         about: "DQN with ERLAM's associative memory graph over the trained autoencoder's embeddings (native only).",
         explores: Some("ERLAM explores with ε-greedy steps."),
-        section: Some("erlam"), reads: Reads::Image,
+        section: Some("erlam"), reads: Input::Image,
         has_memory: false, has_gate: false, native_only: true, can_be_driven: false,
         kind: AgentKind::Erlam, embedding: None, build: None,
     },

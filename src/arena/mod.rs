@@ -1,24 +1,20 @@
 //! The Animal-AI v1 arenas that SEC was evaluated on (docs/ARENAS.md).
 //!
 //! A [`Task`] is a list of start [`Layout`]s (what a YAML arena file describes); [`World`] is one
-//! layout instantiated with its random parts drawn; [`Env`] steps a world with the v1 dynamics and
-//! exposes the Gymnasium-style API.
+//! layout instantiated with its random parts drawn; `physics` steps a world with the v1
+//! dynamics. The Gymnasium-style env that draws it is `crate::env`, above this and the renderer.
 
-mod env;
-mod physics;
+mod action;
+pub mod physics;
 mod tasks;
-#[cfg(feature = "test-hooks")]
-pub mod trace;
 mod world;
 pub mod yaml;
 
 pub use crate::error::ConfigError;
-pub use env::{Action, Env, EnvConfig, Step, StepOutcome};
-pub use physics::{
-    AGENT_RADIUS, DRAG_FACTOR, FRAMES_PER_STEP, FRAME_DT, FRICTION_DV, GRAVITY, IMPULSE_DV, TURN_DEGREES,
-};
+pub use action::Action;
+pub use physics::{DRAG_FACTOR, FRAMES_PER_STEP, FRAME_DT, FRICTION_DV, GRAVITY, IMPULSE_DV, TURN_DEGREES};
 pub use tasks::{facing_centre, StartHeading, Task, TaskInfo, TASKS, TASK_NAMES};
-pub use world::{Agent, BoxObj, Footprint, Goal, Tunnel, World, Zone};
+pub use world::{Agent, BoxObj, Footprint, Goal, Tunnel, World, Zone, AGENT_RADIUS};
 
 /// Side of the square arena, metres; the fences' inner faces are at 0 and 40.
 pub const ARENA_SIZE: f32 = 40.0;

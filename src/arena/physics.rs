@@ -1,6 +1,6 @@
 //! Animal-AI v1 dynamics, one 0.02 s physics frame at a time (docs/ARENAS.md section 3).
 
-use super::world::{wrap_degrees, World};
+use super::world::{wrap_degrees, World, AGENT_RADIUS};
 use super::{ObjectKind, ARENA_SIZE};
 use glam::Vec2;
 
@@ -16,8 +16,6 @@ pub const IMPULSE_DV: f32 = 1.0;
 pub const FRICTION_DV: f32 = 0.6 * 9.81 * FRAME_DT;
 /// Rigid-body drag per frame: 1 - drag x dt = 1 - 2 x 0.02.
 pub const DRAG_FACTOR: f32 = 0.96;
-/// The agent sphere's radius; its centre is this high above the floor.
-pub const AGENT_RADIUS: f32 = 0.5;
 /// Gravity, m/s^2 (goals fall until they rest).
 pub const GRAVITY: f32 = 9.81;
 /// Goals bounce with bounciness 0.4 averaged with the floor's 0.

@@ -1,9 +1,12 @@
 //! A layout instantiated: concrete objects, the agent, and the collision footprints.
 
-use super::{AgentSpec, Layout, ObjectKind, ObjectSpec, Rgb, AGENT_RADIUS, ARENA_SIZE, SIZE_ADJUST};
+use super::{AgentSpec, Layout, ObjectKind, ObjectSpec, Rgb, ARENA_SIZE, SIZE_ADJUST};
 use glam::{Vec2, Vec3};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
+
+/// The agent sphere's radius; its centre is this high above the floor.
+pub const AGENT_RADIUS: f32 = 0.5;
 
 /// Unity's tunnel mesh: inner radius / outer radius / 2 = 0.818 / 1.04 / 2 (docs/ARENAS.md section 5).
 pub const TUNNEL_INNER: f32 = 0.3933;

@@ -8,7 +8,6 @@
 //! says (the "paper" preset).
 
 use super::{bundled, Autoencoder, Scratch, EMBEDDING};
-use crate::arena::ConfigError;
 use crate::error::Error;
 use crate::seed::Stream;
 
@@ -29,20 +28,7 @@ impl PerceptionKind {
         [("untrained", PerceptionKind::Untrained), ("trained", PerceptionKind::Trained)];
 }
 
-/// Allowed embedding scales: positive, and small enough that 20 scaled ReLU outputs stay finite.
-pub const SCALE_RANGE: (f32, f32) = (0.0, 1.0e6);
-
-/// Checks an `embeddingScale`: finite, in (0, 1e6].
-pub fn check_scale(scale: f32) -> Result<(), ConfigError> {
-    if scale.is_finite() && scale > SCALE_RANGE.0 && scale <= SCALE_RANGE.1 {
-        Ok(())
-    } else {
-        Err(ConfigError::new(
-            "embeddingScale",
-            format!("{scale} is out of range ({}, {}]", SCALE_RANGE.0, SCALE_RANGE.1),
-        ))
-    }
-}
+pub use super::weights::{check_scale, SCALE_RANGE};
 
 /// A run's perceptual layer: the trained autoencoder (always: it runs the reconstruction gate
 /// and the page's reconstruction) and, for `Untrained`, the encoder that embeds.

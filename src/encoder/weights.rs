@@ -12,7 +12,7 @@
 //!   gzip finds them, so the page downloads 24 KB less per model;
 //! - an FNV-1a 64 checksum (u64) of all the bytes before it.
 
-use crate::error::FileError;
+use crate::error::{ConfigError, FileError};
 use crate::util::{fnv1a, put_str, ByteReader};
 
 /// A weights file's first bytes.
@@ -118,7 +118,7 @@ impl Weights {
         };
         let task = r.string()?;
         let embedding_scale = f32::from_le_bytes(r.take(4)?.try_into().unwrap());
-        crate::encoder::perception::check_scale(embedding_scale).map_err(|e| FileError::value("weights", e))?;
+        check_scale(embedding_scale).map_err(|e| FileError::value("weights", e))?;
         let n = r.u32()? as usize;
         let mut heads = Vec::new();
         for _ in 0..n.min(1024) {
@@ -173,5 +173,20 @@ impl Weights {
             return Err(err(format!("tensor {name} has shape {:?}, expected {shape:?}", t.shape)));
         }
         Ok(&t.data)
+    }
+}
+
+/// Allowed embedding scales: positive, and small enough that 20 scaled ReLU outputs stay finite.
+pub const SCALE_RANGE: (f32, f32) = (0.0, 1.0e6);
+
+/// Checks an `embeddingScale`: finite, in (0, 1e6].
+pub fn check_scale(scale: f32) -> Result<(), ConfigError> {
+    if scale.is_finite() && scale > SCALE_RANGE.0 && scale <= SCALE_RANGE.1 {
+        Ok(())
+    } else {
+        Err(ConfigError::new(
+            "embeddingScale",
+            format!("{scale} is out of range ({}, {}]", SCALE_RANGE.0, SCALE_RANGE.1),
+        ))
     }
 }

@@ -19,6 +19,7 @@
 //! has no log digest, version 2 (`SECCKPT2`) no checksum either, version 1 (`SECCKPT1`) no gate
 //! section.
 
+use super::metrics::extend_log;
 use super::{AgentFactory, Run, RunConfig};
 use crate::error::{Error, FileError};
 use std::io::{Read, Write};
@@ -87,11 +88,6 @@ impl ResumeCheck<'_> {
     pub fn at_most(max_episodes: u64) -> Self {
         ResumeCheck { max_episodes, log: None, legacy: false }
     }
-}
-
-/// The digest of a log continued by one episode's line (`Run`'s running digest).
-pub(crate) fn extend_log(digest: u64, line: &str) -> u64 {
-    crate::util::fnv1a_extend(crate::util::fnv1a_extend(digest, line.as_bytes()), b"\n")
 }
 
 /// The digest of the first `episodes` whole lines of `log`, or `None` when it holds fewer.
@@ -308,7 +304,7 @@ impl Run {
                 run.gate.take_state(&mut r)?;
             }
             // A version-1 checkpoint: written only by agents without the gate.
-            None if run.controller.uses_gate() => {
+            None if run.agent.has_gate => {
                 return Err(FileError::field("checkpoint", "gate", "missing (a version-1 checkpoint)").into());
             }
             None => {}

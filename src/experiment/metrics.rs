@@ -117,3 +117,8 @@ impl EpisodeState {
         }
     }
 }
+
+/// The digest of a log continued by one episode's line (`Run`'s running digest).
+pub(crate) fn extend_log(digest: u64, line: &str) -> u64 {
+    crate::util::fnv1a_extend(crate::util::fnv1a_extend(digest, line.as_bytes()), b"\n")
+}

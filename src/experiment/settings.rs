@@ -4,8 +4,8 @@
 //! the ranges checked here.
 
 use super::RunConfig;
+use crate::agent::controller::Input;
 use crate::agent::mfec::Embedding;
-use crate::agent::table::Reads;
 use crate::agent::{AgentInfo, SecConfig};
 use crate::arena::{ConfigError, StartHeading, DEFAULT_T, MAX_T, TASK_NAMES};
 use crate::encoder::perception::SCALE_RANGE;
@@ -83,7 +83,7 @@ fn sec_only() -> Vec<&'static str> {
 
 /// The page's agents whose states come from the perception.
 fn embedders() -> Vec<&'static str> {
-    AgentInfo::keys_where(|a| a.reads == Reads::Embedding && !a.native_only)
+    AgentInfo::keys_where(|a| a.reads == Input::Embedding && !a.native_only)
 }
 
 /// The agents the page offers (the table's, less the native-only ones).
@@ -223,6 +223,11 @@ fn table() -> Vec<Setting> {
             set: |c, _, v| c.agent.memory.m = v as usize,
         },
         Setting {
+            param: integer("minSequences", "min", "Memory acts only once the LTM holds this many sequences (at most m).", (0, M_RANGE.1 as u64), true).group("memory").agents(sec_only()),
+            get: |c, _| c.agent.min_sequences.to_string(),
+            set: |c, _, v| c.agent.min_sequences = v as usize,
+        },
+        Setting {
             param: choice("forgetting", "forget", "What a full LTM does: nothing, drop the oldest, the lowest reward, the 10% lowest, or one drawn by low reward.", &names(&Forgetting::ALL), true).group("memory").agents(sec_only()),
             get: |c, _| name_of(&Forgetting::ALL, c.agent.memory.forgetting),
             set: |c, _, v| c.agent.memory.forgetting = Forgetting::ALL[v as usize].1,
@@ -248,6 +253,20 @@ fn table() -> Vec<Setting> {
             set: |_, seed, v| *seed = v as u64,
         },
     ]
+}
+
+impl RunConfig {
+    /// Whether going from `self` to `next` needs a new run: it does unless every field that
+    /// differs is one a live setting sets (the rows' `live`, the one place liveness is declared).
+    /// A field no setting shows (`agent.gate`, the reactive walk's lengths) is fixed for a run.
+    pub fn needs_restart(&self, next: &RunConfig) -> bool {
+        let (mut probe, mut seed) = (self.clone(), 0);
+        for s in table().iter().filter(|s| s.param.live) {
+            let value = parse(&s.param, &(s.get)(next, 0)).expect("a setting reads back what it shows");
+            (s.set)(&mut probe, &mut seed, value);
+        }
+        probe != *next
+    }
 }
 
 /// Every setting, in the order the page shows them.

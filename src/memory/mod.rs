@@ -20,7 +20,6 @@ pub use similarity::{pairwise20, pairwise9};
 use crate::arena::{Action, ConfigError};
 use crate::encoder::EMBEDDING;
 use rand_chacha::ChaCha8Rng;
-use retrieval::sample;
 
 /// The number of actions (`Action`'s flat indices 3*a0 + a1).
 pub const ACTIONS: usize = crate::arena::Action::COUNT;
@@ -292,7 +291,7 @@ impl Memory {
                     }
                 }
                 Forgetting::Prior => {
-                    let i = sample(&self.prior_probabilities(), rng);
+                    let i = crate::seed::sample(&self.prior_probabilities(), rng);
                     self.remove(i);
                 }
             }

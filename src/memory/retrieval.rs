@@ -5,7 +5,6 @@ use super::similarity::{above32, above64, max32, max64, pairwise9, similarity, s
 use super::{raised_of, LastG, Memory, Selected, ACTIONS};
 use crate::arena::Action;
 use crate::encoder::EMBEDDING;
-use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
 impl Memory {
@@ -181,7 +180,7 @@ impl Memory {
             }
         }
         self.entropy = 0.0 - pairwise9(&terms);
-        Some(Action::ALL[sample(&self.p, rng)])
+        Some(Action::ALL[crate::seed::sample(&self.p, rng)])
     }
 }
 
@@ -217,22 +216,4 @@ fn merge_sorted(v: &mut Vec<u32>, add: &[u32]) {
 fn push(selected: &mut Vec<Selected>, n: usize, idx: usize, g: f64) {
     let (row, col) = ((idx / n) as u32, (idx % n) as u32);
     selected.push(Selected { row, col, g, t: 1.0, rr: 0.0, d: 0.0, action: Action::NOOP, value: 0.0 });
-}
-
-/// Draws an index with probabilities `p` (summing to 1): the first index whose cumulative sum
-/// exceeds a uniform draw; never an index of probability 0.
-pub(super) fn sample(p: &[f64], rng: &mut ChaCha8Rng) -> usize {
-    let u: f64 = rng.gen();
-    let mut c = 0.0;
-    let mut last = 0;
-    for (i, &pi) in p.iter().enumerate() {
-        if pi > 0.0 {
-            c += pi;
-            last = i;
-            if u < c {
-                return i;
-            }
-        }
-    }
-    last
 }

@@ -4,15 +4,16 @@
 
 use super::run::SecRun;
 use super::{args, js_err, seed_from_js};
-use crate::arena::{trace, Env, EnvConfig, Task};
+use crate::arena::Task;
 use crate::encoder::{bundled, Scratch, EMBEDDING, IMAGE};
+use crate::env::{trace, Env, EnvConfig};
 use crate::render::Surface;
 use wasm_bindgen::prelude::*;
 
 /// The most iterations a test-hook loop takes (a count from JS is checked like the public API's).
 const MAX_LOOP: u64 = 10_000_000;
 
-/// The scripted determinism run (see `arena::trace`), for cross-target checks; `surface` is
+/// The scripted determinism run (see `env::trace`), for cross-target checks; `surface` is
 /// "flat" (or absent) or "textured".
 #[wasm_bindgen(js_name = scriptedRun)]
 pub fn scripted_run(task: &str, seed: f64, steps: JsValue, surface: Option<String>) -> Result<String, JsError> {

@@ -1,8 +1,9 @@
 //! The JavaScript API (wasm32 only). Every value from JS is validated; a bad one is a JS
 //! `Error` whose message names the parameter and its range, and leaves the state as it was.
 
-use crate::arena::{Action, Env, EnvConfig, Task, MAX_T, TASK_NAMES};
+use crate::arena::{Action, Task, MAX_T, TASK_NAMES};
 use crate::encoder::{bundled, reconstruction_to_rgba, Autoencoder, Scratch, EMBEDDING, IMAGE};
+use crate::env::{Env, EnvConfig};
 use crate::render::{Frame, Trail, WIDTH};
 use crate::seed::MAX_SEED;
 use serde::Serialize;

@@ -34,7 +34,7 @@ use net::{values, NatureCnn};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use replay::{Meta, Replay};
-use sec_playground::agent::controller::{Controller, EpisodeEnd, Input, MemoryCensus, MemoryUse, Observation, Step};
+use sec_playground::agent::controller::{Controller, EpisodeEnd, MemoryCensus, MemoryUse, Observation, Step};
 use sec_playground::agent::dqn::DqnConfig;
 use sec_playground::agent::dqn::ErlamConfig;
 use sec_playground::agent::mfec::softmax_entropy_bits;
@@ -311,10 +311,6 @@ fn to_bytes(image: &[f32]) -> Vec<u8> {
 }
 
 impl Controller for Dqn {
-    fn input(&self) -> Input {
-        Input::Image
-    }
-
     fn wants_frame(&self, step: &Step) -> bool {
         step.decides || step.reward > 0.0
     }

@@ -4,10 +4,10 @@
 //! plays. DQN and ERLAM train with burn, which the wheel leaves out: their runs are refused by
 //! name (run them with `sec-experiment`).
 
-use super::{check_seed, value_error};
+use crate::checks::{check_seed, value_error};
 use pyo3::prelude::*;
 use sec_playground::experiment::presets::{self, Condition};
-use sec_runner::runner::{self, Job};
+use sec_runner::{self as runner, Job};
 use std::path::PathBuf;
 
 /// The preset's conditions `only` names (all without it), refused by name when none is.
@@ -38,7 +38,7 @@ pub fn grid_prepare(experiment: &str, seeds: &str, episodes: usize, out: PathBuf
     let seeds = runner::parse_seeds(seeds).map_err(value_error)?;
     runner::check_episodes(episodes).map_err(value_error)?;
     let conditions = conditions(experiment, only)?;
-    runner::prepare(&out.join(experiment), &runner::manifest(experiment, episodes, &seeds, &conditions))
+    runner::prepare(&out.join(experiment), &runner::experiment_manifest(experiment, episodes, &seeds, &conditions))
         .map_err(value_error)
 }
 

@@ -50,7 +50,7 @@ def _bits(fmt, value):
 
 def _scripted_trace(task, seed, steps, surface="flat"):
     """tests/golden/trace.txt's lines for `task` (trace-textured.txt's for the textured surface),
-    through the Gymnasium env (the LCG script of `sec_playground::arena::trace::scripted_run`)."""
+    through the Gymnasium env (the LCG script of `sec_playground::env::trace::scripted_run`)."""
     env = ArenaEnv(task, surface=surface)
     obs, info = env.reset(seed=seed)
     name = task if surface == "flat" else f"{task}-{surface}"

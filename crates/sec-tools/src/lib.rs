@@ -33,7 +33,8 @@ pub fn upscale(rgba: &[u8], width: usize, height: usize, k: usize) -> Vec<u8> {
 pub mod authors;
 pub mod frame_match;
 // The runner lives in its own light crate (the Python package's Ray driver uses it too).
-pub use sec_runner::{manifest, runner};
+pub use sec_runner as runner;
+pub use sec_runner::manifest;
 pub mod matching;
 pub mod merge;
 pub mod orderings;

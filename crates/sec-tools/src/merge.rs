@@ -6,7 +6,9 @@
 //! the merge the seeds the experiments list that are missing or short are reported.
 
 use crate::manifest::{self, config_hash};
-use crate::runner::{experiment_dirs, finished_runs, first_difference, prepare, read_run_text, run_path, Manifest};
+use crate::runner::{
+    experiment_dirs, finished_runs, first_difference, prepare, read_run_text, run_path, ExperimentManifest,
+};
 use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -23,12 +25,12 @@ pub struct Merged {
     pub missing: Vec<String>,
 }
 
-fn experiments(root: &Path) -> Result<Vec<(String, Manifest)>, String> {
+fn experiments(root: &Path) -> Result<Vec<(String, ExperimentManifest)>, String> {
     let mut out = Vec::new();
     for dir in experiment_dirs(root) {
         let path = dir.join("experiment.json");
         let text = fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let m: Manifest = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+        let m: ExperimentManifest = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
         out.push((dir.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned()), m));
     }
     Ok(out)
@@ -39,7 +41,7 @@ pub fn merge(sources: &[PathBuf], into: &Path) -> Result<Merged, String> {
     // Every folder's experiments, the target's first: their conditions must agree.
     let mut folders = vec![into.to_path_buf()];
     folders.extend(sources.iter().cloned());
-    let mut merged: BTreeMap<String, Manifest> = BTreeMap::new();
+    let mut merged: BTreeMap<String, ExperimentManifest> = BTreeMap::new();
     let mut seen: BTreeMap<(String, String), (String, PathBuf)> = BTreeMap::new();
     for folder in &folders {
         for (name, m) in experiments(folder)? {
@@ -60,7 +62,9 @@ pub fn merge(sources: &[PathBuf], into: &Path) -> Result<Merged, String> {
                     }
                 }
             }
-            let entry = merged.entry(name.clone()).or_insert_with(|| Manifest { conditions: Vec::new(), ..m.clone() });
+            let entry = merged
+                .entry(name.clone())
+                .or_insert_with(|| ExperimentManifest { conditions: Vec::new(), ..m.clone() });
             entry.episodes = entry.episodes.max(m.episodes);
             for s in &m.seeds {
                 if !entry.seeds.contains(s) {

@@ -3,7 +3,7 @@
 //! group's first model, the SEC/NSEC memory-ratio matrix of figure 6, and the learning curves.
 
 use crate::plot::{self, Series};
-use crate::runner::{Manifest, ManifestCondition};
+use crate::runner::{ExperimentManifest, ManifestCondition};
 use crate::stats::{ci95, mann_whitney, mean, moving_mean, sd, se};
 use sec_playground::experiment::EpisodeMetrics;
 use sec_playground::memory::Forgetting;
@@ -91,11 +91,11 @@ fn read_run(path: &Path) -> Result<Vec<EpisodeMetrics>, String> {
 
 /// Loads the manifest and every finished run, each condition cut to `episodes` (or the shortest
 /// of its runs).
-pub fn load(dir: &Path) -> Result<(Manifest, Vec<ConditionRuns>), String> {
+pub fn load(dir: &Path) -> Result<(ExperimentManifest, Vec<ConditionRuns>), String> {
     let path = dir.join("experiment.json");
     let text =
         fs::read_to_string(&path).map_err(|e| format!("{}: {e} (run `sec-experiment run` first)", path.display()))?;
-    let manifest: Manifest = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let manifest: ExperimentManifest = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut out = Vec::new();
     for c in &manifest.conditions {
         let (mut seeds, mut runs) = (Vec::new(), Vec::new());

@@ -2,7 +2,8 @@
 //! the top-down view. Usage: `cargo run -p sec-tools --bin frames -- [OUT_DIR] [--seed N]
 //! [--surface flat|textured]` (textured frames are named `<task>-textured*.png`).
 
-use sec_playground::arena::{Env, EnvConfig, Task, TASK_NAMES};
+use sec_playground::arena::{Task, TASK_NAMES};
+use sec_playground::env::{Env, EnvConfig};
 use sec_playground::render::{Surface, TopDown, HEIGHT, WIDTH};
 use sec_tools::{upscale, write_png};
 use std::path::PathBuf;

@@ -526,7 +526,7 @@ fn run(args: &[String]) -> Result<(), String> {
     };
     let conditions = runner::select(&experiment, conditions, o.get("only").copied())?;
     let dir = out.join(&experiment);
-    runner::prepare(&dir, &runner::manifest(&experiment, episodes, &seeds, &conditions))?;
+    runner::prepare(&dir, &runner::experiment_manifest(&experiment, episodes, &seeds, &conditions))?;
     let mut jobs_list = runner::jobs(&conditions, &seeds, shard, Some(sec_dqn::factory));
     let legacy = o.contains_key("legacy-checkpoint");
     jobs_list.iter_mut().for_each(|j| j.legacy_checkpoint = legacy);

@@ -1,7 +1,8 @@
 //! A scripted run whose log is compared across native, Node and browser builds: the proof that
 //! a run is a pure function of (configuration, seed) on every target.
 
-use super::{Action, ConfigError, Env, EnvConfig, Task};
+use super::{Env, EnvConfig};
+use crate::arena::{Action, ConfigError, Task};
 use crate::render::Surface;
 use std::fmt::Write;
 
