@@ -4,15 +4,11 @@
 // for comparing speed). `?wasm=hooks` loads the test flavour (scripts/build-hooks.sh), the SIMD
 // build with the test hooks; the published page has no such folder.
 
+import { TASKS } from './tasks.js';
+
 /** A function returning a v128 (i8x16.splat, i8x16.popcnt): valid only where SIMD is. */
 const SIMD_PROBE = new Uint8Array([0, 97, 115, 109, 1, 0, 0, 0, 1, 5, 1, 96, 0, 1, 123, 3, 2, 1, 0, 10, 10, 1, 8, 0,
   65, 0, 253, 15, 253, 98, 11]);
-
-/** The shape of a model's name: lower-case words joined by hyphens, as the task table's names (a
- * function declaration, so the prefetch below may call it before this module's constants exist). */
-function isModelName(name) {
-  return /^[a-z][a-z0-9]*(-[a-z0-9]+)*$/.test(name) && name.length <= 64;
-}
 
 /** Models being registered, and model downloads under way, by task. */
 const loading = new Map();
@@ -44,11 +40,9 @@ function taskOf(model) {
 }
 
 /** Starts downloading a model (a task's name, or `gateModel`'s) now, before the wasm is ready;
- * `ensureModel` uses it. The wasm, which knows the tasks, is not loaded yet, so only a name of
- * a model file's shape is fetched (an unknown one is a 404, never registered: `ensureModel`
- * checks `taskNames()`, and the run refuses the task by name); nothing else reaches the URL. */
+ * `ensureModel` uses it. An unknown task fetches nothing: the run refuses it by name. */
 export function prefetchModel(task) {
-  if (!isModelName(String(task)) || fetched.has(task)) return;
+  if (!TASKS.includes(taskOf(task)) || fetched.has(task)) return;
   fetched.set(task, fetch(new URL(`../assets/encoders/${task}.secae`, import.meta.url)).then((r) => {
     if (!r.ok) throw new Error(`weights: the model of '${task}' could not be loaded (HTTP ${r.status})`);
     return r.arrayBuffer();
