@@ -1,6 +1,7 @@
 //! The agent table: every agent declared once, and no front end typing an agent's name.
 
 use sec_playground::agent::mfec::Embedding;
+use sec_playground::agent::mfec::MfecConfig;
 use sec_playground::agent::{AgentInfo, AgentKind, AGENTS};
 use sec_playground::experiment::settings::{self, page_agents};
 use sec_playground::experiment::RunConfig;
@@ -28,7 +29,7 @@ fn every_kind_has_one_row_and_the_settings_follow_the_capabilities() {
         let (mut cfg, mut seed) = settings::defaults();
         settings::apply(&mut cfg, &mut seed, "agent", key).unwrap();
         let row = AgentInfo::find(key).unwrap();
-        assert_eq!(AgentInfo::of(cfg.kind, cfg.mfec.embedding).key, key);
+        assert_eq!(AgentInfo::of(cfg.kind, cfg.section::<MfecConfig>().embedding).key, key);
         assert_eq!(settings::to_settings(&cfg, seed)["agent"], key);
         assert!(cfg.validate().is_ok());
         // A setting applies to an agent exactly when its capabilities say so.

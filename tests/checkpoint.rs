@@ -6,6 +6,7 @@
 //! legal values, which only the checksum and the runner's log check catch). Version 2 still loads.
 #![cfg(not(target_arch = "wasm32"))]
 
+use sec_playground::agent::SecConfig;
 use sec_playground::encoder::{EMBEDDING, IMAGE};
 use sec_playground::experiment::checkpoint::ResumeCheck;
 use sec_playground::experiment::{fixtures, Run, RunConfig};
@@ -205,9 +206,9 @@ fn edits(b: &[u8]) -> Vec<(&'static str, Vec<u8>, RunConfig, Option<&'static str
     };
     let episodes = |d: i64| with_header(b, |h| h["episodes"] = Value::from(h["episodes"].as_i64().unwrap() + d));
     let mut m8 = cfg.clone();
-    m8.agent.memory.m = 8;
+    m8.section_mut::<SecConfig>().memory.m = 8;
     let mut small = config();
-    small.agent.memory.m = 9;
+    small.section_mut::<SecConfig>().memory.m = 9;
     let nine = {
         let mut run = Run::new(small.clone(), SEED).unwrap();
         fixtures::fill_ltm(&mut run, 9);

@@ -1,6 +1,8 @@
 //! Runs of SEC in a task: deterministic, and counted as the paper counts them.
 
 use sec_playground::agent::mfec::Embedding;
+use sec_playground::agent::mfec::MfecConfig;
+use sec_playground::agent::SecConfig;
 use sec_playground::encoder::PerceptionKind;
 use sec_playground::experiment::fixtures::golden_run;
 use sec_playground::experiment::{AgentKind, Run, RunConfig};
@@ -85,7 +87,7 @@ fn json_lines(cfg: &RunConfig, seed: u64, n: usize) -> Vec<String> {
 fn baselines_run_deterministically_and_count_their_decisions() {
     let base = RunConfig { task: "object-permanence".into(), t: Some(250), ..RunConfig::default() };
     let mut rp = RunConfig { kind: AgentKind::Mfec, ..base.clone() };
-    rp.mfec.embedding = Embedding::RandomProjection;
+    rp.section_mut::<MfecConfig>().embedding = Embedding::RandomProjection;
     let ae = RunConfig { kind: AgentKind::Mfec, ..base.clone() };
     let reactive = RunConfig { kind: AgentKind::Reactive, ..base.clone() };
     for cfg in [&rp, &ae, &reactive] {
@@ -102,7 +104,8 @@ fn baselines_run_deterministically_and_count_their_decisions() {
     // differ.
     let (mut rp1, mut ae1) = (rp.clone(), ae.clone());
     for c in [&mut rp1, &mut ae1] {
-        (c.mfec.k, c.mfec.warmup_decisions, c.mfec.warmup_rewarded_episodes) = (1, 0, 0);
+        let m = c.section_mut::<MfecConfig>();
+        (m.k, m.warmup_decisions, m.warmup_rewarded_episodes) = (1, 0, 0);
     }
     assert_ne!(json_lines(&rp1, 3, 2), json_lines(&ae1, 3, 2), "MFEC-rp's entropies differ from MFEC-ae's");
     // The reactive walk logs no entropy; MFEC logs its softmax entropy, which (as the authors')
@@ -118,12 +121,15 @@ fn baselines_run_deterministically_and_count_their_decisions() {
 #[test]
 fn configurations_round_trip_through_json_and_unknown_fields_are_refused() {
     let mut cfg = RunConfig { kind: AgentKind::Mfec, ..RunConfig::default() };
-    cfg.mfec.sum_rewards = true;
-    cfg.agent.memory.sequential_bias = false;
+    cfg.section_mut::<MfecConfig>().sum_rewards = true;
+    cfg.section_mut::<SecConfig>().memory.sequential_bias = false;
     let text = serde_json::to_string(&cfg).unwrap();
     assert_eq!(serde_json::from_str::<RunConfig>(&text).unwrap(), cfg);
     let partial: RunConfig = serde_json::from_str(r#"{"task":"detour","agent":{"memory":{"m":125}}}"#).unwrap();
-    assert_eq!((partial.task.as_str(), partial.agent.memory.m, partial.agent.memory.n), ("detour", 125, 50));
+    assert_eq!(
+        (partial.task.as_str(), partial.section::<SecConfig>().memory.m, partial.section::<SecConfig>().memory.n),
+        ("detour", 125, 50)
+    );
     let e = serde_json::from_str::<RunConfig>(r#"{"agent":{"memory":{"alfa":0.1}}}"#).unwrap_err().to_string();
     assert!(e.contains("unknown field `alfa`"), "{e}");
 }
@@ -171,18 +177,21 @@ fn live_changes_apply_to_the_running_agent_and_others_ask_for_a_new_run() {
     assert!(ltm >= 4, "object permanence stores sequences early: {ltm}");
     // alpha, the thresholds and a smaller m apply now; m forgets the oldest sequences.
     let mut live = cfg.clone();
-    live.agent.memory.alpha = 0.3;
-    live.agent.memory.theta_abs = 0.9;
-    live.agent.memory.m = 2;
-    live.agent.min_sequences = 2;
+    live.section_mut::<SecConfig>().memory.alpha = 0.3;
+    live.section_mut::<SecConfig>().memory.theta_abs = 0.9;
+    live.section_mut::<SecConfig>().memory.m = 2;
+    live.section_mut::<SecConfig>().min_sequences = 2;
     let newest = run.inspect().memory.unwrap().rewards()[ltm - 2..].to_vec();
     assert_eq!(run.reconfigure(live.clone()), Ok(true));
     assert_eq!(run.config(), &live);
     let mem = run.inspect().memory.unwrap();
     assert_eq!((mem.len(), mem.config().alpha, mem.rewards()), (2, 0.3, &newest[..]));
     // n, the task or the agent need a new run: nothing changes.
-    let changes: [fn(&mut RunConfig); 3] =
-        [|c| c.agent.memory.n = 20, |c| c.task = "detour".into(), |c| c.kind = AgentKind::Reactive];
+    let changes: [fn(&mut RunConfig); 3] = [
+        |c| c.section_mut::<SecConfig>().memory.n = 20,
+        |c| c.task = "detour".into(),
+        |c| c.kind = AgentKind::Reactive,
+    ];
     for change in changes {
         let mut next = live.clone();
         change(&mut next);
@@ -191,7 +200,7 @@ fn live_changes_apply_to_the_running_agent_and_others_ask_for_a_new_run() {
     }
     // A bad value is refused by name and changes nothing.
     let mut bad = live.clone();
-    bad.agent.memory.tau = 0.0;
+    bad.section_mut::<SecConfig>().memory.tau = 0.0;
     assert_eq!(run.reconfigure(bad).unwrap_err().field, "tau");
     assert_eq!(run.config(), &live);
     // The run goes on with the new parameters; the LTM grows back to at most m.
@@ -272,11 +281,11 @@ fn the_per_episode_mfec_bookkeeping_gives_the_old_golden_runs() {
         t: Some(250),
         kind: AgentKind::Mfec,
         perception: PerceptionKind::Trained,
-        mfec,
         ..RunConfig::default()
-    };
+    }
+    .with_section(mfec);
     let mut rp = ae.clone();
-    rp.mfec.embedding = Embedding::RandomProjection;
+    rp.section_mut::<MfecConfig>().embedding = Embedding::RandomProjection;
     let got: Vec<String> = [ae, rp].iter().flat_map(|c| json_lines(c, 7, 6)).collect();
     let want = include_str!("golden/mfec-per-episode.txt");
     assert_eq!(got, want.lines().collect::<Vec<_>>());

@@ -4,6 +4,7 @@
 //! `tests/yaml.rs`; the JS API's in `tests/wasm.rs`.)
 #![cfg(not(target_arch = "wasm32"))]
 
+use sec_playground::agent::SecConfig;
 use sec_playground::encoder::{bundled, DType, Weights};
 use sec_playground::experiment::{Run, RunConfig};
 use sec_playground::memory::{file::Identity, Memory, MemoryConfig, MAX_COUPLETS, TAU_RANGE};
@@ -50,7 +51,7 @@ fn tau_is_bounded_so_that_p_stays_finite_and_n_times_m_is_bounded() {
     assert!(Memory::new(MemoryConfig { n: 1000, m: MAX_COUPLETS / 1000, ..MemoryConfig::default() }).is_ok());
     // The smallest tau over a whole run: every decision's p is finite (an entropy in the log).
     let mut run_cfg = RunConfig { task: "object-permanence".into(), ..RunConfig::default() };
-    run_cfg.agent.memory.tau = TAU_RANGE.0;
+    run_cfg.section_mut::<SecConfig>().memory.tau = TAU_RANGE.0;
     let mut run = Run::new(run_cfg, 2).unwrap();
     for _ in 0..20 {
         let m = run.episode();
@@ -81,8 +82,8 @@ fn memory_files_with_unbounded_rewards_are_refused_and_the_memory_kept() {
 fn filling_a_forgetting_ltm_for_the_benchmarks_returns() {
     use sec_playground::memory::Forgetting;
     let mut cfg = RunConfig::default();
-    cfg.agent.memory.forgetting = Forgetting::Fifo;
-    cfg.agent.memory.m = 20;
+    cfg.section_mut::<SecConfig>().memory.forgetting = Forgetting::Fifo;
+    cfg.section_mut::<SecConfig>().memory.m = 20;
     let mut run = Run::new(cfg, 1).unwrap();
     sec_playground::experiment::fixtures::fill_ltm(&mut run, 50);
     assert!(run.inspect().memory.unwrap().len() >= 19);

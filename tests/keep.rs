@@ -2,6 +2,7 @@
 //! rewarded episode is stored in SEC's LTM only when recorded, and a memory file loads only into
 //! a run whose embeddings mean the same; anything else is refused and changes nothing.
 
+use sec_playground::agent::SecConfig;
 use sec_playground::arena::Action;
 use sec_playground::encoder::PerceptionKind;
 use sec_playground::experiment::{AgentKind, Driver, EpisodeMetrics, Run, RunConfig};
@@ -150,11 +151,11 @@ fn corrupt_foreign_and_mismatched_memory_files_are_refused_and_change_nothing() 
     refused(&mut run, &scaled.save_memory().unwrap(), &["memory", "encoder"]);
     refused(&mut run, &Run::new(permanence(), 5).unwrap().save_memory().unwrap(), &["memory", "encoder", "per seed"]);
     let mut short = permanence();
-    short.agent.memory.n = 20;
+    short.section_mut::<SecConfig>().memory.n = 20;
     refused(&mut run, &Run::new(short, 2).unwrap().save_memory().unwrap(), &["n", "20", "50"]);
     let mut small = permanence();
-    small.agent.memory.m = 2;
-    small.agent.min_sequences = 1;
+    small.section_mut::<SecConfig>().memory.m = 2;
+    small.section_mut::<SecConfig>().min_sequences = 1;
     refused(&mut Run::new(small, 2).unwrap(), &file, &["m", "2"]);
     // Agents without SEC's memory.
     let mut mfec = Run::new(RunConfig { kind: AgentKind::Mfec, ..permanence() }, 1).unwrap();

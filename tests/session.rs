@@ -1,6 +1,7 @@
 //! The core's session layer, which the page, Python and the CLI are adapters over: one parser of
 //! a RunConfig, stepping that gives the run's own log, views and explanations that add up.
 
+use sec_playground::agent::SecConfig;
 use sec_playground::experiment::{AgentKind, Run, RunConfig};
 use sec_playground::session::{Applied, MemoryMap, Session, MAX_BATCH};
 
@@ -12,7 +13,7 @@ fn object_permanence() -> RunConfig {
 fn one_parser_names_the_field_of_a_refused_config() {
     assert_eq!(RunConfig::from_json("{}").unwrap(), RunConfig::default());
     let cfg = RunConfig::from_json(r#"{"task": "detour", "agent": {"memory": {"tau": 0.5}}}"#).unwrap();
-    assert_eq!((cfg.task.as_str(), cfg.agent.memory.tau), ("detour", 0.5));
+    assert_eq!((cfg.task.as_str(), cfg.section::<SecConfig>().memory.tau), ("detour", 0.5));
     let cases = [
         (r#"{"agent": {"memory": {"tau": "x"}}}"#, "agent.memory.tau", "line 1"),
         (r#"{"agent": {"memory": {"alfa": 1}}}"#, "agent.memory.alfa", "unknown field `alfa`"),
@@ -76,7 +77,7 @@ fn the_explanation_adds_up_and_the_views_show_the_memory() {
     assert_eq!(view.p, Some(e.p));
     assert_eq!(view.embedding.as_ref().map(Vec::len), Some(20));
     assert_eq!((view.min_sequences, view.gate), (5, Some(0.01)));
-    let n = session.config().agent.memory.n;
+    let n = session.config().section::<SecConfig>().memory.n;
     let (mut t, mut g, mut marks) = (Vec::new(), Vec::new(), Vec::new());
     session.memory_map(MemoryMap::T, &mut t);
     session.memory_map(MemoryMap::G, &mut g);
@@ -108,15 +109,15 @@ fn configure_applies_live_or_restarts_and_a_refusal_changes_nothing() {
     let mut session = Session::new(object_permanence(), 2).unwrap();
     session.run_decisions(300).unwrap();
     let mut live = object_permanence();
-    live.agent.memory.tau = 0.5;
+    live.section_mut::<SecConfig>().memory.tau = 0.5;
     assert_eq!(session.configure(live.clone()).unwrap(), Applied::Live);
     assert_eq!((session.view().decisions, session.explain().tau), (300, 0.5));
     let mut bad = live.clone();
-    bad.agent.memory.tau = -1.0;
+    bad.section_mut::<SecConfig>().memory.tau = -1.0;
     assert!(session.configure(bad).is_err());
     assert_eq!(session.config(), &live);
     let mut restart = live.clone();
-    restart.agent.memory.n = 20;
+    restart.section_mut::<SecConfig>().memory.n = 20;
     assert_eq!(session.configure(restart.clone()).unwrap(), Applied::Restart);
     assert_eq!((session.view().decisions, session.config(), session.seed()), (0, &restart, 2));
     session.reset(Some(5)).unwrap();

@@ -1,5 +1,6 @@
 //! The page's flat settings (URL hash keys) and their mapping onto a run configuration.
 
+use sec_playground::agent::SecConfig;
 use sec_playground::experiment::settings::{
     apply, defaults, from_settings, params, preset, to_settings, Kind, Settings,
 };
@@ -85,7 +86,7 @@ fn bad_settings_keep_their_defaults_and_are_reported() {
     let named: Vec<&str> = errors.iter().map(|e| e.field.as_str()).collect();
     assert_eq!(named, ["alpha", "colour"]);
     assert!(errors[0].to_string().contains("alpha: '5' is out of range [0, 1]"), "{}", errors[0]);
-    assert_eq!((cfg.agent.memory.alpha, cfg.agent.memory.beta, seed), (0.01, 0.2, 1));
+    assert_eq!((cfg.section::<SecConfig>().memory.alpha, cfg.section::<SecConfig>().memory.beta, seed), (0.01, 0.2, 1));
     // Fine one by one, not together: SEC needs 5 sequences to act, so m = 3 cannot run.
     let (cfg, _, errors) = from_settings(&settings(&[("m", "3"), ("alpha", "0.5")]));
     assert_eq!(errors.len(), 1);
@@ -208,8 +209,8 @@ fn every_live_flag_is_what_a_running_agent_does() {
         // The agent itself took it, not only the run's record of it.
         let view = run.inspect();
         let memory = view.memory.expect("the default agent is SEC");
-        assert_eq!(memory.config(), &run.config().agent.memory, "{}", p.key);
-        assert_eq!(view.min_sequences, Some(run.config().agent.min_sequences), "{}", p.key);
+        assert_eq!(memory.config(), &run.config().section::<SecConfig>().memory, "{}", p.key);
+        assert_eq!(view.min_sequences, Some(run.config().section::<SecConfig>().min_sequences), "{}", p.key);
     }
 }
 
@@ -258,8 +259,8 @@ fn a_batch_of_changes_applies_all_or_none() {
     let messages: Vec<String> = errors.iter().map(|e| e.to_string()).collect();
     assert_eq!(messages, ["beta: '7' is out of range [0, 1]", "tau: 'x' is not a number in [0.01, 100]"]);
     let (next, next_seed) = apply_all(&cfg, seed, &settings(&[("alpha", "0.2"), ("seed", "9")])).unwrap();
-    assert_eq!((next.agent.memory.alpha, next_seed), (0.2, 9));
-    assert_eq!(next.agent.memory.tau, cfg.agent.memory.tau, "the rest as it was");
+    assert_eq!((next.section::<SecConfig>().memory.alpha, next_seed), (0.2, 9));
+    assert_eq!(next.section::<SecConfig>().memory.tau, cfg.section::<SecConfig>().memory.tau, "the rest as it was");
     // m = 3 is below what SEC needs: refused alone, as a whole.
     let errors = apply_all(&cfg, seed, &settings(&[("m", "3")])).unwrap_err();
     assert!(errors[0].to_string().contains("raise m to 5 or more"), "{errors:?}");

@@ -56,7 +56,7 @@ fn recorded_events_trace_to_the_runs_own_decisions() {
     let episodes: Vec<_> = (0..20).map(|_| run.episode()).collect();
     let events: Vec<String> = run.take_events().iter().map(|e| serde_json::to_string(e).unwrap()).collect();
     assert_eq!(events[0], r#"{"event":"perception","perception":"untrained","embeddingScale":1.0}"#);
-    let t = run_trace(&cfg.agent, seed, &events.join("\n")).unwrap();
+    let t = run_trace(cfg.section::<SecConfig>(), seed, &events.join("\n")).unwrap();
     let (mut i, mut ltm) = (0, 0);
     for m in &episodes {
         assert_eq!(t[i].ltm, ltm, "the LTM as the previous episode left it");

@@ -145,7 +145,7 @@ pub trait Controller: Send {
 
     /// Applies a live change of its parameters (the page's sliders) from the next decision:
     /// `section` is its own configuration section (the one its table row names, read with
-    /// `own_section`), and the run has checked that nothing else changed
+    /// `section::own_section`), and the run has checked that nothing else changed
     /// (`RunConfig::needs_restart`). An agent without live parameters keeps this default. On an
     /// error nothing changes.
     fn reconfigure(&mut self, _section: &dyn Any) -> Result<(), ConfigError> {
@@ -176,15 +176,6 @@ pub trait Controller: Send {
 
 /// What an agent without memory files answers `save_memory` and `load_memory`.
 pub const NO_MEMORY_FILE: &str = "only SEC keeps a memory file (this run's agent does not)";
-
-/// An agent's own configuration section as its type, from the section a run hands its builder
-/// and `Controller::reconfigure` (the core passes each agent the section its table row names,
-/// without knowing its type). Another type is an error naming the section.
-pub fn own_section<'a, T: Any>(section: &'a dyn Any, key: &str) -> Result<&'a T, ConfigError> {
-    section
-        .downcast_ref::<T>()
-        .ok_or_else(|| ConfigError::new(key, format!("is not this agent's section (a {})", std::any::type_name::<T>())))
-}
 
 /// What an agent shows of itself, read-only: the page's views and explanation panel and Python
 /// read agents through this alone. An agent shows what it has and leaves the rest `None`.

@@ -105,6 +105,12 @@ impl DqnConfig {
     }
 }
 
+impl super::section::Validate for DqnConfig {
+    fn validate(&self) -> Result<(), ConfigError> {
+        DqnConfig::validate(self)
+    }
+}
+
 /// ERLAM's associative memory (its network and exploration are `DqnConfig`'s), as the authors'
 /// `run_agent_erlam.py` sets it.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -172,5 +178,11 @@ impl ErlamConfig {
             return bad("censusEvery", self.census_every.to_string(), "0..=1000000");
         }
         Ok(())
+    }
+}
+
+impl super::section::Validate for ErlamConfig {
+    fn validate(&self) -> Result<(), ConfigError> {
+        ErlamConfig::validate(self)
     }
 }

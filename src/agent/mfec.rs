@@ -113,6 +113,12 @@ impl MfecConfig {
     }
 }
 
+impl super::section::Validate for MfecConfig {
+    fn validate(&self) -> Result<(), ConfigError> {
+        MfecConfig::validate(self)
+    }
+}
+
 /// One action's buffer: entries in slots, an exact-match index, and FIFO order by stamp.
 #[derive(Clone, Debug, Default)]
 struct Buffer {

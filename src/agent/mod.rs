@@ -7,6 +7,7 @@ pub mod dqn;
 pub mod mfec;
 pub mod reactive;
 mod sec;
+pub mod section;
 pub mod table;
 
 use crate::arena::Action;

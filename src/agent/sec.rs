@@ -3,7 +3,8 @@
 //! only when it selected something, the LTM holds enough sequences and the reconstruction gate is
 //! open.
 
-use super::controller::{own_section, AgentView, Controller, EpisodeEnd, MemoryUse, Observation, Step};
+use super::controller::{AgentView, Controller, EpisodeEnd, MemoryUse, Observation, Step};
+use super::section::own_section;
 use super::{Decision, Layer, Reactive};
 use crate::arena::{Action, ConfigError};
 use crate::encoder::EMBEDDING;
@@ -79,6 +80,12 @@ impl SecConfig {
             }
         }
         Ok(())
+    }
+}
+
+impl super::section::Validate for SecConfig {
+    fn validate(&self) -> Result<(), ConfigError> {
+        SecConfig::validate(self)
     }
 }
 

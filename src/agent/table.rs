@@ -4,8 +4,10 @@
 //! the settings that apply to an agent follow from its capabilities. Adding an agent is its
 //! module (a `Controller`) and a row here.
 
-use super::controller::{own_section, Controller, Input};
+use super::controller::{Controller, Input};
+use super::dqn::{DqnConfig, ErlamConfig};
 use super::mfec::{Embedding, Mfec, MfecConfig, RandomProjection};
+use super::section::{own_section, SectionSpec};
 use super::{Reactive, Sec, SecConfig};
 use crate::arena::ConfigError;
 use crate::encoder::Perception;
@@ -50,8 +52,9 @@ pub struct AgentInfo {
     /// Why its decision was not its memory's, when that is not SEC's arbitration (the page's
     /// "why" line); `None` for an agent whose views explain it (SEC).
     pub explores: Option<&'static str>,
-    /// The `RunConfig` section of its parameters (`None`: it has none).
-    pub section: Option<&'static str>,
+    /// Its configuration section: its key in a `RunConfig`'s JSON, its type's defaults and
+    /// parser (`None`: it has no parameters). Rows may share one (MFEC's two).
+    pub section: Option<SectionSpec>,
     /// What it reads of each frame.
     pub reads: Input,
     /// A sequential memory the views show (STM, LTM, the couplets of a decision), files of it,
@@ -98,7 +101,7 @@ pub const AGENTS: &[AgentInfo] = &[
     AgentInfo {
         key: "sec", label: "SEC", unbiased_label: Some("NSEC"),
         about: "Sequential episodic control: stores the views and actions that led to a goal as sequences and replays them, with a reactive walk until memory knows the view.",
-        explores: None, section: Some("agent"), reads: Input::Embedding,
+        explores: None, section: Some(SectionSpec::of::<SecConfig>("agent")), reads: Input::Embedding,
         has_memory: true, has_gate: true, native_only: false, can_be_driven: true,
         kind: AgentKind::Sec, embedding: None,
         build: Some(|section, _, _, rng| Ok(Box::new(Sec::new(own_section::<SecConfig>(section, "agent")?.clone(), rng)?))),
@@ -107,7 +110,7 @@ pub const AGENTS: &[AgentInfo] = &[
         key: "mfec-ae", label: "MFEC", unbiased_label: None,
         about: "Model-free episodic control on the autoencoder's embedding: the best return seen per view and action, k nearest neighbours elsewhere.",
         explores: Some("MFEC explores with the reactive walk (its warm-up, or an ε step)."),
-        section: Some("mfec"), reads: Input::Embedding,
+        section: Some(SectionSpec::of::<MfecConfig>("mfec")), reads: Input::Embedding,
         has_memory: false, has_gate: false, native_only: false, can_be_driven: false,
         kind: AgentKind::Mfec, embedding: Some(Embedding::Autoencoder),
         build: Some(|section, _, seed, rng| Ok(Box::new(mfec(section, seed, rng)?))),
@@ -116,7 +119,7 @@ pub const AGENTS: &[AgentInfo] = &[
         key: "mfec-rp", label: "MFEC on a random projection", unbiased_label: None,
         about: "MFEC on a fixed random projection of the camera image instead of the autoencoder.",
         explores: Some("MFEC explores with the reactive walk (its warm-up, or an ε step)."),
-        section: Some("mfec"), reads: Input::Image,
+        section: Some(SectionSpec::of::<MfecConfig>("mfec")), reads: Input::Image,
         has_memory: false, has_gate: false, native_only: false, can_be_driven: false,
         kind: AgentKind::Mfec, embedding: Some(Embedding::RandomProjection),
         build: Some(|section, _, seed, rng| Ok(Box::new(mfec(section, seed, rng)?))),
@@ -134,7 +137,7 @@ pub const AGENTS: &[AgentInfo] = &[
         key: "dqn", label: "DQN", unbiased_label: None,
         about: "The authors' deep Q-network on the camera image (native only: sec-experiment).",
         explores: Some("DQN explores with ε-greedy steps."),
-        section: Some("dqn"), reads: Input::Image,
+        section: Some(SectionSpec::of::<DqnConfig>("dqn")), reads: Input::Image,
         has_memory: false, has_gate: false, native_only: true, can_be_driven: false,
         kind: AgentKind::Dqn, embedding: None, build: None,
     },
@@ -142,7 +145,7 @@ pub const AGENTS: &[AgentInfo] = &[
         key: "erlam", label: "ERLAM", unbiased_label: None,
         about: "DQN with ERLAM's associative memory graph over the trained autoencoder's embeddings (native only).",
         explores: Some("ERLAM explores with ε-greedy steps."),
-        section: Some("erlam"), reads: Input::Image,
+        section: Some(SectionSpec::of::<ErlamConfig>("erlam")), reads: Input::Image,
         has_memory: false, has_gate: false, native_only: true, can_be_driven: false,
         kind: AgentKind::Erlam, embedding: None, build: None,
     },

@@ -100,14 +100,15 @@ fn set(v: &mut Value, path: &str, to: Value) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::agent::SecConfig;
 
     #[test]
     fn a_patch_changes_what_it_names_and_keeps_the_rest() {
         let mut base = RunConfig { task: "object-permanence".into(), ..RunConfig::default() };
-        base.agent.memory.alpha = 0.05;
+        base.section_mut::<SecConfig>().memory.alpha = 0.05;
         let next = base.patched(r#"{"agent": {"memory": {"tau": 0.5}}}"#).unwrap();
-        assert_eq!(next.agent.memory.tau, 0.5);
-        assert_eq!(next.agent.memory.alpha, 0.05, "kept, not the default");
+        assert_eq!(next.section::<SecConfig>().memory.tau, 0.5);
+        assert_eq!(next.section::<SecConfig>().memory.alpha, 0.05, "kept, not the default");
         assert_eq!(next.task, "object-permanence");
         let changes = base.changes(&next);
         assert_eq!(changes.len(), 1);

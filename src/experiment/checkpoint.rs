@@ -318,6 +318,7 @@ impl Run {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::agent::SecConfig;
     use crate::experiment::AgentKind;
 
     fn reactive() -> RunConfig {
@@ -385,8 +386,8 @@ mod tests {
         // The golden run's task and seed, where the LTM fills and the contextual layer acts from
         // episode 16; FIFO forgetting with a small m so that the LTM forgets before the cut.
         let mut cfg = RunConfig { task: "object-permanence".into(), ..RunConfig::default() };
-        cfg.agent.memory.m = 8;
-        cfg.agent.memory.forgetting = crate::memory::Forgetting::Fifo;
+        cfg.section_mut::<SecConfig>().memory.m = 8;
+        cfg.section_mut::<SecConfig>().memory.forgetting = crate::memory::Forgetting::Fifo;
         let full = |run: &mut Run, n: usize| (0..n).map(|_| run.episode().to_json()).collect::<Vec<_>>();
         let mut whole = Run::new(cfg.clone(), 2).unwrap();
         let expected = full(&mut whole, 24);

@@ -2,9 +2,8 @@
 //! A run is a pure function of this and the seed; which changes act live is the settings'
 //! (`settings`), and the run loop that plays it is `run`.
 
-use crate::agent::dqn::{DqnConfig, ErlamConfig};
-use crate::agent::mfec::MfecConfig;
-use crate::agent::{AgentInfo, AgentKind, SecConfig};
+use crate::agent::section::{Section, SectionSpec};
+use crate::agent::{AgentInfo, AgentKind, AGENTS};
 use crate::arena::{ConfigError, StartHeading, Task};
 use crate::encoder::perception::check_scale;
 use crate::encoder::PerceptionKind;
@@ -12,8 +11,12 @@ use crate::env::EnvConfig;
 use crate::render::Surface;
 
 /// What a run is: a pure function of this and the seed.
+///
+/// Its JSON is the run's fields with each agent's section under its key (`agent` for SEC's,
+/// `mfec`, `dqn`, `erlam`), in the agent table's order. (The derives write the run's own
+/// fields; the `Serialize` and `Deserialize` below add the sections, which the agents own.)
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "camelCase", default, deny_unknown_fields)]
+#[serde(remote = "Self", rename_all = "camelCase", default, deny_unknown_fields)]
 pub struct RunConfig {
     /// The task (`arena::TASK_NAMES`).
     pub task: String,
@@ -23,15 +26,10 @@ pub struct RunConfig {
     pub decision_period: u32,
     /// Which agent runs: SEC (NSEC is SEC without `sequentialBias`), MFEC or the reactive walk.
     pub kind: AgentKind,
-    /// SEC's parameters (used when `kind` is sec).
-    pub agent: SecConfig,
-    /// MFEC's parameters (used when `kind` is mfec).
-    pub mfec: MfecConfig,
-    /// DQN's parameters (used when `kind` is dqn or erlam; the agents run natively,
-    /// `crates/sec-dqn`).
-    pub dqn: DqnConfig,
-    /// ERLAM's associative memory (used when `kind` is erlam).
-    pub erlam: ErlamConfig,
+    /// Every agent's parameters, one section per key of the agent table (`section`), so that
+    /// switching agents keeps each one's settings; the run's agent reads its own.
+    #[serde(flatten, skip_deserializing)]
+    pub sections: Sections,
     /// Which encoder embeds the frames: `untrained` (the authors' code, D20) or `trained` (the
     /// paper's text). The trained model runs the reconstruction gate either way.
     pub perception: PerceptionKind,
@@ -59,10 +57,7 @@ impl Default for RunConfig {
             t: None,
             decision_period: 4,
             kind: AgentKind::Sec,
-            agent: SecConfig::default(),
-            mfec: MfecConfig::default(),
-            dqn: DqnConfig::default(),
-            erlam: ErlamConfig::default(),
+            sections: Sections::default(),
             perception: PerceptionKind::Untrained,
             embedding_scale: None,
             raw_embeddings: false,
@@ -92,10 +87,7 @@ impl RunConfig {
                 ));
             }
         }
-        self.agent.validate()?;
-        self.mfec.validate()?;
-        self.dqn.validate()?;
-        self.erlam.validate()
+        self.sections.0.iter().try_for_each(|(_, s)| s.validate())
     }
 
     /// A configuration from JSON text (an object; missing fields take the defaults), validated:
@@ -110,12 +102,18 @@ impl RunConfig {
                 format!("{} is not an object (a RunConfig)", crate::util::shown(text)),
             ));
         }
-        let mut de = serde_json::Deserializer::from_str(text);
-        let cfg: RunConfig = serde_path_to_error::deserialize(&mut de).map_err(|e| {
-            let path = e.path().to_string();
-            ConfigError::new(if path == "." { "config".to_string() } else { path }, e.inner().to_string())
-        })?;
-        de.end().map_err(|e| ConfigError::new("config", e.to_string()))?;
+        let value: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| ConfigError::new("config", e.to_string()))?;
+        if !value.is_object() {
+            return Err(ConfigError::new("config", "is not an object (a RunConfig)"));
+        }
+        // The sections first from the text itself, so that their errors say where they are.
+        let mut sections = Sections::default();
+        for (key, section) in &mut sections.0 {
+            let spec = section_specs().find(|s| s.key == *key).expect("every section has its row");
+            *section = (spec.parse_text)(spec.key, text)?;
+        }
+        let cfg = RunConfig { sections, ..RunConfig::from_value(value)? };
         cfg.validate()?;
         Ok(cfg)
     }
@@ -136,15 +134,128 @@ impl RunConfig {
         Ok(Task::preset(&self.task)?.with_start_heading(self.start_heading))
     }
 
+    /// A configuration from its JSON value, not yet validated: each agent's section is read by
+    /// its row's parser, the run's own fields by the derived reader. A refused value is an error
+    /// naming its field path (`agent.memory.tau`).
+    pub fn from_value(value: serde_json::Value) -> Result<RunConfig, ConfigError> {
+        let serde_json::Value::Object(mut map) = value else {
+            return Err(ConfigError::new("config", "is not an object (a RunConfig)"));
+        };
+        let mut sections = Sections::default();
+        for (key, section) in &mut sections.0 {
+            if let Some(v) = map.remove(*key) {
+                let spec = section_specs().find(|s| s.key == *key).expect("every section has its row");
+                *section = (spec.parse)(spec.key, v)?;
+            }
+        }
+        let fields: RunFields = serde_path_to_error::deserialize(serde_json::Value::Object(map)).map_err(|e| {
+            let path = e.path().to_string();
+            ConfigError::new(if path == "." { "config".to_string() } else { path }, e.inner().to_string())
+        })?;
+        Ok(RunConfig { sections, ..fields.0 })
+    }
+
+    /// The agent section of type `T` (SEC's `SecConfig`, MFEC's `MfecConfig`, ...).
+    ///
+    /// Panics if no agent of the table has a section of that type: a section is its agent's
+    /// type, so asking for another is a mistake in the code, not in the configuration.
+    pub fn section<T: Section>(&self) -> &T {
+        self.sections.0.iter().find_map(|(_, s)| s.as_any().downcast_ref()).unwrap_or_else(|| no_section::<T>())
+    }
+
+    /// The agent section of type `T`, to change (see `section`).
+    pub fn section_mut<T: Section>(&mut self) -> &mut T {
+        self.sections.0.iter_mut().find_map(|(_, s)| s.as_any_mut().downcast_mut()).unwrap_or_else(|| no_section::<T>())
+    }
+
+    /// `self` with the agent section of `section`'s type replaced.
+    pub fn with_section<T: Section>(mut self, section: T) -> RunConfig {
+        *self.section_mut::<T>() = section;
+        self
+    }
+
+    /// The table's row of the run's agent.
+    pub fn agent_row(&self) -> &'static AgentInfo {
+        AgentInfo::of(self.kind, self.section::<crate::agent::mfec::MfecConfig>().embedding)
+    }
+
     /// The configuration section of the run's agent (the one its table row names; `()` for an
     /// agent without one), as its builder and a live change hand it to the agent.
-    pub fn section(&self) -> &dyn std::any::Any {
-        match AgentInfo::of(self.kind, self.mfec.embedding).section {
-            Some("agent") => &self.agent,
-            Some("mfec") => &self.mfec,
-            Some("dqn") => &self.dqn,
-            Some("erlam") => &self.erlam,
-            _ => &(),
+    pub fn agent_section(&self) -> &dyn std::any::Any {
+        match self.agent_row().section {
+            Some(spec) => self.sections.get(spec.key).expect("every row's section is held").as_any(),
+            None => &(),
         }
+    }
+}
+
+fn no_section<T>() -> ! {
+    panic!("no agent of the table has a section of type {}", std::any::type_name::<T>())
+}
+
+/// The sections of the agent table's rows, one per key, in the table's order.
+fn section_specs() -> impl Iterator<Item = SectionSpec> {
+    let mut seen: Vec<&str> = Vec::new();
+    AGENTS.iter().filter_map(|a| a.section).filter(move |s| {
+        let new = !seen.contains(&s.key);
+        seen.push(s.key);
+        new
+    })
+}
+
+/// Every agent's configuration section, one per key of the agent table, in the table's order
+/// (the order the JSON writes them).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sections(Vec<(&'static str, Box<dyn Section>)>);
+
+impl Default for Sections {
+    fn default() -> Self {
+        Sections(section_specs().map(|s| (s.key, (s.default)())).collect())
+    }
+}
+
+impl Sections {
+    /// The section under `key`.
+    pub fn get(&self, key: &str) -> Option<&dyn Section> {
+        self.0.iter().find(|(k, _)| *k == key).map(|(_, s)| s.as_ref())
+    }
+
+    /// The keys, in order.
+    pub fn keys(&self) -> impl Iterator<Item = &'static str> + '_ {
+        self.0.iter().map(|(k, _)| *k)
+    }
+}
+
+impl serde::Serialize for Sections {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut map = s.serialize_map(Some(self.0.len()))?;
+        for (key, section) in &self.0 {
+            map.serialize_entry(key, &section.to_value())?;
+        }
+        map.end()
+    }
+}
+
+impl serde::Serialize for RunConfig {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        RunConfig::serialize(self, s)
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for RunConfig {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let value = <serde_json::Value as serde::Deserialize>::deserialize(d)?;
+        RunConfig::from_value(value).map_err(serde::de::Error::custom)
+    }
+}
+
+/// The run's own fields, read by the derived reader (`RunConfig::deserialize`, inherent: serde's
+/// `remote = "Self"`), which leaves the sections at their defaults.
+struct RunFields(RunConfig);
+
+impl<'de> serde::Deserialize<'de> for RunFields {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        RunConfig::deserialize(d).map(RunFields)
     }
 }

@@ -3,6 +3,7 @@
 
 use super::{AgentKind, Run, RunConfig};
 use crate::agent::mfec::{Embedding, MfecConfig};
+use crate::agent::SecConfig;
 use crate::arena::Action;
 use crate::encoder::{PerceptionKind, Scratch, EMBEDDING, IMAGE};
 use rand::SeedableRng;
@@ -57,13 +58,14 @@ pub fn golden_run(perception: PerceptionKind) -> String {
     };
     let sec = RunConfig { task: "object-permanence".into(), perception, ..RunConfig::default() };
     let mut mfec_rp = RunConfig { kind: AgentKind::Mfec, t: Some(250), ..sec.clone() };
-    mfec_rp.mfec.embedding = Embedding::RandomProjection;
-    mfec_rp.mfec.warmup_decisions = 100;
-    mfec_rp.mfec.warmup_rewarded_episodes = 1;
-    let mfec_ae = RunConfig {
-        mfec: MfecConfig { warmup_decisions: 100, warmup_rewarded_episodes: 1, ..MfecConfig::default() },
-        ..mfec_rp.clone()
-    };
+    mfec_rp.section_mut::<MfecConfig>().embedding = Embedding::RandomProjection;
+    mfec_rp.section_mut::<MfecConfig>().warmup_decisions = 100;
+    mfec_rp.section_mut::<MfecConfig>().warmup_rewarded_episodes = 1;
+    let mfec_ae = mfec_rp.clone().with_section(MfecConfig {
+        warmup_decisions: 100,
+        warmup_rewarded_episodes: 1,
+        ..MfecConfig::default()
+    });
     let reactive = RunConfig { kind: AgentKind::Reactive, ..mfec_rp.clone() };
     let mut log = String::new();
     for (cfg, episodes) in [(sec, sec_episodes), (mfec_ae, 6), (mfec_rp, 6), (reactive, 2)] {
@@ -85,7 +87,7 @@ pub const TEXTURED_EPISODES: usize = 30;
 /// Python reproduce it bit for bit.
 pub fn golden_textured_run() -> String {
     let mut cfg = RunConfig { surface: crate::render::Surface::Textured, ..RunConfig::default() };
-    cfg.agent.min_sequences = 1;
+    cfg.section_mut::<SecConfig>().min_sequences = 1;
     let mut run = Run::new(cfg, 1).expect("the golden configuration is valid");
     let mut log = String::new();
     for _ in 0..TEXTURED_EPISODES {

@@ -3,7 +3,10 @@
 //! experiments on the start heading and the perception. Shared by the native runner and the page.
 
 use super::{AgentKind, RunConfig};
+use crate::agent::dqn::ErlamConfig;
 use crate::agent::mfec::Embedding;
+use crate::agent::mfec::MfecConfig;
+use crate::agent::SecConfig;
 use crate::arena::{ConfigError, StartHeading};
 use crate::encoder::PerceptionKind;
 use crate::memory::{Forgetting, ValueFn};
@@ -57,13 +60,13 @@ fn sec(task: &str) -> RunConfig {
 
 fn nsec(task: &str) -> RunConfig {
     let mut c = sec(task);
-    c.agent.memory.sequential_bias = false;
+    c.section_mut::<SecConfig>().memory.sequential_bias = false;
     c
 }
 
 fn mfec(task: &str, embedding: Embedding) -> RunConfig {
     let mut c = RunConfig { kind: AgentKind::Mfec, ..sec(task) };
-    c.mfec.embedding = embedding;
+    c.section_mut::<MfecConfig>().embedding = embedding;
     c
 }
 
@@ -89,7 +92,7 @@ pub fn experiment(name: &str) -> Result<Vec<Condition>, ConfigError> {
                 // The authors' ERLAM embeds with the trained model (agent_erlam.py loads it), at
                 // its calibrated scale like every trained embedding here (D17).
                 let mut erlam = RunConfig { kind: AgentKind::Erlam, perception: PerceptionKind::Trained, ..sec(task) };
-                erlam.erlam.nodes = erlam_nodes(task);
+                erlam.section_mut::<ErlamConfig>().nodes = erlam_nodes(task);
                 if task == "double-t-maze" {
                     // What D17's scale does to ERLAM: its 0.02 on the raw bottleneck.
                     let raw = RunConfig { raw_embeddings: true, ..erlam.clone() };
@@ -97,13 +100,13 @@ pub fn experiment(name: &str) -> Result<Vec<Condition>, ConfigError> {
                     // Whether ERLAM fails here by the cycles through goals that its propagation
                     // makes (results/PROTOCOL.md, the last addendum).
                     let mut kept = erlam.clone();
-                    kept.erlam.propagate_past_terminals = false;
+                    kept.section_mut::<ErlamConfig>().propagate_past_terminals = false;
                     out.push(condition(format!("{task}/ERLAM-noPastTerminals"), kept, None));
                     // The authors' 5000-node variant, logging its graph's census: whether it learns
                     // once the graph fills (results/PROTOCOL.md, 2026-12-03).
                     let mut small = erlam.clone();
-                    small.erlam.nodes = 5000;
-                    small.erlam.census_every = 50;
+                    small.section_mut::<ErlamConfig>().nodes = 5000;
+                    small.section_mut::<ErlamConfig>().census_every = 50;
                     out.push(condition(format!("{task}/ERLAM-5k"), small, None));
                 }
                 out.push(condition(format!("{task}/ERLAM"), erlam, Some(paper[5])));
@@ -118,8 +121,8 @@ pub fn experiment(name: &str) -> Result<Vec<Condition>, ConfigError> {
             ];
             for (m, p_sec, p_nsec) in paper {
                 let (mut s, mut n) = (sec("double-t-maze"), nsec("double-t-maze"));
-                s.agent.memory.m = m;
-                n.agent.memory.m = m;
+                s.section_mut::<SecConfig>().memory.m = m;
+                n.section_mut::<SecConfig>().memory.m = m;
                 out.push(condition(format!("m{m}/SEC"), s, Some(p_sec)));
                 out.push(condition(format!("m{m}/NSEC"), n, Some(p_nsec)));
             }
@@ -135,7 +138,7 @@ pub fn experiment(name: &str) -> Result<Vec<Condition>, ConfigError> {
             };
             for (label, v) in ValueFn::ALL {
                 let mut c = sec("double-t-maze");
-                c.agent.memory.value_function = v;
+                c.section_mut::<SecConfig>().memory.value_function = v;
                 out.push(condition(format!("value-function/SEC-{label}"), c, paper(label)));
             }
         }
@@ -149,15 +152,15 @@ pub fn experiment(name: &str) -> Result<Vec<Condition>, ConfigError> {
             ];
             for (f, label, p_sec, p_nsec) in paper {
                 let (mut s, mut n) = (sec("double-t-maze"), nsec("double-t-maze"));
-                s.agent.memory.forgetting = f;
-                n.agent.memory.forgetting = f;
+                s.section_mut::<SecConfig>().memory.forgetting = f;
+                n.section_mut::<SecConfig>().memory.forgetting = f;
                 out.push(condition(format!("forgetting/SEC-{label}"), s, p_sec));
                 out.push(condition(format!("forgetting/NSEC-{label}"), n, p_nsec));
             }
         }
         "presets" => {
             out.push(condition("presets/SEC-code".into(), sec("double-t-maze"), Some(11604.88)));
-            let paper = RunConfig { agent: crate::agent::SecConfig::paper(), ..sec("double-t-maze") };
+            let paper = sec("double-t-maze").with_section(SecConfig::paper());
             out.push(condition("presets/SEC-paper".into(), paper, None));
         }
         "heading" => {
@@ -202,7 +205,7 @@ pub fn experiment(name: &str) -> Result<Vec<Condition>, ConfigError> {
             s.t = Some(250);
             out.push(condition("object-permanence/SEC".into(), s.clone(), None));
             let mut n = s.clone();
-            n.agent.memory.sequential_bias = false;
+            n.section_mut::<SecConfig>().memory.sequential_bias = false;
             out.push(condition("object-permanence/NSEC".into(), n, None));
             out.push(condition(
                 "object-permanence/reactive".into(),

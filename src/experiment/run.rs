@@ -33,9 +33,9 @@ fn controller(
     if let Some(made) = extra.and_then(|f| f(cfg, perception, seed, rng)) {
         return made;
     }
-    let row = AgentInfo::of(cfg.kind, cfg.mfec.embedding);
+    let row = cfg.agent_row();
     match row.build {
-        Some(build) => build(cfg.section(), perception, seed, rng),
+        Some(build) => build(cfg.agent_section(), perception, seed, rng),
         None => Err(ConfigError::new(
             "kind",
             format!(
@@ -133,7 +133,7 @@ impl Run {
         let env = Env::new(EnvConfig { task, t: cfg.t, surface: cfg.surface }, seed)?;
         let mut rng = seed::rng(seed, Stream::Agent);
         let controller = controller(&cfg, &perception, seed, &mut rng, extra)?;
-        let agent = AgentInfo::of(cfg.kind, cfg.mfec.embedding);
+        let agent = cfg.agent_row();
         Ok(Run {
             cfg,
             seed,
@@ -174,7 +174,7 @@ impl Run {
         if self.cfg.needs_restart(&cfg) {
             return Ok(false);
         }
-        self.controller.reconfigure(cfg.section())?;
+        self.controller.reconfigure(cfg.agent_section())?;
         self.cfg = cfg;
         Ok(true)
     }

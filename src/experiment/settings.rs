@@ -20,6 +20,7 @@ use std::collections::BTreeMap;
 /// Flat settings, key to value, as the URL hash holds them.
 pub type Settings = BTreeMap<String, String>;
 
+use crate::agent::mfec::MfecConfig;
 use crate::seed::MAX_SEED;
 
 /// What values a setting takes.
@@ -140,14 +141,14 @@ fn name_of<T: PartialEq>(table: &[(&'static str, T)], value: T) -> String {
 }
 
 fn agent_name(cfg: &RunConfig) -> &'static str {
-    AgentInfo::of(cfg.kind, cfg.mfec.embedding).key
+    AgentInfo::of(cfg.kind, cfg.section::<MfecConfig>().embedding).key
 }
 
 /// Runs the agent of the table's row `key` (one of the page's).
 fn set_agent(cfg: &mut RunConfig, key: &str) {
     let row = AgentInfo::find(key).expect("the page's choices are the table's keys");
     cfg.kind = row.kind;
-    cfg.mfec.embedding = row.embedding.unwrap_or(Embedding::Autoencoder);
+    cfg.section_mut::<MfecConfig>().embedding = row.embedding.unwrap_or(Embedding::Autoencoder);
 }
 
 /// Every setting, each declared once, in the order the page shows them.
@@ -184,58 +185,58 @@ fn table() -> Vec<Setting> {
         },
         Setting {
             param: Param { key: "bias", symbol: "T", help: "Sequential bias: on is SEC, off is NSEC (T restarts at 1).", kind: Kind::Switch, live: true, group: "retrieval", agents: sec_only() },
-            get: |c, _| (c.agent.memory.sequential_bias as u8).to_string(),
-            set: |c, _, v| c.agent.memory.sequential_bias = v == 1.0,
+            get: |c, _| (c.section::<SecConfig>().memory.sequential_bias as u8).to_string(),
+            set: |c, _, v| c.section_mut::<SecConfig>().memory.sequential_bias = v == 1.0,
         },
         Setting {
             param: number("alpha", "α", "How much T rises for the successor of a selected couplet.", ALPHA_RANGE, false, 0.001),
-            get: |c, _| c.agent.memory.alpha.to_string(),
-            set: |c, _, v| c.agent.memory.alpha = v,
+            get: |c, _| c.section::<SecConfig>().memory.alpha.to_string(),
+            set: |c, _, v| c.section_mut::<SecConfig>().memory.alpha = v,
         },
         Setting {
             param: number("beta", "β", "How fast T decays back towards 1 at every decision.", BETA_RANGE, false, 0.001),
-            get: |c, _| c.agent.memory.beta.to_string(),
-            set: |c, _, v| c.agent.memory.beta = v,
+            get: |c, _| c.section::<SecConfig>().memory.beta.to_string(),
+            set: |c, _, v| c.section_mut::<SecConfig>().memory.beta = v,
         },
         Setting {
             param: number("tau", "τ", "Distance discount exp(-d/τ): lower favours couplets near the goal.", TAU_RANGE, false, 0.01),
-            get: |c, _| c.agent.memory.tau.to_string(),
-            set: |c, _, v| c.agent.memory.tau = v,
+            get: |c, _| c.section::<SecConfig>().memory.tau.to_string(),
+            set: |c, _, v| c.section_mut::<SecConfig>().memory.tau = v,
         },
         Setting {
             param: number("thetaAbs", "θ_abs", "A couplet is selected only if its biased similarity G exceeds this...", THETA_ABS_RANGE, false, 0.001),
-            get: |c, _| c.agent.memory.theta_abs.to_string(),
-            set: |c, _, v| c.agent.memory.theta_abs = v,
+            get: |c, _| c.section::<SecConfig>().memory.theta_abs.to_string(),
+            set: |c, _, v| c.section_mut::<SecConfig>().memory.theta_abs = v,
         },
         Setting {
             param: number("thetaProp", "θ_prop", "...and G / Gmax exceeds this.", THETA_PROP_RANGE, false, 0.001),
-            get: |c, _| c.agent.memory.theta_prop.to_string(),
-            set: |c, _, v| c.agent.memory.theta_prop = v,
+            get: |c, _| c.section::<SecConfig>().memory.theta_prop.to_string(),
+            set: |c, _, v| c.section_mut::<SecConfig>().memory.theta_prop = v,
         },
         Setting {
             param: integer("n", "n", "STM length: couplets per stored sequence (a new run).", (N_RANGE.0 as u64, N_RANGE.1 as u64), false).group("memory").agents(sec_only()),
-            get: |c, _| c.agent.memory.n.to_string(),
-            set: |c, _, v| c.agent.memory.n = v as usize,
+            get: |c, _| c.section::<SecConfig>().memory.n.to_string(),
+            set: |c, _, v| c.section_mut::<SecConfig>().memory.n = v as usize,
         },
         Setting {
             param: integer("m", "m", "LTM capacity in sequences; a smaller m forgets the oldest now.", (M_RANGE.0 as u64, M_RANGE.1 as u64), true).group("memory").agents(sec_only()),
-            get: |c, _| c.agent.memory.m.to_string(),
-            set: |c, _, v| c.agent.memory.m = v as usize,
+            get: |c, _| c.section::<SecConfig>().memory.m.to_string(),
+            set: |c, _, v| c.section_mut::<SecConfig>().memory.m = v as usize,
         },
         Setting {
             param: integer("minSequences", "min", "Memory acts only once the LTM holds this many sequences (at most m).", (0, M_RANGE.1 as u64), true).group("memory").agents(sec_only()),
-            get: |c, _| c.agent.min_sequences.to_string(),
-            set: |c, _, v| c.agent.min_sequences = v as usize,
+            get: |c, _| c.section::<SecConfig>().min_sequences.to_string(),
+            set: |c, _, v| c.section_mut::<SecConfig>().min_sequences = v as usize,
         },
         Setting {
             param: choice("forgetting", "forget", "What a full LTM does: nothing, drop the oldest, the lowest reward, the 10% lowest, or one drawn by low reward.", &names(&Forgetting::ALL), true).group("memory").agents(sec_only()),
-            get: |c, _| name_of(&Forgetting::ALL, c.agent.memory.forgetting),
-            set: |c, _, v| c.agent.memory.forgetting = Forgetting::ALL[v as usize].1,
+            get: |c, _| name_of(&Forgetting::ALL, c.section::<SecConfig>().memory.forgetting),
+            set: |c, _, v| c.section_mut::<SecConfig>().memory.forgetting = Forgetting::ALL[v as usize].1,
         },
         Setting {
             param: choice("value", "value", "How a couplet's similarity g, relative reward rr and distance d make its value.", &names(&ValueFn::ALL), true).agents(sec_only()).group("retrieval"),
-            get: |c, _| name_of(&ValueFn::ALL, c.agent.memory.value_function),
-            set: |c, _, v| c.agent.memory.value_function = ValueFn::ALL[v as usize].1,
+            get: |c, _| name_of(&ValueFn::ALL, c.section::<SecConfig>().memory.value_function),
+            set: |c, _, v| c.section_mut::<SecConfig>().memory.value_function = ValueFn::ALL[v as usize].1,
         },
         Setting {
             param: integer("t", "t", "Episode limit in env steps; every step costs 1/t (a new run).", (0, MAX_T as u64), false),
@@ -424,7 +425,7 @@ pub fn preset(name: &str) -> Result<Settings, ConfigError> {
         "paper" => (SecConfig::paper(), PerceptionKind::Trained),
         _ => return Err(ConfigError::new("preset", format!("'{name}' is not one of code, paper"))),
     };
-    let cfg = RunConfig { agent, perception, ..RunConfig::default() };
+    let cfg = RunConfig { perception, ..RunConfig::default() }.with_section(agent);
     let all = to_settings(&cfg, 1);
     let keys = ["perception", "embeddingScale", "alpha", "beta", "tau", "thetaAbs", "thetaProp"];
     Ok(keys.iter().map(|k| (k.to_string(), all[*k].clone())).collect())

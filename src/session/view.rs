@@ -2,6 +2,7 @@
 //! decision", Python's `Run.view()` and `Run.explain()`. Built from the agent's `AgentView`, so
 //! every front end shows the same numbers under the same names.
 
+use crate::agent::SecConfig;
 use crate::agent::{Decision, Layer};
 use crate::arena::Action;
 use crate::experiment::Run;
@@ -111,7 +112,7 @@ pub fn decision_view(run: &mut Run, last: Option<Decision>, decisions: u64) -> D
 /// configuration's for an agent without one.
 pub fn explain(run: &Run) -> Explanation {
     let memory = run.inspect().memory;
-    let cfg = memory.map_or(&run.config().agent.memory, |m| m.config());
+    let cfg = memory.map_or(&run.config().section::<SecConfig>().memory, |m| m.config());
     let (couplets, q, p) = match memory {
         Some(m) if !m.selected().is_empty() => {
             let couplets = m.selected().to_vec();

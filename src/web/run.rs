@@ -5,6 +5,7 @@
 //! value leaves the run as it was.
 
 use super::{args, js_err, seed_from_js};
+use crate::agent::SecConfig;
 use crate::arena::Action;
 use crate::encoder::{reconstruction_to_rgba, Scratch, EMBEDDING, IMAGE};
 use crate::experiment::settings::{self, Settings};
@@ -253,7 +254,7 @@ impl SecRun {
     /// STM length n: the heat map's row length.
     #[wasm_bindgen(getter, js_name = stmLength)]
     pub fn stm_length(&self) -> u32 {
-        self.session.config().agent.memory.n as u32
+        self.session.config().section::<SecConfig>().memory.n as u32
     }
 }
 

@@ -58,8 +58,14 @@ pub fn factory(
     rng: &mut ChaCha8Rng,
 ) -> Option<Result<Box<dyn Controller>, ConfigError>> {
     let made = match cfg.kind {
-        AgentKind::Dqn => Dqn::new(cfg.dqn.clone(), seed, rng),
-        AgentKind::Erlam => Dqn::erlam(cfg.dqn.clone(), cfg.erlam.clone(), perception.clone(), seed, rng),
+        AgentKind::Dqn => Dqn::new(cfg.section::<DqnConfig>().clone(), seed, rng),
+        AgentKind::Erlam => Dqn::erlam(
+            cfg.section::<DqnConfig>().clone(),
+            cfg.section::<ErlamConfig>().clone(),
+            perception.clone(),
+            seed,
+            rng,
+        ),
         _ => return None,
     };
     Some(made.map(|d| Box::new(d) as Box<dyn Controller>))

@@ -83,19 +83,15 @@ fn a_training_step_fits_the_targets_and_sync_copies_the_network() {
 
 #[test]
 fn dqn_runs_episodes_through_the_core_run_loop_deterministically() {
-    let cfg = RunConfig {
-        task: "object-permanence".into(),
-        kind: AgentKind::Dqn,
-        t: Some(120),
-        dqn: DqnConfig {
-            random_decisions: 20,
-            batch_size: 8,
-            replay_size: 200,
-            epsilon_decisions: 60,
-            ..DqnConfig::default()
-        },
-        ..RunConfig::default()
-    };
+    let cfg =
+        RunConfig { task: "object-permanence".into(), kind: AgentKind::Dqn, t: Some(120), ..RunConfig::default() }
+            .with_section(DqnConfig {
+                random_decisions: 20,
+                batch_size: 8,
+                replay_size: 200,
+                epsilon_decisions: 60,
+                ..DqnConfig::default()
+            });
     let play = || {
         let mut run = Run::with_agents(cfg.clone(), 5, Some(factory)).unwrap();
         (0..3).map(|_| run.episode().to_json()).collect::<Vec<_>>()
@@ -123,7 +119,7 @@ fn bad_dqn_parameters_are_refused_by_name() {
         (DqnConfig { learning_rate: f64::NAN, ..DqnConfig::default() }, "dqn.learningRate"),
     ];
     for (cfg, field) in bad {
-        let e = RunConfig { kind: AgentKind::Dqn, dqn: cfg, ..RunConfig::default() }.validate().unwrap_err();
+        let e = RunConfig { kind: AgentKind::Dqn, ..RunConfig::default() }.with_section(cfg).validate().unwrap_err();
         assert_eq!(e.field, field);
         assert!(e.message.contains("out of range"), "{e}");
     }
@@ -205,14 +201,15 @@ fn a_full_graph_evicts_its_least_recently_improved_node_and_rekeys_links() {
 
 #[test]
 fn erlam_runs_episodes_through_the_core_run_loop() {
-    let cfg = RunConfig {
-        task: "object-permanence".into(),
-        kind: AgentKind::Erlam,
-        t: Some(100),
-        dqn: DqnConfig { random_decisions: 10, batch_size: 8, epsilon_decisions: 50, ..DqnConfig::default() },
-        erlam: ErlamConfig { propagate_every: 2, ..ErlamConfig::default() },
-        ..RunConfig::default()
-    };
+    let cfg =
+        RunConfig { task: "object-permanence".into(), kind: AgentKind::Erlam, t: Some(100), ..RunConfig::default() }
+            .with_section(DqnConfig {
+                random_decisions: 10,
+                batch_size: 8,
+                epsilon_decisions: 50,
+                ..DqnConfig::default()
+            })
+            .with_section(ErlamConfig { propagate_every: 2, ..ErlamConfig::default() });
     let play = || {
         let mut run = Run::with_agents(cfg.clone(), 4, Some(factory)).unwrap();
         (0..3).map(|_| run.episode().to_json()).collect::<Vec<_>>()
@@ -222,7 +219,7 @@ fn erlam_runs_episodes_through_the_core_run_loop() {
     let m: Vec<serde_json::Value> = a.iter().map(|l| serde_json::from_str(l).unwrap()).collect();
     let nodes: Vec<u64> = m.iter().map(|m| m["ltm"].as_u64().unwrap()).collect();
     assert!(nodes[0] > 0 && nodes[2] >= nodes[0], "the graph grows at episode ends: {nodes:?}");
-    let e = RunConfig { erlam: ErlamConfig { nodes: 1, ..ErlamConfig::default() }, ..cfg }.validate().unwrap_err();
+    let e = cfg.with_section(ErlamConfig { nodes: 1, ..ErlamConfig::default() }).validate().unwrap_err();
     assert_eq!(e.field, "erlam.nodes");
 }
 
@@ -230,14 +227,15 @@ fn erlam_runs_episodes_through_the_core_run_loop() {
 /// the episodes are the same as without it.
 #[test]
 fn erlam_logs_its_graphs_census_every_n_episodes_and_changes_nothing_else() {
-    let cfg = RunConfig {
-        task: "object-permanence".into(),
-        kind: AgentKind::Erlam,
-        t: Some(60),
-        dqn: DqnConfig { random_decisions: 10, batch_size: 8, epsilon_decisions: 50, ..DqnConfig::default() },
-        erlam: ErlamConfig { propagate_every: 2, census_every: 2, ..ErlamConfig::default() },
-        ..RunConfig::default()
-    };
+    let cfg =
+        RunConfig { task: "object-permanence".into(), kind: AgentKind::Erlam, t: Some(60), ..RunConfig::default() }
+            .with_section(DqnConfig {
+                random_decisions: 10,
+                batch_size: 8,
+                epsilon_decisions: 50,
+                ..DqnConfig::default()
+            })
+            .with_section(ErlamConfig { propagate_every: 2, census_every: 2, ..ErlamConfig::default() });
     let play = |cfg: &RunConfig| {
         let mut run = Run::with_agents(cfg.clone(), 4, Some(factory)).unwrap();
         (0..4).map(|_| run.episode()).collect::<Vec<_>>()
@@ -250,11 +248,14 @@ fn erlam_logs_its_graphs_census_every_n_episodes_and_changes_nothing_else() {
     assert!((0.0..=1.0).contains(&c.valued_share) && c.median_value.is_finite(), "{c:?}");
     let json = with[1].to_json();
     assert!(json.contains("\"census\":{\"nodes\":"), "{json}");
-    let without = play(&RunConfig { erlam: ErlamConfig { census_every: 0, ..cfg.erlam.clone() }, ..cfg.clone() });
+    let without =
+        play(&cfg.clone().with_section(ErlamConfig { census_every: 0, ..cfg.section::<ErlamConfig>().clone() }));
     for (a, b) in with.iter().zip(&without) {
         assert_eq!(EpisodeMetrics { census: None, ..a.clone() }, *b);
     }
-    let e = RunConfig { erlam: ErlamConfig { census_every: 2_000_000, ..cfg.erlam.clone() }, ..cfg }
+    let e = cfg
+        .clone()
+        .with_section(ErlamConfig { census_every: 2_000_000, ..cfg.section::<ErlamConfig>().clone() })
         .validate()
         .unwrap_err();
     assert_eq!(e.field, "erlam.censusEvery");
@@ -321,13 +322,9 @@ fn short_dqn() -> DqnConfig {
 fn a_dqn_run_resumed_from_a_checkpoint_plays_as_if_never_interrupted() {
     // Interrupted mid-training: replay full, epsilon half-way, the target synced, Adam-free RMSprop
     // state accumulated; the entropy in the log is of the network's own Q values.
-    let cfg = RunConfig {
-        task: "object-permanence".into(),
-        kind: AgentKind::Dqn,
-        t: Some(120),
-        dqn: short_dqn(),
-        ..RunConfig::default()
-    };
+    let cfg =
+        RunConfig { task: "object-permanence".into(), kind: AgentKind::Dqn, t: Some(120), ..RunConfig::default() }
+            .with_section(short_dqn());
     let bytes = resumed_equals_uninterrupted(cfg.clone(), 3, 2, 3);
     // A checkpoint is refused by a run of another agent, and a truncated one by its checksum.
     let erlam = RunConfig { kind: AgentKind::Erlam, ..cfg.clone() };
@@ -341,14 +338,10 @@ fn a_dqn_run_resumed_from_a_checkpoint_plays_as_if_never_interrupted() {
 #[test]
 fn an_erlam_run_resumed_from_a_checkpoint_plays_as_if_never_interrupted() {
     // A small graph that evicts, propagation every 2 episodes, the checkpoint after an odd one.
-    let cfg = RunConfig {
-        task: "object-permanence".into(),
-        kind: AgentKind::Erlam,
-        t: Some(100),
-        dqn: short_dqn(),
-        erlam: ErlamConfig { propagate_every: 2, nodes: 40, ..ErlamConfig::default() },
-        ..RunConfig::default()
-    };
+    let cfg =
+        RunConfig { task: "object-permanence".into(), kind: AgentKind::Erlam, t: Some(100), ..RunConfig::default() }
+            .with_section(short_dqn())
+            .with_section(ErlamConfig { propagate_every: 2, nodes: 40, ..ErlamConfig::default() });
     resumed_equals_uninterrupted(cfg, 4, 3, 3);
 }
 
@@ -484,14 +477,9 @@ fn poison(v: &ciborium::Value) -> Option<ciborium::Value> {
 #[test]
 fn every_field_of_dqns_and_erlams_checkpoints_is_checked() {
     for kind in [AgentKind::Dqn, AgentKind::Erlam] {
-        let cfg = RunConfig {
-            task: "object-permanence".into(),
-            kind,
-            t: Some(100),
-            dqn: short_dqn(),
-            erlam: ErlamConfig { propagate_every: 2, nodes: 40, ..ErlamConfig::default() },
-            ..RunConfig::default()
-        };
+        let cfg = RunConfig { task: "object-permanence".into(), kind, t: Some(100), ..RunConfig::default() }
+            .with_section(short_dqn())
+            .with_section(ErlamConfig { propagate_every: 2, nodes: 40, ..ErlamConfig::default() });
         let mut run = Run::with_agents(cfg.clone(), 4, Some(factory)).unwrap();
         let log: String = (0..3).map(|_| run.episode().to_json() + "\n").collect();
         let mut bytes = Vec::new();

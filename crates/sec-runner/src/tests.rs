@@ -25,7 +25,8 @@ fn dir(name: &str) -> PathBuf {
 fn an_interrupted_run_resumes_from_its_checkpoint_to_the_same_log() {
     let dqn = DqnConfig { random_decisions: 10, batch_size: 4, replay_size: 30, ..DqnConfig::default() };
     let config =
-        RunConfig { task: "object-permanence".into(), kind: AgentKind::Dqn, t: Some(60), dqn, ..RunConfig::default() };
+        RunConfig { task: "object-permanence".into(), kind: AgentKind::Dqn, t: Some(60), ..RunConfig::default() }
+            .with_section(dqn);
     let job =
         Job { condition: "c/dqn".into(), config, seed: 2, agents: Some(sec_dqn::factory), legacy_checkpoint: false };
     let bar = ProgressBar::hidden();

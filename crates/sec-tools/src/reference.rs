@@ -10,6 +10,7 @@ use crate::authors::{load_authors, LearnedBar};
 use crate::report::{load, ConditionRuns, WINDOW};
 use crate::runner::experiment_dirs;
 use crate::stats::mean;
+use sec_playground::agent::SecConfig;
 use sec_playground::experiment::settings::to_settings;
 use sec_playground::experiment::AgentKind;
 use sec_playground::experiment::EpisodeMetrics;
@@ -113,7 +114,7 @@ fn facts(c: &ConditionRuns, bar: Option<LearnedBar>, authors: Option<(&[f64], us
         f.insert("authorsRuns".into(), json!(totals.iter().map(|t| dec4(t / episodes as f64)).collect::<Vec<_>>()));
     }
     if c.condition.config.kind == AgentKind::Sec {
-        let m = c.condition.config.agent.memory.m;
+        let m = c.condition.config.section::<SecConfig>().memory.m;
         let full: Vec<Option<usize>> = c.runs.iter().map(|r| r.iter().position(|e| e.ltm >= m)).collect();
         f.insert("ltmFull".into(), json!(full));
     }

@@ -5,6 +5,7 @@
 use crate::plot::{self, Series};
 use crate::runner::{ExperimentManifest, ManifestCondition};
 use crate::stats::{ci95, mann_whitney, mean, moving_mean, sd, se};
+use sec_playground::agent::SecConfig;
 use sec_playground::experiment::EpisodeMetrics;
 use sec_playground::memory::Forgetting;
 use std::fmt::Write as _;
@@ -320,12 +321,12 @@ neither side. Descriptive only: the protocol's test is the table's Mann-Whitney 
 fn forgetting_pairs(conds: &[ConditionRuns]) -> String {
     let mut md = String::new();
     for c in conds {
-        let memory = &c.condition.config.agent.memory;
+        let memory = &c.condition.config.section::<SecConfig>().memory;
         if memory.forgetting == Forgetting::None {
             continue;
         }
         let mut without = c.condition.config.clone();
-        without.agent.memory.forgetting = Forgetting::None;
+        without.section_mut::<SecConfig>().memory.forgetting = Forgetting::None;
         let Some(r) = conds.iter().find(|r| r.group() == c.group() && r.condition.config == without) else { continue };
         let (mut fills, mut identical, mut after) = (Vec::new(), 0, [0.0, 0.0]);
         let (mut more, mut fewer, mut episodes_after) = (0, 0, 0);
@@ -410,8 +411,8 @@ mod tests {
 
     fn condition(name: &str, forgetting: Forgetting, runs: Vec<Vec<EpisodeMetrics>>) -> ConditionRuns {
         let mut config = RunConfig::default();
-        config.agent.memory.m = 2;
-        config.agent.memory.forgetting = forgetting;
+        config.section_mut::<SecConfig>().memory.m = 2;
+        config.section_mut::<SecConfig>().memory.forgetting = forgetting;
         ConditionRuns {
             condition: ManifestCondition { name: name.into(), paper_total: None, config, plan: None },
             seeds: vec![1, 2],

@@ -132,7 +132,7 @@ fn real_graph(path: &str) -> Result<(), String> {
     // own propagation took `last_sweeps` sweeps (saved with the graph); time one sweep now.
     let run_sweeps = g.last_sweeps;
     let t0 = Instant::now();
-    g.propagate(header.config.erlam.propagate_every);
+    g.propagate(header.config.section::<ErlamConfig>().propagate_every);
     let sweep = t0.elapsed().as_secs_f64() / g.last_sweeps as f64;
     println!(
         "ERLAM graph of {} ({} episodes, seed {}): {} nodes; the run's last propagation took {} sweeps; a sweep {:.1} ms, so about {:.2} s",

@@ -350,10 +350,14 @@ fn mse_over(ae: &Autoencoder, rgb: &[u8]) -> (f64, f64) {
 }
 
 /// `--textured`: each task's textured model (where one is trained) on the held-out poses drawn
-/// textured, beside the flat model on the same frames; the table docs/ENCODER.md quotes.
+/// textured, beside the flat model on the same frames; the table docs/ENCODER.md quotes. Its
+/// last columns are the gate rule of results/PROTOCOL.md (amendment of 2026-12-06, second):
+/// Fisher's exact test of the frames the textured model's gate passes on textured frames against
+/// those the flat model's passes on flat frames, and whether the model may serve the runs (no
+/// difference at p < 0.05).
 fn textured_report(args: &Args) -> Result<(), String> {
     let mut md = String::from(
-        "| model | held-out MSE on textured frames, mean / worst | the flat model on the same frames | frames the gate passes: textured model / flat model | the flat model on flat frames: MSE, frames the gate passes |\n|---|---|---|---|---|\n",
+        "| model | held-out MSE on textured frames, mean / worst | the flat model on the same frames | frames the gate passes: textured model / flat model | the flat model on flat frames: MSE, frames the gate passes | gate rule: Fisher p, textured on textured against flat on flat | serves the runs |\n|---|---|---|---|---|---|---|\n",
     );
     for name in TASK_NAMES {
         let load = |model: &str| -> Result<Option<Autoencoder>, String> {
@@ -379,23 +383,27 @@ fn textured_report(args: &Args) -> Result<(), String> {
                     ae.reconstruction_mse(&img, &mut s) < threshold
                 })
                 .count();
-            100.0 * passing as f64 / HELDOUT as f64
+            passing
         };
+        let share = |passing: usize| 100.0 * passing as f64 / HELDOUT as f64;
         let (t, f) = (mse_over(&textured, &rgb), mse_over(&flat, &rgb));
         let (flat_rgb, _) =
             dataset::generate(&task, Surface::Flat, HELDOUT, HELDOUT_SEED).map_err(|e| e.to_string())?;
         let flat_on_flat = mse_over(&flat, &flat_rgb);
+        let (ours, theirs, baseline) = (open(&textured, &rgb), open(&flat, &rgb), open(&flat, &flat_rgb));
+        let p = sec_tools::stats::fisher_exact(ours, HELDOUT - ours, baseline, HELDOUT - baseline);
         writeln!(
             md,
-            "| {textured_name} | {:.5} / {:.5} | {:.5} / {:.5} | {:.1} % / {:.1} % | {:.5}, {:.1} % |",
+            "| {textured_name} | {:.5} / {:.5} | {:.5} / {:.5} | {:.1} % / {:.1} % | {:.5}, {:.1} % | {p:.3} | {} |",
             t.0,
             t.1,
             f.0,
             f.1,
-            open(&textured, &rgb),
-            open(&flat, &rgb),
+            share(ours),
+            share(theirs),
             flat_on_flat.0,
-            open(&flat, &flat_rgb)
+            share(baseline),
+            if p >= 0.05 { "yes" } else { "no" }
         )
         .map_err(|e| e.to_string())?;
     }

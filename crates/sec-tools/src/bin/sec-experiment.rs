@@ -28,6 +28,7 @@
 //! Runs go to `OUT/EXPERIMENT/<group>/<model>/seed-S.jsonl.gz`, one JSON line per episode; a SEC,
 //! DQN or ERLAM run in progress keeps a checkpoint `seed-S.jsonl.ckpt` beside its log and resumes from it.
 
+use sec_playground::agent::SecConfig;
 use sec_playground::experiment::presets::{self, Condition, EXPERIMENTS};
 use sec_playground::experiment::trace::trace;
 use sec_playground::experiment::{AgentKind, Run, RunConfig};
@@ -258,7 +259,7 @@ fn agent_table() -> String {
             "{}\t{}\t{}\t{}\t{can}\t{}\n",
             a.key,
             kind.as_str().unwrap_or_default(),
-            a.section.unwrap_or("-"),
+            a.section.map_or("-", |s| s.key),
             reads.as_str().unwrap_or_default(),
             a.label
         );
@@ -601,9 +602,15 @@ fn trace_cmd(args: &[String]) -> Result<(), String> {
     let n = match o.get("trace") {
         Some(path) => {
             let file = std::fs::File::create(Path::new(path)).map_err(|e| format!("--trace {path}: {e}"))?;
-            trace(&cfg.agent, Some(cfg.perception), seed, reader, BufWriter::new(file))
+            trace(cfg.section::<SecConfig>(), Some(cfg.perception), seed, reader, BufWriter::new(file))
         }
-        None => trace(&cfg.agent, Some(cfg.perception), seed, reader, BufWriter::new(std::io::stdout().lock())),
+        None => trace(
+            cfg.section::<SecConfig>(),
+            Some(cfg.perception),
+            seed,
+            reader,
+            BufWriter::new(std::io::stdout().lock()),
+        ),
     }
     .map_err(|e| format!("--events {input}: {e}"))?;
     eprintln!("{n} decisions traced");

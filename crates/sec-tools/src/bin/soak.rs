@@ -4,6 +4,7 @@
 //!
 //! `cargo run --release -p sec-tools --bin soak -- DECISIONS FORGETTING` (defaults 1000000, fifo)
 
+use sec_playground::agent::SecConfig;
 use sec_playground::experiment::{Run, RunConfig};
 use sec_playground::memory::Forgetting;
 use std::time::Instant;
@@ -26,8 +27,8 @@ fn main() {
         }),
     };
     let mut cfg = RunConfig { task: "object-permanence".into(), ..RunConfig::default() };
-    cfg.agent.memory.forgetting = forgetting;
-    cfg.agent.memory.m = 100;
+    cfg.section_mut::<SecConfig>().memory.forgetting = forgetting;
+    cfg.section_mut::<SecConfig>().memory.m = 100;
     let mut run = Run::new(cfg, 1).expect("a valid configuration");
     let t0 = Instant::now();
     let (mut episodes, mut done) = (0u64, 0u64);

@@ -1,0 +1,180 @@
+//! An agent's configuration section, owned by the agent: its type (with its defaults and range
+//! checks) lives in the agent's module, and the agent table's row names it by its JSON key
+//! (`SectionSpec`). A run's configuration holds one section per key of the table
+//! (`experiment::RunConfig::section`), so adding an agent with parameters touches no file of
+//! the runs layer, and the core hands each agent its own section without naming its type.
+
+use crate::arena::ConfigError;
+use serde::de::DeserializeOwned;
+use serde::Serialize;
+use std::any::Any;
+use std::fmt;
+
+/// What an agent's configuration section can do, type-erased: checked, written as JSON, copied
+/// and compared. Implemented for every type with `Validate` and serde's traits.
+pub trait Section: Any + Send + Sync + fmt::Debug {
+    /// Every field in its range, the error naming it.
+    fn validate(&self) -> Result<(), ConfigError>;
+    /// As the configuration's JSON writes it.
+    fn to_value(&self) -> serde_json::Value;
+    /// A copy.
+    fn clone_box(&self) -> Box<dyn Section>;
+    /// Whether `other` is the same type with the same values.
+    fn same(&self, other: &dyn Section) -> bool;
+    /// Itself, to be read as its own type.
+    fn as_any(&self) -> &dyn Any;
+    /// Itself, to be changed as its own type.
+    fn as_any_mut(&mut self) -> &mut dyn Any;
+}
+
+/// A section's range checks (its `validate`), which `Section` asks for.
+pub trait Validate {
+    /// Every field in its range, the error naming it.
+    fn validate(&self) -> Result<(), ConfigError>;
+}
+
+impl<T> Section for T
+where
+    T: Validate + Serialize + Clone + PartialEq + fmt::Debug + Send + Sync + 'static,
+{
+    fn validate(&self) -> Result<(), ConfigError> {
+        Validate::validate(self)
+    }
+    fn to_value(&self) -> serde_json::Value {
+        serde_json::to_value(self).expect("configuration sections serialise")
+    }
+    fn clone_box(&self) -> Box<dyn Section> {
+        Box::new(self.clone())
+    }
+    fn same(&self, other: &dyn Section) -> bool {
+        other.as_any().downcast_ref::<T>().is_some_and(|o| o == self)
+    }
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+    fn as_any_mut(&mut self) -> &mut dyn Any {
+        self
+    }
+}
+
+impl Clone for Box<dyn Section> {
+    fn clone(&self) -> Self {
+        self.clone_box()
+    }
+}
+
+impl PartialEq for Box<dyn Section> {
+    fn eq(&self, other: &Self) -> bool {
+        self.same(other.as_ref())
+    }
+}
+
+/// Reads a section's JSON under its key (the key names the fields of its errors).
+pub type ParseSection = fn(&'static str, serde_json::Value) -> Result<Box<dyn Section>, ConfigError>;
+
+/// Reads a section from a whole configuration's JSON text, where it sits under its key: errors
+/// carry their line and column in that text as well as the field's path.
+pub type ParseSectionText = fn(&'static str, &str) -> Result<Box<dyn Section>, ConfigError>;
+
+/// How the core reads an agent's section: its JSON key in a configuration, its defaults and its
+/// parser (a value of another shape is an error naming the field by its path, `agent.memory.tau`).
+#[derive(Clone, Copy)]
+pub struct SectionSpec {
+    /// Its key in a configuration's JSON (`agent` for SEC's, as the committed configurations
+    /// spell it).
+    pub key: &'static str,
+    /// The section with the agent's defaults.
+    pub default: fn() -> Box<dyn Section>,
+    /// The section read from its JSON (missing fields take the defaults), not yet validated.
+    pub parse: ParseSection,
+    /// The section read from a configuration's text (`parse`, with positions in its errors).
+    pub parse_text: ParseSectionText,
+}
+
+impl fmt::Debug for SectionSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "SectionSpec({})", self.key)
+    }
+}
+
+impl Serialize for SectionSpec {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.key)
+    }
+}
+
+fn default_of<T: Section + Default>() -> Box<dyn Section> {
+    Box::new(T::default())
+}
+
+fn parse_as<T: Section + DeserializeOwned>(
+    key: &'static str,
+    value: serde_json::Value,
+) -> Result<Box<dyn Section>, ConfigError> {
+    let section: T = serde_path_to_error::deserialize(value).map_err(|e| {
+        let path = e.path().to_string();
+        let field = if path == "." { key.to_string() } else { format!("{key}.{path}") };
+        ConfigError::new(field, e.inner().to_string())
+    })?;
+    Ok(Box::new(section))
+}
+
+/// Reads the value under one key of a JSON object, passing over the others.
+struct Pick<T>(&'static str, std::marker::PhantomData<T>);
+
+impl<'de, T: serde::Deserialize<'de>> serde::de::DeserializeSeed<'de> for Pick<T> {
+    type Value = Option<T>;
+    fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<Option<T>, D::Error> {
+        d.deserialize_map(self)
+    }
+}
+
+impl<'de, T: serde::Deserialize<'de>> serde::de::Visitor<'de> for Pick<T> {
+    type Value = Option<T>;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("an object (a RunConfig)")
+    }
+    fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<Option<T>, A::Error> {
+        let mut found = None;
+        while let Some(key) = map.next_key::<String>()? {
+            if key == self.0 {
+                found = Some(map.next_value::<T>()?);
+            } else {
+                map.next_value::<serde::de::IgnoredAny>()?;
+            }
+        }
+        Ok(found)
+    }
+}
+
+fn parse_text_as<T: Section + Default + DeserializeOwned>(
+    key: &'static str,
+    text: &str,
+) -> Result<Box<dyn Section>, ConfigError> {
+    let mut de = serde_json::Deserializer::from_str(text);
+    let mut track = serde_path_to_error::Track::new();
+    let seed = Pick::<T>(key, std::marker::PhantomData);
+    let section =
+        serde::de::DeserializeSeed::deserialize(seed, serde_path_to_error::Deserializer::new(&mut de, &mut track))
+            .map_err(|e| {
+                let path = track.path().to_string();
+                ConfigError::new(if path == "." { key.to_string() } else { path }, e.to_string())
+            })?;
+    Ok(Box::new(section.unwrap_or_default()))
+}
+
+impl SectionSpec {
+    /// The section of type `T` under `key`.
+    pub const fn of<T: Section + Default + DeserializeOwned>(key: &'static str) -> SectionSpec {
+        SectionSpec { key, default: default_of::<T>, parse: parse_as::<T>, parse_text: parse_text_as::<T> }
+    }
+}
+
+/// An agent's own section as its type, from the section a run hands its builder and
+/// `Controller::reconfigure` (the core passes each agent the section its table row names,
+/// without knowing its type). Another type is an error naming the section.
+pub fn own_section<'a, T: Any>(section: &'a dyn Any, key: &str) -> Result<&'a T, ConfigError> {
+    section
+        .downcast_ref::<T>()
+        .ok_or_else(|| ConfigError::new(key, format!("is not this agent's section (a {})", std::any::type_name::<T>())))
+}
