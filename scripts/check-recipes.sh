@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# Follows docs/ARCHITECTURE.md's recipes on a copy of the committed tree and checks that each
-# works with the files it names and no others: "Add an agent" (an always-forward agent: its
-# module, its row and variant in the table, one line in mod.rs) and "Add a setting" (a SEC
-# setting: the field, its row, its declaration for JS), each with the checks the recipe says
-# follow (the agent table lists it; Python's and the CLI's `parameters` list the setting; the
-# settings, agents and TypeScript tests pass; without its declaration the TypeScript test names
-# what is missing). Not part of the test command (it compiles the core twice more, several
-# minutes): run it after changing the recipes or the seams they touch.
+# Follows docs/ARCHITECTURE.md's recipes on a copy of the committed tree (HEAD) and checks that
+# each works with the files it names and no others: "Add an agent" (an always-forward walker with
+# one live setting: its module, its row and variant in the table, one line in mod.rs) and "Add a
+# setting" (a SEC setting: its field, row and declaration for JS, all in sec.rs), each with the
+# checks the recipe says follow (the agent table and the CLI's `agents`, `parameters` and `config`
+# list them; the settings, agents, TypeScript and layers tests pass; without its declaration the
+# TypeScript test names what is missing). Not part of the test command (it compiles the core
+# again): about a minute on a warm build; run it after changing a recipe or a seam it touches.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
@@ -36,26 +36,73 @@ expect_files() {
   fi
 }
 
-echo "== Add an agent: an always-forward walker in 3 files"
+echo "== Add an agent: an always-forward walker with one live setting, in 3 files"
 fresh
 cd "$work/tree"
-cat > src/agent/always_forward.rs <<'EOF'
-//! A throwaway agent that always moves forward (scripts/check-recipes.sh).
+cat > src/agent/always_forward.rs <<'RSEOF'
+//! A throwaway agent that walks forward and turns right every `turnEvery` decisions
+//! (scripts/check-recipes.sh).
 
 use super::controller::{Controller, EpisodeEnd, MemoryUse, Observation, Step};
+use super::section::{own_section, AgentConfig, SectionSetting};
 use super::{Decision, Layer};
-use crate::arena::Action;
+use crate::arena::{Action, ConfigError};
+use crate::param::Param;
 use rand_chacha::ChaCha8Rng;
+use std::any::Any;
 
-/// Always forward.
-pub struct AlwaysForward;
+/// Its configuration.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "camelCase", default, deny_unknown_fields)]
+pub struct ForwardConfig {
+    /// Turns right every this many decisions (0: never).
+    pub turn_every: u64,
+}
+
+impl AgentConfig for ForwardConfig {
+    const KEY: &'static str = "forward";
+    const TYPESCRIPT: &'static str = "export interface RunConfig { forward?: { turnEvery?: number } }";
+    fn validate(&self) -> Result<(), ConfigError> {
+        if self.turn_every > 1000 {
+            return Err(ConfigError::new("forward.turnEvery", format!("{} is out of range 0..=1000", self.turn_every)));
+        }
+        Ok(())
+    }
+    fn settings() -> Vec<SectionSetting> {
+        vec![SectionSetting::of(
+            Param::integer("turnEvery", "turn", "Turns right every this many decisions (0: never).", (0, 1000), true),
+            |c: &ForwardConfig| c.turn_every.to_string(),
+            |c: &mut ForwardConfig, v| c.turn_every = v as u64,
+        )]
+    }
+}
+
+#[cfg(target_arch = "wasm32")]
+#[wasm_bindgen::prelude::wasm_bindgen(typescript_custom_section)]
+const FORWARD_TYPESCRIPT: &str = <ForwardConfig as AgentConfig>::TYPESCRIPT;
+
+/// Forward, and right now and then.
+pub struct AlwaysForward {
+    cfg: ForwardConfig,
+    decisions: u64,
+}
+
+impl AlwaysForward {
+    /// A walker of `cfg`.
+    pub fn new(cfg: ForwardConfig) -> Self {
+        AlwaysForward { cfg, decisions: 0 }
+    }
+}
 
 impl Controller for AlwaysForward {
     fn on_step(&mut self, _: &Step, _: Option<&[f32]>, _: &mut ChaCha8Rng) -> bool {
         false
     }
     fn decide(&mut self, _: &Observation, _: &mut dyn FnMut() -> f32, _: &mut ChaCha8Rng) -> Decision {
-        Decision { action: Action::FORWARD, layer: Layer::Reactive, selected: false }
+        self.decisions += 1;
+        let turn = self.cfg.turn_every > 0 && self.decisions % self.cfg.turn_every == 0;
+        let action = if turn { Action::RIGHT } else { Action::FORWARD };
+        Decision { action, layer: Layer::Reactive, selected: false }
     }
     fn on_episode_end(&mut self, _: &EpisodeEnd) {}
     fn entropy(&self) -> f64 {
@@ -64,19 +111,26 @@ impl Controller for AlwaysForward {
     fn memory_use(&self) -> MemoryUse {
         MemoryUse::default()
     }
+    fn reconfigure(&mut self, section: &dyn Any) -> Result<(), ConfigError> {
+        self.cfg = own_section::<ForwardConfig>(section, "forward")?.clone();
+        Ok(())
+    }
 }
-EOF
-python3 - <<'EOF'
+RSEOF
+python3 - <<'PYEOF'
 p = 'src/agent/table.rs'
 s = open(p).read()
 s = s.replace("    Erlam,\n}", "    Erlam,\n    /// Always forward (a recipe check).\n    AlwaysForward,\n}", 1)
 row = '''    AgentInfo {
         key: "always-forward", label: "always forward", unbiased_label: None,
-        about: "Walks forward, always.", explores: Some("It never explores."),
-        section: None, reads: Input::Nothing,
+        about: "Walks forward, turning right every turnEvery decisions.", explores: Some("It never explores."),
+        section: Some(SectionSpec::of::<super::always_forward::ForwardConfig>()), reads: Input::Nothing,
         has_memory: false, has_gate: false, native_only: false, can_be_driven: false,
         kind: AgentKind::AlwaysForward, embedding: None,
-        build: Some(|_, _, _, _| Ok(Box::new(super::always_forward::AlwaysForward))),
+        build: Some(|section, _, _, _| {
+            let cfg = own_section::<super::always_forward::ForwardConfig>(section, "forward")?;
+            Ok(Box::new(super::always_forward::AlwaysForward::new(cfg.clone())))
+        }),
     },
 ];'''
 i = s.index('\n];\n', s.index('pub const AGENTS'))
@@ -86,50 +140,49 @@ p = 'src/agent/mod.rs'
 s = open(p).read()
 s = s.replace("pub mod controller;", "pub mod always_forward;\npub mod controller;", 1)
 open(p, 'w').write(s)
-EOF
+PYEOF
 expect_files "src/agent/always_forward.rs src/agent/mod.rs src/agent/table.rs" "Add an agent"
-cargo test -q -p sec-playground --test agents --test settings --test typescript 2>&1 | grep -E '^test result|FAILED|panicked' || true
-cargo test -q -p sec-playground --test agents --test settings --test typescript >/dev/null 2>&1 \
+cargo test -q -p sec-playground --test agents --test settings --test typescript --test layers >/dev/null 2>&1 \
   || { echo "FAIL: the core's tests with the new agent" >&2; exit 1; }
 cargo run -q -p sec-tools --bin sec-experiment -- agents | grep -q always-forward \
   || { echo "FAIL: sec-experiment agents does not list it" >&2; exit 1; }
-cargo run -q -p sec-tools --bin sec-experiment -- parameters --agent always-forward --json >/dev/null \
-  || { echo "FAIL: sec-experiment parameters --agent always-forward" >&2; exit 1; }
-echo "ok: 3 files; the table, the CLI's agents and parameters, the core's tests"
+cargo run -q -p sec-tools --bin sec-experiment -- parameters --agent always-forward | grep -q turnEvery \
+  || { echo "FAIL: sec-experiment parameters --agent always-forward does not list turnEvery" >&2; exit 1; }
+cargo run -q -p sec-tools --bin sec-experiment -- config --set '{"kind": "always-forward", "forward": {"turnEvery": 3}}' \
+  | grep -q '"turnEvery": *3' || { echo "FAIL: sec-experiment config does not read its section" >&2; exit 1; }
+echo "ok: 3 files; the table, the CLI's agents, parameters and config, the core's tests (its row is live: tests/settings.rs)"
 cd "$repo"
 
-echo "== Add a setting: a SEC setting in the recipe's files"
+echo "== Add a setting: a SEC setting in the recipe's one file"
 fresh
 cd "$work/tree"
-python3 - <<'EOF'
+python3 - <<'PYEOF'
 p = 'src/agent/sec.rs'
 s = open(p).read()
 s = s.replace("    pub reset_stm_on_episode: bool,\n}", "    pub reset_stm_on_episode: bool,\n    /// A recipe check's setting.\n    pub recipe_demo: f64,\n}", 1)
 s = s.replace("            reset_stm_on_episode: false,\n        }", "            reset_stm_on_episode: false,\n            recipe_demo: 0.5,\n        }", 1)
 s = s.replace("        self.memory.validate()?;", "        self.memory.validate()?;\n        if !(0.0..=1.0).contains(&self.recipe_demo) {\n            return Err(ConfigError::new(\"recipeDemo\", format!(\"{} is out of range [0, 1]\", self.recipe_demo)));\n        }", 1)
-open(p, 'w').write(s)
-p = 'src/experiment/settings.rs'
-s = open(p).read()
-anchor = '        Setting {\n            param: choice("forgetting",'
-row = '''        Setting {
-            param: Param { key: "recipeDemo", symbol: "demo", help: "A recipe check's setting.", kind: Kind::Number { min: 0.0, max: 1.0, min_open: false, step: 0.1, auto: false }, live: true, group: "memory", agents: sec_only() },
-            get: |c, _| c.agent.recipe_demo.to_string(),
-            set: |c, _, v| c.agent.recipe_demo = v,
-        },
+anchor = "        vec![\n"
+i = s.index(anchor, s.index("fn settings() -> Vec<SectionSetting>")) + len(anchor)
+row = '''            SectionSetting::of(
+                Param::number("recipeDemo", "demo", "A recipe check's setting.", (0.0, 1.0), false, 0.1).group("memory"),
+                |c: &SecConfig| c.recipe_demo.to_string(),
+                |c: &mut SecConfig, v| c.recipe_demo = v,
+            ),
 '''
-s = s.replace(anchor, row + anchor, 1)
+s = s[:i] + row + s[i:]
 open(p, 'w').write(s)
-EOF
+PYEOF
 # Without its declaration for JS, the TypeScript test names it.
 if out=$(cargo test -q -p sec-playground --test typescript 2>&1); then
   echo "FAIL: the TypeScript test passed without the declaration" >&2
   exit 1
 fi
 grep -q 'RunConfig.agent.recipeDemo' <<<"$out" || { echo "FAIL: the TypeScript test did not name the field" >&2; exit 1; }
-sed -i 's/resetStmOnEpisode?: boolean;/resetStmOnEpisode?: boolean; recipeDemo?: number;/' src/web/types.d.ts
-expect_files "src/agent/sec.rs src/experiment/settings.rs src/web/types.d.ts" "Add a setting"
+sed -i 's/resetStmOnEpisode?: boolean;/resetStmOnEpisode?: boolean; recipeDemo?: number;/' src/agent/sec.rs
+expect_files "src/agent/sec.rs" "Add a setting"
 cargo test -q -p sec-playground --test settings --test typescript --test agents >/dev/null 2>&1 \
   || { echo "FAIL: the core's tests with the new setting" >&2; exit 1; }
 cargo run -q -p sec-tools --bin sec-experiment -- parameters --agent sec | grep -q recipeDemo \
   || { echo "FAIL: sec-experiment parameters does not list it" >&2; exit 1; }
-echo "ok: 3 files (the recipe's 2 and the declaration); its row is live, the tests pass, the CLI lists it"
+echo "ok: 1 file (its field, row and declaration, all in sec.rs); the tests pass, the CLI lists it"

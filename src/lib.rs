@@ -14,6 +14,7 @@ pub mod env;
 pub mod error;
 pub mod experiment;
 pub mod memory;
+pub mod param;
 pub mod render;
 pub mod reuse;
 pub mod seed;

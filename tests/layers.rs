@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 /// The top-level modules from the bottom up; a file may import its own layer's and lower ones'.
 /// The base (helpers every layer uses) is layer 0; `lib.rs` sits above everything.
 const LAYERS: &[&[&str]] = &[
-    &["util", "seed", "error", "dispatch", "reuse"],
+    &["util", "seed", "error", "dispatch", "reuse", "param"],
     &["arena"],
     &["render"],
     &["encoder"],

@@ -1,10 +1,11 @@
-//! The page's TypeScript declarations (`src/web/types.d.ts`, which wasm-bindgen appends to the
-//! package's .d.ts) hold every field the core hands to JS: each interface is checked against
-//! what the core serialises (a configuration with every optional part present, the agent, task
-//! and settings tables, an episode's metrics), and every choice's options against the settings
-//! table. A field or option added to the core without its declaration is listed by name.
+//! The page's TypeScript declarations (`src/web/types.d.ts`, and each agent section's, declared
+//! by its agent and merged into `RunConfig`: wasm-bindgen appends them all to the package's .d.ts)
+//! hold every field the core hands to JS: each interface is checked against what the core
+//! serialises (a configuration with every optional part present, the agent, task and settings
+//! tables, an episode's metrics), and every choice's options against the settings table. A field
+//! or option added to the core without its declaration is listed by name.
 
-use sec_playground::agent::AGENTS;
+use sec_playground::agent::{AgentInfo, AGENTS};
 use sec_playground::arena::TASKS;
 use sec_playground::experiment::settings::{params, Kind};
 use sec_playground::experiment::{Run, RunConfig};
@@ -13,24 +14,38 @@ use serde_json::Value;
 
 const TYPES: &str = include_str!("../src/web/types.d.ts");
 
-/// The body of `export interface name { ... }`.
-fn interface(name: &str) -> &'static str {
+/// Every declaration the package's .d.ts gets: the adapter's file and each agent section's.
+fn sources() -> Vec<&'static str> {
+    let mut all = vec![TYPES];
+    all.extend(AgentInfo::sections().map(|s| s.typescript));
+    all
+}
+
+/// The bodies of every `export interface name { ... }` in `text`.
+fn blocks(text: &str, name: &str) -> Vec<String> {
     let head = format!("export interface {name} {{");
-    let start = TYPES.find(&head).unwrap_or_else(|| panic!("types.d.ts declares no interface {name}")) + head.len();
-    let mut depth = 1;
-    for (i, c) in TYPES[start..].char_indices() {
-        match c {
-            '{' => depth += 1,
-            '}' => {
-                depth -= 1;
-                if depth == 0 {
-                    return &TYPES[start..start + i];
-                }
-            }
-            _ => {}
-        }
+    let mut out = Vec::new();
+    for (at, _) in text.match_indices(&head) {
+        let start = at + head.len();
+        let mut depth = 1;
+        let end = text[start..]
+            .char_indices()
+            .find(|&(_, c)| {
+                depth += (c == '{') as i32 - (c == '}') as i32;
+                depth == 0
+            })
+            .unwrap_or_else(|| panic!("interface {name} is not closed"))
+            .0;
+        out.push(text[start..start + end].to_string());
     }
-    panic!("interface {name} is not closed")
+    out
+}
+
+/// The body of the interface `name`, its declarations merged as TypeScript merges them.
+fn interface(name: &str) -> String {
+    let all: Vec<String> = sources().iter().flat_map(|t| blocks(t, name)).collect();
+    assert!(!all.is_empty(), "no declaration of interface {name}");
+    all.join("\n")
 }
 
 /// Whether `body` declares the field `key` (`key:` or `key?:`), outside comments.
@@ -60,7 +75,7 @@ fn keys(value: &Value, path: &str, out: &mut Vec<(String, String)>) {
 }
 
 fn missing(name: &str, value: &Value) -> Vec<String> {
-    let body = interface(name);
+    let body = &interface(name);
     let mut all = Vec::new();
     keys(value, "", &mut all);
     all.into_iter().filter(|(_, k)| !declares(body, k)).map(|(p, _)| format!("{name}.{p}")).collect()
@@ -119,6 +134,16 @@ fn every_option_and_group_of_the_settings_is_in_the_declarations() {
         }
     }
     assert!(gaps.is_empty(), "src/web/types.d.ts does not declare:\n{}", gaps.join("\n"));
+}
+
+#[test]
+fn each_agent_section_declares_itself_under_its_key() {
+    for spec in AgentInfo::sections() {
+        let decl = blocks(spec.typescript, "RunConfig");
+        assert_eq!(decl.len(), 1, "{}: one `export interface RunConfig {{ ... }}`", spec.key);
+        assert!(declares(&decl[0], spec.key), "{}'s declaration is under its key", spec.key);
+        assert!(blocks(TYPES, "RunConfig").iter().all(|b| !declares(b, spec.key)), "{} is declared once", spec.key);
+    }
 }
 
 #[test]

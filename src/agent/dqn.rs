@@ -105,7 +105,18 @@ impl DqnConfig {
     }
 }
 
-impl super::section::Validate for DqnConfig {
+impl super::section::AgentConfig for DqnConfig {
+    const KEY: &'static str = "dqn";
+    const TYPESCRIPT: &'static str = r#"
+export interface RunConfig {
+  dqn?: {
+    learningRate?: number; gamma?: number; batchSize?: number; replaySize?: number; randomDecisions?: number;
+    epsilonDecisions?: number; epsilonStart?: number; epsilonEnd?: number; trainEvery?: number; targetSync?: number;
+    sumRewards?: boolean;
+  };
+}
+"#;
+
     fn validate(&self) -> Result<(), ConfigError> {
         DqnConfig::validate(self)
     }
@@ -181,8 +192,26 @@ impl ErlamConfig {
     }
 }
 
-impl super::section::Validate for ErlamConfig {
+impl super::section::AgentConfig for ErlamConfig {
+    const KEY: &'static str = "erlam";
+    const TYPESCRIPT: &'static str = r#"
+export interface RunConfig {
+  erlam?: {
+    lambda?: number; nodes?: number; forgetting?: boolean; propagateEvery?: number; mergeDistance?: number; converge?: number;
+    propagatePastTerminals?: boolean; censusEvery?: number;
+  };
+}
+"#;
+
     fn validate(&self) -> Result<(), ConfigError> {
         ErlamConfig::validate(self)
     }
 }
+
+#[cfg(target_arch = "wasm32")]
+#[wasm_bindgen::prelude::wasm_bindgen(typescript_custom_section)]
+const DQN_CONFIG_TYPESCRIPT: &str = <DqnConfig as super::section::AgentConfig>::TYPESCRIPT;
+
+#[cfg(target_arch = "wasm32")]
+#[wasm_bindgen::prelude::wasm_bindgen(typescript_custom_section)]
+const ERLAM_CONFIG_TYPESCRIPT: &str = <ErlamConfig as super::section::AgentConfig>::TYPESCRIPT;

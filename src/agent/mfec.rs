@@ -113,7 +113,18 @@ impl MfecConfig {
     }
 }
 
-impl super::section::Validate for MfecConfig {
+impl super::section::AgentConfig for MfecConfig {
+    const KEY: &'static str = "mfec";
+    const TYPESCRIPT: &'static str = r#"
+export interface RunConfig {
+  mfec?: {
+    embedding?: "autoencoder" | "random-projection"; k?: number; capacity?: number; gamma?: number;
+    epsilon?: number; warmupDecisions?: number; warmupRewardedEpisodes?: number; sumRewards?: boolean;
+    bookkeeping?: "authors" | "per-episode";
+  };
+}
+"#;
+
     fn validate(&self) -> Result<(), ConfigError> {
         MfecConfig::validate(self)
     }
@@ -477,3 +488,7 @@ impl RandomProjection {
         }
     }
 }
+
+#[cfg(target_arch = "wasm32")]
+#[wasm_bindgen::prelude::wasm_bindgen(typescript_custom_section)]
+const MFEC_CONFIG_TYPESCRIPT: &str = <MfecConfig as super::section::AgentConfig>::TYPESCRIPT;

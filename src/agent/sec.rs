@@ -4,13 +4,17 @@
 //! open.
 
 use super::controller::{AgentView, Controller, EpisodeEnd, MemoryUse, Observation, Step};
-use super::section::own_section;
+use super::section::{own_section, AgentConfig, SectionSetting};
 use super::{Decision, Layer, Reactive};
 use crate::arena::{Action, ConfigError};
 use crate::encoder::EMBEDDING;
 use crate::error::Error;
 use crate::memory::file::Identity;
 use crate::memory::{Couplet, Memory, MemoryConfig};
+use crate::memory::{
+    Forgetting, ValueFn, ALPHA_RANGE, BETA_RANGE, M_RANGE, N_RANGE, TAU_RANGE, THETA_ABS_RANGE, THETA_PROP_RANGE,
+};
+use crate::param::{name_of, names, Param};
 use rand_chacha::ChaCha8Rng;
 use std::any::Any;
 
@@ -83,9 +87,86 @@ impl SecConfig {
     }
 }
 
-impl super::section::Validate for SecConfig {
+impl AgentConfig for SecConfig {
+    const KEY: &'static str = "agent";
+    const TYPESCRIPT: &'static str = r#"
+export interface RunConfig {
+  agent?: {
+    memory?: {
+      n?: number; m?: number; thetaAbs?: number; thetaProp?: number;
+      alpha?: number; beta?: number; tau?: number; sequentialBias?: boolean;
+      valueFunction?: "default" | "noGi" | "noDist" | "noRR" | "soloGi" | "soloDist" | "soloRR";
+      forgetting?: "none" | "fifo" | "rwd" | "rwd-prop" | "prior";
+    };
+    minSequences?: number; gate?: number | null; storeLastCouplet?: boolean; resetStmOnEpisode?: boolean;
+  };
+}
+"#;
+
     fn validate(&self) -> Result<(), ConfigError> {
         SecConfig::validate(self)
+    }
+
+    /// The settings the page shows of SEC, in its order: the retrieval's, then the memory's.
+    #[rustfmt::skip]
+    fn settings() -> Vec<SectionSetting> {
+        vec![
+            SectionSetting::of(
+                Param::switch("bias", "T", "Sequential bias: on is SEC, off is NSEC (T restarts at 1).", true).group("retrieval"),
+                |c: &SecConfig| (c.memory.sequential_bias as u8).to_string(),
+                |c: &mut SecConfig, v| c.memory.sequential_bias = v == 1.0,
+            ),
+            SectionSetting::of(
+                Param::number("alpha", "α", "How much T rises for the successor of a selected couplet.", ALPHA_RANGE, false, 0.001).group("retrieval"),
+                |c: &SecConfig| c.memory.alpha.to_string(),
+                |c: &mut SecConfig, v| c.memory.alpha = v,
+            ),
+            SectionSetting::of(
+                Param::number("beta", "β", "How fast T decays back towards 1 at every decision.", BETA_RANGE, false, 0.001).group("retrieval"),
+                |c: &SecConfig| c.memory.beta.to_string(),
+                |c: &mut SecConfig, v| c.memory.beta = v,
+            ),
+            SectionSetting::of(
+                Param::number("tau", "τ", "Distance discount exp(-d/τ): lower favours couplets near the goal.", TAU_RANGE, false, 0.01).group("retrieval"),
+                |c: &SecConfig| c.memory.tau.to_string(),
+                |c: &mut SecConfig, v| c.memory.tau = v,
+            ),
+            SectionSetting::of(
+                Param::number("thetaAbs", "θ_abs", "A couplet is selected only if its biased similarity G exceeds this...", THETA_ABS_RANGE, false, 0.001).group("retrieval"),
+                |c: &SecConfig| c.memory.theta_abs.to_string(),
+                |c: &mut SecConfig, v| c.memory.theta_abs = v,
+            ),
+            SectionSetting::of(
+                Param::number("thetaProp", "θ_prop", "...and G / Gmax exceeds this.", THETA_PROP_RANGE, false, 0.001).group("retrieval"),
+                |c: &SecConfig| c.memory.theta_prop.to_string(),
+                |c: &mut SecConfig, v| c.memory.theta_prop = v,
+            ),
+            SectionSetting::of(
+                Param::integer("n", "n", "STM length: couplets per stored sequence (a new run).", (N_RANGE.0 as u64, N_RANGE.1 as u64), false).group("memory"),
+                |c: &SecConfig| c.memory.n.to_string(),
+                |c: &mut SecConfig, v| c.memory.n = v as usize,
+            ),
+            SectionSetting::of(
+                Param::integer("m", "m", "LTM capacity in sequences; a smaller m forgets the oldest now.", (M_RANGE.0 as u64, M_RANGE.1 as u64), true).group("memory"),
+                |c: &SecConfig| c.memory.m.to_string(),
+                |c: &mut SecConfig, v| c.memory.m = v as usize,
+            ),
+            SectionSetting::of(
+                Param::integer("minSequences", "min", "Memory acts only once the LTM holds this many sequences (at most m).", (0, M_RANGE.1 as u64), true).group("memory"),
+                |c: &SecConfig| c.min_sequences.to_string(),
+                |c: &mut SecConfig, v| c.min_sequences = v as usize,
+            ),
+            SectionSetting::of(
+                Param::choice("forgetting", "forget", "What a full LTM does: nothing, drop the oldest, the lowest reward, the 10% lowest, or one drawn by low reward.", &names(&Forgetting::ALL), true).group("memory"),
+                |c: &SecConfig| name_of(&Forgetting::ALL, c.memory.forgetting),
+                |c: &mut SecConfig, v| c.memory.forgetting = Forgetting::ALL[v as usize].1,
+            ),
+            SectionSetting::of(
+                Param::choice("value", "value", "How a couplet's similarity g, relative reward rr and distance d make its value.", &names(&ValueFn::ALL), true).group("retrieval"),
+                |c: &SecConfig| name_of(&ValueFn::ALL, c.memory.value_function),
+                |c: &mut SecConfig, v| c.memory.value_function = ValueFn::ALL[v as usize].1,
+            ),
+        ]
     }
 }
 
@@ -317,3 +398,7 @@ impl Controller for Sec {
         Ok(self.memory.load_file(bytes, id)?)
     }
 }
+
+#[cfg(target_arch = "wasm32")]
+#[wasm_bindgen::prelude::wasm_bindgen(typescript_custom_section)]
+const SEC_CONFIG_TYPESCRIPT: &str = <SecConfig as AgentConfig>::TYPESCRIPT;

@@ -1,17 +1,18 @@
-//! An agent's configuration section, owned by the agent: its type (with its defaults and range
-//! checks) lives in the agent's module, and the agent table's row names it by its JSON key
-//! (`SectionSpec`). A run's configuration holds one section per key of the table
+//! An agent's configuration section, owned by the agent: its type (with its defaults, range
+//! checks and the settings rows the page shows of it, `AgentConfig`) lives in the agent's
+//! module, and the agent table's row names it by its JSON key (`SectionSpec`). A run's configuration holds one section per key of the table
 //! (`experiment::RunConfig::section`), so adding an agent with parameters touches no file of
 //! the runs layer, and the core hands each agent its own section without naming its type.
 
 use crate::arena::ConfigError;
+use crate::param::Param;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 use std::any::Any;
 use std::fmt;
 
 /// What an agent's configuration section can do, type-erased: checked, written as JSON, copied
-/// and compared. Implemented for every type with `Validate` and serde's traits.
+/// and compared. Implemented for every type with `AgentConfig` and serde's traits.
 pub trait Section: Any + Send + Sync + fmt::Debug {
     /// Every field in its range, the error naming it.
     fn validate(&self) -> Result<(), ConfigError>;
@@ -27,18 +28,66 @@ pub trait Section: Any + Send + Sync + fmt::Debug {
     fn as_any_mut(&mut self) -> &mut dyn Any;
 }
 
-/// A section's range checks (its `validate`), which `Section` asks for.
-pub trait Validate {
+/// What an agent declares of its configuration: its range checks and the settings the page, Python
+/// and the CLI show of it (each row with its range, help, group, and whether a change acts live,
+/// which `Controller::reconfigure` then applies).
+pub trait AgentConfig {
+    /// Its key in a configuration's JSON (`agent` for SEC's, as the committed configurations
+    /// spell it).
+    const KEY: &'static str;
+
+    /// Its TypeScript declaration, merged into the page's `RunConfig` interface: `export
+    /// interface RunConfig { <KEY>?: { ... } }`. The agent's module also hands it to
+    /// wasm-bindgen (a `typescript_custom_section`), and `tests/typescript.rs` checks it against
+    /// what the section serialises.
+    const TYPESCRIPT: &'static str;
+
     /// Every field in its range, the error naming it.
     fn validate(&self) -> Result<(), ConfigError>;
+
+    /// Its settings rows, in the order the page shows them (none by default).
+    fn settings() -> Vec<SectionSetting>
+    where
+        Self: Sized,
+    {
+        Vec::new()
+    }
+}
+
+/// Reads a setting's value from a section, as the URL hash writes it.
+pub type GetSetting = Box<dyn Fn(&dyn Any) -> String + Send + Sync>;
+/// Sets a setting's value, already parsed and range-checked (`Param::kind`): the number, the
+/// choice's index, 1 or 0 for a switch.
+pub type SetSetting = Box<dyn Fn(&mut dyn Any, f64) + Send + Sync>;
+
+/// One setting of an agent's section: what the page shows, and how it reads and writes it.
+pub struct SectionSetting {
+    /// The row as the page shows it (its `agents` are filled in from the table).
+    pub param: Param,
+    /// Its value in a section.
+    pub get: GetSetting,
+    /// Sets it in a section.
+    pub set: SetSetting,
+}
+
+impl SectionSetting {
+    /// The row `param` of the section type `T`, read by `get` and written by `set`.
+    pub fn of<T: Any>(param: Param, get: fn(&T) -> String, set: fn(&mut T, f64)) -> SectionSetting {
+        let wrong = || -> ! { panic!("a setting of {} was handed another section", std::any::type_name::<T>()) };
+        SectionSetting {
+            param,
+            get: Box::new(move |s| get(s.downcast_ref::<T>().unwrap_or_else(|| wrong()))),
+            set: Box::new(move |s, v| set(s.downcast_mut::<T>().unwrap_or_else(|| wrong()), v)),
+        }
+    }
 }
 
 impl<T> Section for T
 where
-    T: Validate + Serialize + Clone + PartialEq + fmt::Debug + Send + Sync + 'static,
+    T: AgentConfig + Serialize + Clone + PartialEq + fmt::Debug + Send + Sync + 'static,
 {
     fn validate(&self) -> Result<(), ConfigError> {
-        Validate::validate(self)
+        AgentConfig::validate(self)
     }
     fn to_value(&self) -> serde_json::Value {
         serde_json::to_value(self).expect("configuration sections serialise")
@@ -89,6 +138,10 @@ pub struct SectionSpec {
     pub parse: ParseSection,
     /// The section read from a configuration's text (`parse`, with positions in its errors).
     pub parse_text: ParseSectionText,
+    /// Its settings rows (`AgentConfig::settings`).
+    pub settings: fn() -> Vec<SectionSetting>,
+    /// Its TypeScript declaration (`AgentConfig::TYPESCRIPT`).
+    pub typescript: &'static str,
 }
 
 impl fmt::Debug for SectionSpec {
@@ -164,9 +217,16 @@ fn parse_text_as<T: Section + Default + DeserializeOwned>(
 }
 
 impl SectionSpec {
-    /// The section of type `T` under `key`.
-    pub const fn of<T: Section + Default + DeserializeOwned>(key: &'static str) -> SectionSpec {
-        SectionSpec { key, default: default_of::<T>, parse: parse_as::<T>, parse_text: parse_text_as::<T> }
+    /// The section of type `T`, under its key.
+    pub const fn of<T: Section + AgentConfig + Default + DeserializeOwned>() -> SectionSpec {
+        SectionSpec {
+            key: T::KEY,
+            typescript: T::TYPESCRIPT,
+            default: default_of::<T>,
+            parse: parse_as::<T>,
+            parse_text: parse_text_as::<T>,
+            settings: T::settings,
+        }
     }
 }
 

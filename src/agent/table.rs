@@ -101,7 +101,7 @@ pub const AGENTS: &[AgentInfo] = &[
     AgentInfo {
         key: "sec", label: "SEC", unbiased_label: Some("NSEC"),
         about: "Sequential episodic control: stores the views and actions that led to a goal as sequences and replays them, with a reactive walk until memory knows the view.",
-        explores: None, section: Some(SectionSpec::of::<SecConfig>("agent")), reads: Input::Embedding,
+        explores: None, section: Some(SectionSpec::of::<SecConfig>()), reads: Input::Embedding,
         has_memory: true, has_gate: true, native_only: false, can_be_driven: true,
         kind: AgentKind::Sec, embedding: None,
         build: Some(|section, _, _, rng| Ok(Box::new(Sec::new(own_section::<SecConfig>(section, "agent")?.clone(), rng)?))),
@@ -110,7 +110,7 @@ pub const AGENTS: &[AgentInfo] = &[
         key: "mfec-ae", label: "MFEC", unbiased_label: None,
         about: "Model-free episodic control on the autoencoder's embedding: the best return seen per view and action, k nearest neighbours elsewhere.",
         explores: Some("MFEC explores with the reactive walk (its warm-up, or an ε step)."),
-        section: Some(SectionSpec::of::<MfecConfig>("mfec")), reads: Input::Embedding,
+        section: Some(SectionSpec::of::<MfecConfig>()), reads: Input::Embedding,
         has_memory: false, has_gate: false, native_only: false, can_be_driven: false,
         kind: AgentKind::Mfec, embedding: Some(Embedding::Autoencoder),
         build: Some(|section, _, seed, rng| Ok(Box::new(mfec(section, seed, rng)?))),
@@ -119,7 +119,7 @@ pub const AGENTS: &[AgentInfo] = &[
         key: "mfec-rp", label: "MFEC on a random projection", unbiased_label: None,
         about: "MFEC on a fixed random projection of the camera image instead of the autoencoder.",
         explores: Some("MFEC explores with the reactive walk (its warm-up, or an ε step)."),
-        section: Some(SectionSpec::of::<MfecConfig>("mfec")), reads: Input::Image,
+        section: Some(SectionSpec::of::<MfecConfig>()), reads: Input::Image,
         has_memory: false, has_gate: false, native_only: false, can_be_driven: false,
         kind: AgentKind::Mfec, embedding: Some(Embedding::RandomProjection),
         build: Some(|section, _, seed, rng| Ok(Box::new(mfec(section, seed, rng)?))),
@@ -137,7 +137,7 @@ pub const AGENTS: &[AgentInfo] = &[
         key: "dqn", label: "DQN", unbiased_label: None,
         about: "The authors' deep Q-network on the camera image (native only: sec-experiment).",
         explores: Some("DQN explores with ε-greedy steps."),
-        section: Some(SectionSpec::of::<DqnConfig>("dqn")), reads: Input::Image,
+        section: Some(SectionSpec::of::<DqnConfig>()), reads: Input::Image,
         has_memory: false, has_gate: false, native_only: true, can_be_driven: false,
         kind: AgentKind::Dqn, embedding: None, build: None,
     },
@@ -145,12 +145,11 @@ pub const AGENTS: &[AgentInfo] = &[
         key: "erlam", label: "ERLAM", unbiased_label: None,
         about: "DQN with ERLAM's associative memory graph over the trained autoencoder's embeddings (native only).",
         explores: Some("ERLAM explores with ε-greedy steps."),
-        section: Some(SectionSpec::of::<ErlamConfig>("erlam")), reads: Input::Image,
+        section: Some(SectionSpec::of::<ErlamConfig>()), reads: Input::Image,
         has_memory: false, has_gate: false, native_only: true, can_be_driven: false,
         kind: AgentKind::Erlam, embedding: None, build: None,
     },
 ];
-
 impl AgentInfo {
     /// The row of `key`; an unknown key is an error listing the known ones.
     pub fn find(key: &str) -> Result<&'static AgentInfo, crate::arena::ConfigError> {
@@ -169,6 +168,16 @@ impl AgentInfo {
             .iter()
             .find(|a| a.kind == kind && a.embedding.is_none_or(|e| e == embedding))
             .expect("every kind has a row")
+    }
+
+    /// The agents' configuration sections, one per key (rows may share one), in table order.
+    pub fn sections() -> impl Iterator<Item = SectionSpec> {
+        let mut seen: Vec<&str> = Vec::new();
+        AGENTS.iter().filter_map(|a| a.section).filter(move |s| {
+            let new = !seen.contains(&s.key);
+            seen.push(s.key);
+            new
+        })
     }
 
     /// The keys of the agents with `capability`, in table order.

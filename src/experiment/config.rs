@@ -2,8 +2,8 @@
 //! A run is a pure function of this and the seed; which changes act live is the settings'
 //! (`settings`), and the run loop that plays it is `run`.
 
-use crate::agent::section::{Section, SectionSpec};
-use crate::agent::{AgentInfo, AgentKind, AGENTS};
+use crate::agent::section::Section;
+use crate::agent::{AgentInfo, AgentKind};
 use crate::arena::{ConfigError, StartHeading, Task};
 use crate::encoder::perception::check_scale;
 use crate::encoder::PerceptionKind;
@@ -110,7 +110,7 @@ impl RunConfig {
         // The sections first from the text itself, so that their errors say where they are.
         let mut sections = Sections::default();
         for (key, section) in &mut sections.0 {
-            let spec = section_specs().find(|s| s.key == *key).expect("every section has its row");
+            let spec = AgentInfo::sections().find(|s| s.key == *key).expect("every section has its row");
             *section = (spec.parse_text)(spec.key, text)?;
         }
         let cfg = RunConfig { sections, ..RunConfig::from_value(value)? };
@@ -144,7 +144,7 @@ impl RunConfig {
         let mut sections = Sections::default();
         for (key, section) in &mut sections.0 {
             if let Some(v) = map.remove(*key) {
-                let spec = section_specs().find(|s| s.key == *key).expect("every section has its row");
+                let spec = AgentInfo::sections().find(|s| s.key == *key).expect("every section has its row");
                 *section = (spec.parse)(spec.key, v)?;
             }
         }
@@ -193,16 +193,6 @@ fn no_section<T>() -> ! {
     panic!("no agent of the table has a section of type {}", std::any::type_name::<T>())
 }
 
-/// The sections of the agent table's rows, one per key, in the table's order.
-fn section_specs() -> impl Iterator<Item = SectionSpec> {
-    let mut seen: Vec<&str> = Vec::new();
-    AGENTS.iter().filter_map(|a| a.section).filter(move |s| {
-        let new = !seen.contains(&s.key);
-        seen.push(s.key);
-        new
-    })
-}
-
 /// Every agent's configuration section, one per key of the agent table, in the table's order
 /// (the order the JSON writes them).
 #[derive(Clone, Debug, PartialEq)]
@@ -210,7 +200,7 @@ pub struct Sections(Vec<(&'static str, Box<dyn Section>)>);
 
 impl Default for Sections {
     fn default() -> Self {
-        Sections(section_specs().map(|s| (s.key, (s.default)())).collect())
+        Sections(AgentInfo::sections().map(|s| (s.key, (s.default)())).collect())
     }
 }
 
@@ -218,6 +208,11 @@ impl Sections {
     /// The section under `key`.
     pub fn get(&self, key: &str) -> Option<&dyn Section> {
         self.0.iter().find(|(k, _)| *k == key).map(|(_, s)| s.as_ref())
+    }
+
+    /// The section under `key`, to change.
+    pub fn get_mut(&mut self, key: &str) -> Option<&mut dyn Section> {
+        self.0.iter_mut().find(|(k, _)| *k == key).map(|(_, s)| s.as_mut())
     }
 
     /// The keys, in order.

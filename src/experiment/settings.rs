@@ -6,13 +6,13 @@
 use super::RunConfig;
 use crate::agent::controller::Input;
 use crate::agent::mfec::Embedding;
+use crate::agent::section::SectionSetting;
 use crate::agent::{AgentInfo, SecConfig};
 use crate::arena::{ConfigError, StartHeading, DEFAULT_T, MAX_T, TASK_NAMES};
 use crate::encoder::perception::SCALE_RANGE;
 use crate::encoder::PerceptionKind;
-use crate::memory::{
-    Forgetting, ValueFn, ALPHA_RANGE, BETA_RANGE, M_RANGE, N_RANGE, TAU_RANGE, THETA_ABS_RANGE, THETA_PROP_RANGE,
-};
+use crate::param::{name_of, names};
+pub use crate::param::{Kind, Param};
 use crate::render::Surface;
 use crate::util::shown;
 use std::collections::BTreeMap;
@@ -22,65 +22,6 @@ pub type Settings = BTreeMap<String, String>;
 
 use crate::agent::mfec::MfecConfig;
 use crate::seed::MAX_SEED;
-
-/// What values a setting takes.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-#[serde(tag = "type", rename_all = "camelCase")]
-pub enum Kind {
-    /// A real number in [min, max] (or (min, max] when `min_open`); with `auto`, also the word
-    /// `auto`, which leaves the value to the run (an empty control shows it).
-    #[serde(rename_all = "camelCase")]
-    Number {
-        /// Lower bound.
-        min: f64,
-        /// Upper bound.
-        max: f64,
-        /// The lower bound itself is excluded.
-        min_open: bool,
-        /// The control's step.
-        step: f64,
-        /// `auto` is a value too.
-        auto: bool,
-    },
-    /// A whole number in min..=max.
-    Integer {
-        /// Lower bound.
-        min: u64,
-        /// Upper bound.
-        max: u64,
-    },
-    /// One of the options.
-    Choice {
-        /// The values, as the URL hash spells them.
-        options: Vec<String>,
-    },
-    /// On ("1") or off ("0").
-    Switch,
-}
-
-/// One setting as the page shows it.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct Param {
-    /// The URL hash's key.
-    pub key: &'static str,
-    /// The paper's symbol (Greek letters as Unicode), or a short label.
-    pub symbol: &'static str,
-    /// One line on what it does.
-    pub help: &'static str,
-    /// What values it takes.
-    pub kind: Kind,
-    /// Applies to the running agent; otherwise a change starts a new run.
-    pub live: bool,
-    /// The page's group of controls: run, perception, memory or retrieval.
-    pub group: &'static str,
-    /// The page's agents (`page_agents()` keys) that use it; empty: every agent.
-    pub agents: Vec<&'static str>,
-}
-
-/// The page's agents with a sequential memory: SEC's parameters are theirs.
-fn sec_only() -> Vec<&'static str> {
-    AgentInfo::keys_where(|a| a.has_memory && !a.native_only)
-}
 
 /// The page's agents whose states come from the perception.
 fn embedders() -> Vec<&'static str> {
@@ -92,53 +33,19 @@ pub fn page_agents() -> Vec<&'static str> {
     AgentInfo::keys_where(|a| !a.native_only)
 }
 
-impl Param {
-    fn group(self, group: &'static str) -> Param {
-        Param { group, ..self }
-    }
-    fn agents(self, agents: Vec<&'static str>) -> Param {
-        Param { agents, ..self }
-    }
-}
-
 /// One setting: what the page shows (`param`) and how it reads and writes a run's configuration
 /// and seed. `set` receives the value `parse` checked: the number, the choice's index, 1/0 for a
 /// switch, NaN for `auto`.
 struct Setting {
     param: Param,
-    get: fn(&RunConfig, u64) -> String,
-    set: fn(&mut RunConfig, &mut u64, f64),
+    get: Get,
+    set: Set,
 }
 
-fn number(key: &'static str, symbol: &'static str, help: &'static str, r: (f64, f64), open: bool, step: f64) -> Param {
-    Param {
-        key,
-        symbol,
-        help,
-        kind: Kind::Number { min: r.0, max: r.1, min_open: open, step, auto: false },
-        live: true,
-        group: "retrieval",
-        agents: sec_only(),
-    }
-}
-
-fn choice(key: &'static str, symbol: &'static str, help: &'static str, options: &[&str], live: bool) -> Param {
-    let kind = Kind::Choice { options: options.iter().map(|s| s.to_string()).collect() };
-    Param { key, symbol, help, kind, live, group: "run", agents: Vec::new() }
-}
-
-fn integer(key: &'static str, symbol: &'static str, help: &'static str, r: (u64, u64), live: bool) -> Param {
-    Param { key, symbol, help, kind: Kind::Integer { min: r.0, max: r.1 }, live, group: "run", agents: Vec::new() }
-}
-
-fn names<T>(table: &[(&'static str, T)]) -> Vec<&'static str> {
-    table.iter().map(|(n, _)| *n).collect()
-}
-
-/// The name `table` gives `value`.
-fn name_of<T: PartialEq>(table: &[(&'static str, T)], value: T) -> String {
-    table.iter().find(|(_, v)| *v == value).expect("every option is listed").0.to_string()
-}
+/// Reads a setting from a run's configuration and seed.
+type Get = Box<dyn Fn(&RunConfig, u64) -> String>;
+/// Writes a setting's checked value into a run's configuration and seed.
+type Set = Box<dyn Fn(&mut RunConfig, &mut u64, f64)>;
 
 fn agent_name(cfg: &RunConfig) -> &'static str {
     AgentInfo::of(cfg.kind, cfg.section::<MfecConfig>().embedding).key
@@ -151,109 +58,87 @@ fn set_agent(cfg: &mut RunConfig, key: &str) {
     cfg.section_mut::<MfecConfig>().embedding = row.embedding.unwrap_or(Embedding::Autoencoder);
 }
 
-/// Every setting, each declared once, in the order the page shows them.
-#[rustfmt::skip]
+/// Every setting, each declared once, in the order the page shows them: the run's own (here),
+/// with each agent's section's (declared by the agent, `AgentConfig::settings`) after the
+/// perception's.
 fn table() -> Vec<Setting> {
-    vec![
+    let (mut rows, after) = run_settings();
+    rows.extend(section_settings());
+    rows.extend(after);
+    rows
+}
+
+/// The rows of every agent's section, each applying to the page's agents that hold the section.
+fn section_settings() -> Vec<Setting> {
+    let mut rows = Vec::new();
+    for spec in AgentInfo::sections() {
+        let key = spec.key;
+        let holds = |a: &&AgentInfo| !a.native_only && a.section.is_some_and(|s| s.key == key);
+        let agents: Vec<&'static str> = crate::agent::AGENTS.iter().filter(holds).map(|a| a.key).collect();
+        for SectionSetting { param, get, set } in (spec.settings)() {
+            rows.push(Setting {
+                param: param.agents(agents.clone()),
+                get: Box::new(move |c, _| get(c.sections.get(key).expect("every section is held").as_any())),
+                set: Box::new(move |c, _, v| {
+                    set(c.sections.get_mut(key).expect("every section is held").as_any_mut(), v)
+                }),
+            });
+        }
+    }
+    rows
+}
+
+/// The run's own settings, in the page's order: those shown before the agents' and those after.
+#[rustfmt::skip]
+fn run_settings() -> (Vec<Setting>, Vec<Setting>) {
+    let before = vec![
         Setting {
-            param: choice("task", "task", "The arena the agent learns in (a new run).", &TASK_NAMES, false),
-            get: |c, _| c.task.clone(),
-            set: |c, _, v| c.task = TASK_NAMES[v as usize].to_string(),
+            param: Param::choice("task", "task", "The arena the agent learns in (a new run).", &TASK_NAMES, false),
+            get: Box::new(|c, _| c.task.clone()),
+            set: Box::new(|c, _, v| c.task = TASK_NAMES[v as usize].to_string()),
         },
         Setting {
-            param: choice("agent", "agent", "SEC, MFEC on the autoencoder's or a random projection's embedding, or the reactive walk alone (a new run).", &page_agents(), false),
-            get: |c, _| agent_name(c).to_string(),
-            set: |c, _, v| set_agent(c, page_agents()[v as usize]),
+            param: Param::choice("agent", "agent", "SEC, MFEC on the autoencoder's or a random projection's embedding, or the reactive walk alone (a new run).", &page_agents(), false),
+            get: Box::new(|c, _| agent_name(c).to_string()),
+            set: Box::new(|c, _, v| set_agent(c, page_agents()[v as usize])),
         },
         Setting {
-            param: choice("perception", "encoder", "Which encoder embeds the camera image: untrained random weights (what the authors' code ran) or the trained one (the paper's text); the trained one always runs the gate (a new run).", &names(&PerceptionKind::ALL), false).group("perception").agents(embedders()),
-            get: |c, _| name_of(&PerceptionKind::ALL, c.perception),
-            set: |c, _, v| c.perception = PerceptionKind::ALL[v as usize].1,
+            param: Param::choice("perception", "encoder", "Which encoder embeds the camera image: untrained random weights (what the authors' code ran) or the trained one (the paper's text); the trained one always runs the gate (a new run).", &names(&PerceptionKind::ALL), false).group("perception").agents(embedders()),
+            get: Box::new(|c, _| name_of(&PerceptionKind::ALL, c.perception)),
+            set: Box::new(|c, _, v| c.perception = PerceptionKind::ALL[v as usize].1),
         },
         Setting {
-            param: choice("surface", "surface", "How the camera draws the floor and fences: flat colours, or v1's tiled floor and planked fences (textured); the gate uses the model trained on that surface's frames (a new run).", &names(&Surface::ALL), false).group("perception"),
-            get: |c, _| name_of(&Surface::ALL, c.surface),
-            set: |c, _, v| c.surface = Surface::ALL[v as usize].1,
+            param: Param::choice("surface", "surface", "How the camera draws the floor and fences: flat colours, or v1's tiled floor and planked fences (textured); the gate uses the model trained on that surface's frames (a new run).", &names(&Surface::ALL), false).group("perception"),
+            get: Box::new(|c, _| name_of(&Surface::ALL, c.surface)),
+            set: Box::new(|c, _, v| c.surface = Surface::ALL[v as usize].1),
         },
         Setting {
             param: Param { key: "embeddingScale", symbol: "scale", help: "Multiplies every embedding, so it sets how alike two views must be to pass θ_abs; auto: 1 untrained, the calibrated scale trained (a new run).", kind: Kind::Number { min: SCALE_RANGE.0 as f64, max: SCALE_RANGE.1 as f64, min_open: true, step: 0.01, auto: true }, live: false, group: "perception", agents: embedders() },
-            get: |c, _| c.scale_override().map_or("auto".to_string(), |s| s.to_string()),
-            set: |c, _, v| {
+            get: Box::new(|c, _| c.scale_override().map_or("auto".to_string(), |s| s.to_string())),
+            set: Box::new(|c, _, v| {
                 c.embedding_scale = (!v.is_nan()).then_some(v as f32);
                 c.raw_embeddings = false;
-            },
+            }),
+        },
+    ];
+    let after = vec![
+        Setting {
+            param: Param::integer("t", "t", "Episode limit in env steps; every step costs 1/t (a new run).", (0, MAX_T as u64), false),
+            get: Box::new(|c, _| c.t.unwrap_or(DEFAULT_T).to_string()),
+            set: Box::new(|c, _, v| c.t = Some(v as u32)),
         },
         Setting {
-            param: Param { key: "bias", symbol: "T", help: "Sequential bias: on is SEC, off is NSEC (T restarts at 1).", kind: Kind::Switch, live: true, group: "retrieval", agents: sec_only() },
-            get: |c, _| (c.section::<SecConfig>().memory.sequential_bias as u8).to_string(),
-            set: |c, _, v| c.section_mut::<SecConfig>().memory.sequential_bias = v == 1.0,
+            param: Param::choice("startHeading", "heading", "Where the double T-maze's agent starts looking: a new random heading every episode, or always facing the centre (a new run).", &names(&StartHeading::ALL), false),
+            get: Box::new(|c, _| name_of(&StartHeading::ALL, c.start_heading)),
+            set: Box::new(|c, _, v| c.start_heading = StartHeading::ALL[v as usize].1),
         },
         Setting {
-            param: number("alpha", "α", "How much T rises for the successor of a selected couplet.", ALPHA_RANGE, false, 0.001),
-            get: |c, _| c.section::<SecConfig>().memory.alpha.to_string(),
-            set: |c, _, v| c.section_mut::<SecConfig>().memory.alpha = v,
+            param: Param::integer("seed", "seed", "The run is a pure function of its settings and this seed (a new run).", (0, MAX_SEED), false),
+            get: Box::new(|_, seed| seed.to_string()),
+            set: Box::new(|_, seed, v| *seed = v as u64),
         },
-        Setting {
-            param: number("beta", "β", "How fast T decays back towards 1 at every decision.", BETA_RANGE, false, 0.001),
-            get: |c, _| c.section::<SecConfig>().memory.beta.to_string(),
-            set: |c, _, v| c.section_mut::<SecConfig>().memory.beta = v,
-        },
-        Setting {
-            param: number("tau", "τ", "Distance discount exp(-d/τ): lower favours couplets near the goal.", TAU_RANGE, false, 0.01),
-            get: |c, _| c.section::<SecConfig>().memory.tau.to_string(),
-            set: |c, _, v| c.section_mut::<SecConfig>().memory.tau = v,
-        },
-        Setting {
-            param: number("thetaAbs", "θ_abs", "A couplet is selected only if its biased similarity G exceeds this...", THETA_ABS_RANGE, false, 0.001),
-            get: |c, _| c.section::<SecConfig>().memory.theta_abs.to_string(),
-            set: |c, _, v| c.section_mut::<SecConfig>().memory.theta_abs = v,
-        },
-        Setting {
-            param: number("thetaProp", "θ_prop", "...and G / Gmax exceeds this.", THETA_PROP_RANGE, false, 0.001),
-            get: |c, _| c.section::<SecConfig>().memory.theta_prop.to_string(),
-            set: |c, _, v| c.section_mut::<SecConfig>().memory.theta_prop = v,
-        },
-        Setting {
-            param: integer("n", "n", "STM length: couplets per stored sequence (a new run).", (N_RANGE.0 as u64, N_RANGE.1 as u64), false).group("memory").agents(sec_only()),
-            get: |c, _| c.section::<SecConfig>().memory.n.to_string(),
-            set: |c, _, v| c.section_mut::<SecConfig>().memory.n = v as usize,
-        },
-        Setting {
-            param: integer("m", "m", "LTM capacity in sequences; a smaller m forgets the oldest now.", (M_RANGE.0 as u64, M_RANGE.1 as u64), true).group("memory").agents(sec_only()),
-            get: |c, _| c.section::<SecConfig>().memory.m.to_string(),
-            set: |c, _, v| c.section_mut::<SecConfig>().memory.m = v as usize,
-        },
-        Setting {
-            param: integer("minSequences", "min", "Memory acts only once the LTM holds this many sequences (at most m).", (0, M_RANGE.1 as u64), true).group("memory").agents(sec_only()),
-            get: |c, _| c.section::<SecConfig>().min_sequences.to_string(),
-            set: |c, _, v| c.section_mut::<SecConfig>().min_sequences = v as usize,
-        },
-        Setting {
-            param: choice("forgetting", "forget", "What a full LTM does: nothing, drop the oldest, the lowest reward, the 10% lowest, or one drawn by low reward.", &names(&Forgetting::ALL), true).group("memory").agents(sec_only()),
-            get: |c, _| name_of(&Forgetting::ALL, c.section::<SecConfig>().memory.forgetting),
-            set: |c, _, v| c.section_mut::<SecConfig>().memory.forgetting = Forgetting::ALL[v as usize].1,
-        },
-        Setting {
-            param: choice("value", "value", "How a couplet's similarity g, relative reward rr and distance d make its value.", &names(&ValueFn::ALL), true).agents(sec_only()).group("retrieval"),
-            get: |c, _| name_of(&ValueFn::ALL, c.section::<SecConfig>().memory.value_function),
-            set: |c, _, v| c.section_mut::<SecConfig>().memory.value_function = ValueFn::ALL[v as usize].1,
-        },
-        Setting {
-            param: integer("t", "t", "Episode limit in env steps; every step costs 1/t (a new run).", (0, MAX_T as u64), false),
-            get: |c, _| c.t.unwrap_or(DEFAULT_T).to_string(),
-            set: |c, _, v| c.t = Some(v as u32),
-        },
-        Setting {
-            param: choice("startHeading", "heading", "Where the double T-maze's agent starts looking: a new random heading every episode, or always facing the centre (a new run).", &names(&StartHeading::ALL), false),
-            get: |c, _| name_of(&StartHeading::ALL, c.start_heading),
-            set: |c, _, v| c.start_heading = StartHeading::ALL[v as usize].1,
-        },
-        Setting {
-            param: integer("seed", "seed", "The run is a pure function of its settings and this seed (a new run).", (0, MAX_SEED), false),
-            get: |_, seed| seed.to_string(),
-            set: |_, seed, v| *seed = v as u64,
-        },
-    ]
+    ];
+    (before, after)
 }
 
 impl RunConfig {

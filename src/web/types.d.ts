@@ -9,7 +9,9 @@ export interface ConfigChange {
   changed: { field: string; from: unknown; to: unknown; live: boolean }[];
 }
 
-/** A run's configuration (every field optional; defaults are the authors' code). */
+/** A run's configuration (every field optional; defaults are the authors' code). Each agent's
+ *  section (`agent` for SEC's, `mfec`, `dqn`, `erlam`) is declared by its agent's module and
+ *  merged into this interface. */
 export interface RunConfig {
   task?: string;
   /** Episode limit in env steps (null: the task's, 1000). */
@@ -18,29 +20,6 @@ export interface RunConfig {
   /** The agent's kind: the `kind` the agent table lists ("dqn" and "erlam" run only natively,
    *  through sec-experiment: the page refuses them by name). */
   kind?: string;
-  agent?: {
-    memory?: {
-      n?: number; m?: number; thetaAbs?: number; thetaProp?: number;
-      alpha?: number; beta?: number; tau?: number; sequentialBias?: boolean;
-      valueFunction?: "default" | "noGi" | "noDist" | "noRR" | "soloGi" | "soloDist" | "soloRR";
-      forgetting?: "none" | "fifo" | "rwd" | "rwd-prop" | "prior";
-    };
-    minSequences?: number; gate?: number | null; storeLastCouplet?: boolean; resetStmOnEpisode?: boolean;
-  };
-  mfec?: {
-    embedding?: "autoencoder" | "random-projection"; k?: number; capacity?: number; gamma?: number;
-    epsilon?: number; warmupDecisions?: number; warmupRewardedEpisodes?: number; sumRewards?: boolean;
-    bookkeeping?: "authors" | "per-episode";
-  };
-  dqn?: {
-    learningRate?: number; gamma?: number; batchSize?: number; replaySize?: number; randomDecisions?: number;
-    epsilonDecisions?: number; epsilonStart?: number; epsilonEnd?: number; trainEvery?: number; targetSync?: number;
-    sumRewards?: boolean;
-  };
-  erlam?: {
-    lambda?: number; nodes?: number; forgetting?: boolean; propagateEvery?: number; mergeDistance?: number; converge?: number;
-    propagatePastTerminals?: boolean; censusEvery?: number;
-  };
   /** Which encoder embeds the frames: untrained (the authors' code, the default) or trained. */
   perception?: "untrained" | "trained";
   /** Replaces the embedding scale, in (0, 1e6] (null: 1 untrained, the calibrated scale trained). */

@@ -11,16 +11,23 @@ const wasm = await import(`${root}pkg/sec_playground.js`);
 wasm.initSync({ module: readFileSync(`${root}pkg/sec_playground_bg.wasm`) });
 wasm.registerModel(readFileSync(`${root}assets/encoders/object-permanence.secae`));
 
-/** The text of `export interface name { ... }` (balanced braces). */
+/** The text of every `export interface name { ... }` (balanced braces), joined: TypeScript merges
+ * them (each agent's configuration section is declared by its agent's module). */
 function block(name) {
-  const start = dts.indexOf(`export interface ${name} {`);
-  assert.ok(start >= 0, `${name} is declared`);
-  let depth = 0;
-  for (let i = dts.indexOf('{', start); i < dts.length; i++) {
-    if (dts[i] === '{') depth++;
-    if (dts[i] === '}' && --depth === 0) return dts.slice(start, i + 1);
+  const texts = [];
+  for (let start = dts.indexOf(`export interface ${name} {`); start >= 0;
+    start = dts.indexOf(`export interface ${name} {`, start + 1)) {
+    let depth = 0;
+    for (let i = dts.indexOf('{', start); i < dts.length; i++) {
+      if (dts[i] === '{') depth++;
+      if (dts[i] === '}' && --depth === 0) {
+        texts.push(dts.slice(start, i + 1));
+        break;
+      }
+    }
   }
-  throw new Error(`${name} is not closed`);
+  assert.ok(texts.length > 0, `${name} is declared`);
+  return texts.join('\n');
 }
 
 /** Every key of `value`, nested objects included ("agent.memory.alpha" checks "alpha"). */
