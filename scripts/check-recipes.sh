@@ -12,6 +12,8 @@ cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
 repo=$(pwd)
 work=$(mktemp -d)
+# (A command's output is read whole before grep looks at it: `cmd | grep -q` would close the
+# pipe early, and under pipefail the command's SIGPIPE fails the check.)
 # The repository's target dir: dependencies are shared (the copy's own crates build beside the
 # repository's); the binaries it links are the repository's again at the end.
 export CARGO_TARGET_DIR="$repo/target"
@@ -144,12 +146,11 @@ PYEOF
 expect_files "src/agent/always_forward.rs src/agent/mod.rs src/agent/table.rs" "Add an agent"
 cargo test -q -p sec-playground --test agents --test settings --test typescript --test layers >/dev/null 2>&1 \
   || { echo "FAIL: the core's tests with the new agent" >&2; exit 1; }
-cargo run -q -p sec-tools --bin sec-experiment -- agents | grep -q always-forward \
+grep -q always-forward <<<"$(cargo run -q -p sec-tools --bin sec-experiment -- agents)" \
   || { echo "FAIL: sec-experiment agents does not list it" >&2; exit 1; }
-cargo run -q -p sec-tools --bin sec-experiment -- parameters --agent always-forward | grep -q turnEvery \
+grep -q turnEvery <<<"$(cargo run -q -p sec-tools --bin sec-experiment -- parameters --agent always-forward)" \
   || { echo "FAIL: sec-experiment parameters --agent always-forward does not list turnEvery" >&2; exit 1; }
-cargo run -q -p sec-tools --bin sec-experiment -- config --set '{"kind": "always-forward", "forward": {"turnEvery": 3}}' \
-  | grep -q '"turnEvery": *3' || { echo "FAIL: sec-experiment config does not read its section" >&2; exit 1; }
+grep -q '"turnEvery": *3' <<<"$(cargo run -q -p sec-tools --bin sec-experiment -- config --set '{"kind": "always-forward", "forward": {"turnEvery": 3}}')" || { echo "FAIL: sec-experiment config does not read its section" >&2; exit 1; }
 echo "ok: 3 files; the table, the CLI's agents, parameters and config, the core's tests (its row is live: tests/settings.rs)"
 cd "$repo"
 
@@ -183,6 +184,6 @@ sed -i 's/resetStmOnEpisode?: boolean;/resetStmOnEpisode?: boolean; recipeDemo?:
 expect_files "src/agent/sec.rs" "Add a setting"
 cargo test -q -p sec-playground --test settings --test typescript --test agents >/dev/null 2>&1 \
   || { echo "FAIL: the core's tests with the new setting" >&2; exit 1; }
-cargo run -q -p sec-tools --bin sec-experiment -- parameters --agent sec | grep -q recipeDemo \
+grep -q recipeDemo <<<"$(cargo run -q -p sec-tools --bin sec-experiment -- parameters --agent sec)" \
   || { echo "FAIL: sec-experiment parameters does not list it" >&2; exit 1; }
 echo "ok: 1 file (its field, row and declaration, all in sec.rs); the tests pass, the CLI lists it"
