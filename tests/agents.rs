@@ -2,7 +2,7 @@
 
 use sec_playground::agent::mfec::Embedding;
 use sec_playground::agent::mfec::MfecConfig;
-use sec_playground::agent::{AgentInfo, AgentKind, AGENTS};
+use sec_playground::agent::{AgentInfo, AGENTS};
 use sec_playground::experiment::settings::{self, page_agents};
 use sec_playground::experiment::RunConfig;
 use std::path::Path;
@@ -14,7 +14,9 @@ fn every_kind_has_one_row_and_the_settings_follow_the_capabilities() {
     unique.sort();
     unique.dedup();
     assert_eq!(unique.len(), keys.len(), "keys are unique: {keys:?}");
-    for kind in [AgentKind::Sec, AgentKind::Mfec, AgentKind::Reactive, AgentKind::Dqn, AgentKind::Erlam] {
+    // Every kind of the table (not a list here, which a new agent would leave behind) has a row
+    // for either MFEC embedding.
+    for kind in AGENTS.iter().map(|a| a.kind) {
         for e in [Embedding::Autoencoder, Embedding::RandomProjection] {
             assert_eq!(AgentInfo::of(kind, e).kind, kind);
         }

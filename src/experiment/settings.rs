@@ -98,7 +98,7 @@ fn run_settings() -> (Vec<Setting>, Vec<Setting>) {
             set: Box::new(|c, _, v| c.task = TASK_NAMES[v as usize].to_string()),
         },
         Setting {
-            param: Param::choice("agent", "agent", "SEC, MFEC on the autoencoder's or a random projection's embedding, or the reactive walk alone (a new run).", &page_agents(), false),
+            param: Param::choice("agent", "agent", "Which agent learns: SEC or one of its rivals, each described in the agent list (a new run).", &page_agents(), false),
             get: Box::new(|c, _| agent_name(c).to_string()),
             set: Box::new(|c, _, v| set_agent(c, page_agents()[v as usize])),
         },
