@@ -63,8 +63,17 @@ test('a bad seed shows an error naming it and the run goes on', async () => {
   const msg = await page.textContent('#error');
   assert.match(msg, /^seed: .*out of range 0\.\.=/);
   await page.waitForFunction((s) => window.secPlayground.env.agent().steps !== s, steps, { timeout: 60000 });
-  await page.fill('#seed', '1');
+  // An empty field and a limit too long are the core's to refuse too, with its own ranges (the
+  // page's script keeps none).
+  await page.fill('#seed', '');
   await page.dispatchEvent('#seed', 'change');
+  assert.match(await page.textContent('#error'), /^seed: '' \(a string\) is out of range 0\.\.=9007199254740991/);
+  await page.fill('#seed', '1');
+  await page.fill('#limit', '100001');
+  await page.dispatchEvent('#limit', 'change');
+  assert.match(await page.textContent('#error'), /^t: 100001 is out of range 0\.\.=100000 \(whole numbers\)/);
+  await page.fill('#limit', '1000');
+  await page.dispatchEvent('#limit', 'change');
   assert.equal(await page.isHidden('#error'), true);
   assert.deepEqual(problems, []);
 });
