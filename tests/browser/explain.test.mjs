@@ -43,13 +43,15 @@ test('the warm-up says why the reactive layer acts, and a decision explains its 
   await page.waitForFunction(() => window.secPlayground.view.ltm >= 5, null, { timeout: 120000, polling: 250 });
   await page.click('#play');
   await page.waitForFunction(() => !window.secPlayground.playing);
-  // Each step waits for its decision's view (which carries its explanation), not for a time.
+  // Each step waits for its view (which carries its explanation), not for a time. A step ends at
+  // the next decision or at the episode's end, which takes none (Session::step_decision): where
+  // the pause left the run depends on the machine's speed, so both are waited for.
   let e = null;
   let layer = null;
   for (let i = 0; i < 400 && !(e?.couplets.length); i++) {
-    const before = await page.evaluate(() => window.secPlayground.view.decisions);
+    const before = await page.evaluate(() => ({ d: window.secPlayground.view.decisions, ep: window.secPlayground.view.episode }));
     await page.click('#step-decision');
-    await page.waitForFunction((b) => window.secPlayground.view.decisions > b, before);
+    await page.waitForFunction((b) => window.secPlayground.view.decisions > b.d || window.secPlayground.view.episode > b.ep, before);
     ({ e, layer } = await page.evaluate(() => ({ e: window.secPlayground.explanation, layer: window.secPlayground.view.layer })));
   }
   assert.ok(e?.couplets.length, 'memory selected couplets within 400 decisions');
