@@ -2,7 +2,7 @@
 //! A run is a pure function of this and the seed; which changes act live is the settings'
 //! (`settings`), and the run loop that plays it is `run`.
 
-use crate::agent::section::Section;
+use crate::agent::section::{Section, SectionSpec};
 use crate::agent::{AgentInfo, AgentKind};
 use crate::arena::{ConfigError, StartHeading, Task};
 use crate::encoder::perception::check_scale;
@@ -104,16 +104,8 @@ impl RunConfig {
         }
         let value: serde_json::Value =
             serde_json::from_str(text).map_err(|e| ConfigError::new("config", e.to_string()))?;
-        if !value.is_object() {
-            return Err(ConfigError::new("config", "is not an object (a RunConfig)"));
-        }
-        // The sections first from the text itself, so that their errors say where they are.
-        let mut sections = Sections::default();
-        for (key, section) in &mut sections.0 {
-            let spec = AgentInfo::sections().find(|s| s.key == *key).expect("every section has its row");
-            *section = (spec.parse_text)(spec.key, text)?;
-        }
-        let cfg = RunConfig { sections, ..RunConfig::from_value(value)? };
+        // The sections are read from the text itself, so that their errors say where they are.
+        let cfg = RunConfig::read(value, |spec, _| (spec.parse_text)(spec.key, text))?;
         cfg.validate()?;
         Ok(cfg)
     }
@@ -138,14 +130,22 @@ impl RunConfig {
     /// its row's parser, the run's own fields by the derived reader. A refused value is an error
     /// naming its field path (`agent.memory.tau`).
     pub fn from_value(value: serde_json::Value) -> Result<RunConfig, ConfigError> {
+        RunConfig::read(value, |spec, v| (spec.parse)(spec.key, v))
+    }
+
+    /// `from_value`, each section present read by `section` (from its value, or otherwise).
+    fn read(
+        value: serde_json::Value,
+        section: impl Fn(SectionSpec, serde_json::Value) -> Result<Box<dyn Section>, ConfigError>,
+    ) -> Result<RunConfig, ConfigError> {
         let serde_json::Value::Object(mut map) = value else {
             return Err(ConfigError::new("config", "is not an object (a RunConfig)"));
         };
         let mut sections = Sections::default();
-        for (key, section) in &mut sections.0 {
-            if let Some(v) = map.remove(*key) {
-                let spec = AgentInfo::sections().find(|s| s.key == *key).expect("every section has its row");
-                *section = (spec.parse)(spec.key, v)?;
+        for spec in AgentInfo::sections() {
+            if let Some(v) = map.remove(spec.key) {
+                let held = sections.0.iter_mut().find(|(k, _)| *k == spec.key).expect("every row's section is held");
+                held.1 = section(spec, v)?;
             }
         }
         let fields: RunFields = serde_path_to_error::deserialize(serde_json::Value::Object(map)).map_err(|e| {
@@ -213,11 +213,6 @@ impl Sections {
     /// The section under `key`, to change.
     pub fn get_mut(&mut self, key: &str) -> Option<&mut dyn Section> {
         self.0.iter_mut().find(|(k, _)| *k == key).map(|(_, s)| s.as_mut())
-    }
-
-    /// The keys, in order.
-    pub fn keys(&self) -> impl Iterator<Item = &'static str> + '_ {
-        self.0.iter().map(|(k, _)| *k)
     }
 }
 
