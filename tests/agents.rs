@@ -102,3 +102,33 @@ fn no_front_end_types_an_agent_name() {
     }
     assert!(found.is_empty(), "agent names typed outside the agent table: {found:?}");
 }
+
+/// DQN's and ERLAM's sections belong to `crates/sec-dqn`, which this build does not link: the
+/// core keeps them as a native run's configuration wrote them, refuses a section that is not an
+/// object, writes none of its own nor any in another agent's run, and two configurations that
+/// differ only in another agent's section make the same run.
+#[test]
+fn a_native_agents_section_is_kept_as_written_without_its_crate() {
+    let text = r#"{"kind":"dqn","dqn":{"gamma":0.5,"batchSize":7},"erlam":{"nodes":40}}"#;
+    let cfg = RunConfig::from_json(text).unwrap();
+    let back: serde_json::Value = serde_json::to_value(&cfg).unwrap();
+    assert_eq!(back["dqn"], serde_json::json!({"gamma": 0.5, "batchSize": 7}));
+    assert_eq!(back["erlam"], serde_json::json!({"nodes": 40}));
+    assert_eq!(RunConfig::from_value(back).unwrap(), cfg);
+
+    let e = RunConfig::from_json(r#"{"dqn": 5}"#).unwrap_err();
+    assert_eq!(e.field, "dqn", "{e}");
+    let fresh = serde_json::to_value(RunConfig::default()).unwrap();
+    assert!(fresh.get("dqn").is_none() && fresh.get("erlam").is_none(), "{fresh}");
+    assert!(fresh.get("agent").is_some() && fresh.get("mfec").is_some(), "{fresh}");
+
+    let sec = RunConfig::from_json(r#"{"dqn":{"gamma":0.5}}"#).unwrap();
+    assert_eq!(sec, RunConfig::default(), "a SEC run does not read DQN's section");
+    assert!(serde_json::to_value(&sec).unwrap().get("dqn").is_none(), "nor write it");
+    assert_ne!(cfg, RunConfig { kind: cfg.kind, ..RunConfig::default() }, "a DQN run does");
+
+    let mut set = RunConfig { kind: sec_playground::agent::AgentKind::Erlam, ..RunConfig::default() };
+    set.sections.set_field("erlam", "nodes", 5000.into()).unwrap();
+    assert_eq!(serde_json::to_value(&set).unwrap()["erlam"], serde_json::json!({"nodes": 5000}));
+    assert_eq!(set.sections.set_field("nobody", "x", 1.into()).unwrap_err().field, "nobody");
+}

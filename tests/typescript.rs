@@ -139,6 +139,11 @@ fn every_option_and_group_of_the_settings_is_in_the_declarations() {
 #[test]
 fn each_agent_section_declares_itself_under_its_key() {
     for spec in AgentInfo::sections() {
+        if (spec.default)().to_value().is_null() {
+            // A native agent's (`SectionSpec::native`): never written here, so never declared.
+            assert_eq!(spec.typescript, "", "{}", spec.key);
+            continue;
+        }
         let decl = blocks(spec.typescript, "RunConfig");
         assert_eq!(decl.len(), 1, "{}: one `export interface RunConfig {{ ... }}`", spec.key);
         assert!(declares(&decl[0], spec.key), "{}'s declaration is under its key", spec.key);

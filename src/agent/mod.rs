@@ -1,9 +1,9 @@
 //! The agents: SEC (`sec`: its contextual layer of `crate::memory` arbitrated with the reactive
-//! walk), the reactive walk alone, MFEC and the deep baselines' settings (`dqn`; the networks are
-//! native only, in `crates/sec-dqn`), all driven by the run loop through the `Controller` hooks.
+//! walk), the reactive walk alone and MFEC, all driven by the run loop through the `Controller`
+//! hooks. The deep baselines (DQN, ERLAM) are rows of the table whose code and configuration
+//! live in the native crate `crates/sec-dqn`, which registers its sections' types at start-up.
 
 pub mod controller;
-pub mod dqn;
 pub mod mfec;
 pub mod reactive;
 mod sec;

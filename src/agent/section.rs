@@ -13,9 +13,13 @@ use std::fmt;
 
 /// What an agent's configuration section can do, type-erased: checked, written as JSON, copied
 /// and compared. Implemented for every type with `AgentConfig` and serde's traits.
-pub trait Section: Any + Send + Sync + fmt::Debug {
+pub trait Section: Any + Send + Sync + fmt::Debug + erased_serde::Serialize {
     /// Every field in its range, the error naming it.
     fn validate(&self) -> Result<(), ConfigError>;
+    /// Whether a configuration writes it (not a native agent's section no one gave).
+    fn written(&self) -> bool {
+        true
+    }
     /// As the configuration's JSON writes it.
     fn to_value(&self) -> serde_json::Value;
     /// A copy.
@@ -39,8 +43,9 @@ pub trait AgentConfig {
     /// Its TypeScript declaration, merged into the page's `RunConfig` interface: `export
     /// interface RunConfig { <KEY>?: { ... } }`. The agent's module also hands it to
     /// wasm-bindgen (a `typescript_custom_section`), and `tests/typescript.rs` checks it against
-    /// what the section serialises.
-    const TYPESCRIPT: &'static str;
+    /// what the section serialises. A native crate's section, which the page never holds,
+    /// declares none.
+    const TYPESCRIPT: &'static str = "";
 
     /// Every field in its range, the error naming it.
     fn validate(&self) -> Result<(), ConfigError>;
@@ -105,6 +110,100 @@ where
         self
     }
 }
+
+/// The section of a native agent whose crate this build does not hold (DQN's and ERLAM's in
+/// the wasm build and in Python): kept as the configuration wrote it, so reading and writing a
+/// configuration loses nothing, but neither checked nor filled in, since nothing here runs it.
+/// A native crate registers its own type for the key (`register_section`).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct NativeSection(Option<serde_json::Value>);
+
+impl Section for NativeSection {
+    fn validate(&self) -> Result<(), ConfigError> {
+        Ok(())
+    }
+    fn written(&self) -> bool {
+        self.0.is_some()
+    }
+    fn to_value(&self) -> serde_json::Value {
+        self.0.clone().unwrap_or(serde_json::Value::Null)
+    }
+    fn clone_box(&self) -> Box<dyn Section> {
+        Box::new(self.clone())
+    }
+    fn same(&self, other: &dyn Section) -> bool {
+        other.as_any().downcast_ref::<NativeSection>().is_some_and(|o| o == self)
+    }
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+    fn as_any_mut(&mut self) -> &mut dyn Any {
+        self
+    }
+}
+
+fn native_default() -> Box<dyn Section> {
+    Box::new(NativeSection(None))
+}
+
+fn native_parse(key: &'static str, value: serde_json::Value) -> Result<Box<dyn Section>, ConfigError> {
+    if !value.is_object() {
+        return Err(ConfigError::new(
+            key,
+            format!("{} is not an object (a section)", crate::util::shown(&value.to_string())),
+        ));
+    }
+    Ok(Box::new(NativeSection(Some(value))))
+}
+
+fn native_parse_text(key: &'static str, text: &str) -> Result<Box<dyn Section>, ConfigError> {
+    let found = serde::de::DeserializeSeed::deserialize(
+        Pick::<serde_json::Value>(key, std::marker::PhantomData),
+        &mut serde_json::Deserializer::from_str(text),
+    )
+    .map_err(|e| ConfigError::new(key, e.to_string()))?;
+    found.map_or_else(|| Ok(native_default()), |v| native_parse(key, v))
+}
+
+fn no_settings() -> Vec<SectionSetting> {
+    Vec::new()
+}
+
+/// The sections native crates registered, each replacing its row's `SectionSpec::native`.
+static REGISTERED: std::sync::RwLock<Vec<SectionSpec>> = std::sync::RwLock::new(Vec::new());
+
+/// Gives the section under `spec.key`, which a table row declares `SectionSpec::native`, its
+/// type: configurations made after this read, check, fill in and write it as that type. A native
+/// crate calls it before it reads configurations (`sec_dqn::register`); again is harmless.
+pub fn register_section(spec: SectionSpec) {
+    let mut held = REGISTERED.write().unwrap_or_else(|e| e.into_inner());
+    held.retain(|s| s.key != spec.key);
+    held.push(spec);
+}
+
+/// The type registered for a native section's key, if any.
+pub(crate) fn registered(key: &str) -> Option<SectionSpec> {
+    REGISTERED.read().unwrap_or_else(|e| e.into_inner()).iter().find(|s| s.key == key).copied()
+}
+
+/// Whether two sections under `key` are the same settings. A native section held opaque
+/// (made before its crate registered its type, or read where it never does) is read through
+/// the registered type if there is one, so it compares with its defaults filled in.
+pub fn same_settings(key: &str, a: &dyn Section, b: &dyn Section) -> bool {
+    if a.same(b) {
+        return true;
+    }
+    let Some(spec) = registered(key) else { return false };
+    let typed = |s: &dyn Section| match s.as_any().downcast_ref::<NativeSection>() {
+        Some(NativeSection(value)) => {
+            (spec.parse)(spec.key, value.clone().unwrap_or_else(|| serde_json::Value::Object(Default::default()))).ok()
+        }
+        None => Some(s.clone_box()),
+    };
+    matches!((typed(a), typed(b)), (Some(x), Some(y)) if x.same(y.as_ref()))
+}
+
+erased_serde::serialize_trait_object!(Section);
 
 impl Clone for Box<dyn Section> {
     fn clone(&self) -> Self {
@@ -217,6 +316,19 @@ fn parse_text_as<T: Section + Default + DeserializeOwned>(
 }
 
 impl SectionSpec {
+    /// The section of a native agent (one a crate under `crates/` builds): opaque to the core
+    /// until that crate registers its type (`register_section`).
+    pub const fn native(key: &'static str) -> SectionSpec {
+        SectionSpec {
+            key,
+            typescript: "",
+            default: native_default,
+            parse: native_parse,
+            parse_text: native_parse_text,
+            settings: no_settings,
+        }
+    }
+
     /// The section of type `T`, under its key.
     pub const fn of<T: Section + AgentConfig + Default + DeserializeOwned>() -> SectionSpec {
         SectionSpec {

@@ -5,9 +5,8 @@
 //! module (a `Controller`) and a row here.
 
 use super::controller::{Controller, Input};
-use super::dqn::{DqnConfig, ErlamConfig};
 use super::mfec::{Embedding, Mfec, MfecConfig, RandomProjection};
-use super::section::{own_section, SectionSpec};
+use super::section::{own_section, registered, SectionSpec};
 use super::{Reactive, Sec, SecConfig};
 use crate::arena::ConfigError;
 use crate::encoder::Perception;
@@ -137,7 +136,7 @@ pub const AGENTS: &[AgentInfo] = &[
         key: "dqn", label: "DQN", unbiased_label: None,
         about: "The authors' deep Q-network on the camera image (native only: sec-experiment).",
         explores: Some("DQN explores with ε-greedy steps."),
-        section: Some(SectionSpec::of::<DqnConfig>()), reads: Input::Image,
+        section: Some(SectionSpec::native("dqn")), reads: Input::Image,
         has_memory: false, has_gate: false, native_only: true, can_be_driven: false,
         kind: AgentKind::Dqn, embedding: None, build: None,
     },
@@ -145,7 +144,7 @@ pub const AGENTS: &[AgentInfo] = &[
         key: "erlam", label: "ERLAM", unbiased_label: None,
         about: "DQN with ERLAM's associative memory graph over the trained autoencoder's embeddings (native only).",
         explores: Some("ERLAM explores with ε-greedy steps."),
-        section: Some(SectionSpec::of::<ErlamConfig>()), reads: Input::Image,
+        section: Some(SectionSpec::native("erlam")), reads: Input::Image,
         has_memory: false, has_gate: false, native_only: true, can_be_driven: false,
         kind: AgentKind::Erlam, embedding: None, build: None,
     },
@@ -170,14 +169,21 @@ impl AgentInfo {
             .expect("every kind has a row")
     }
 
-    /// The agents' configuration sections, one per key (rows may share one), in table order.
+    /// The agents' configuration sections, one per key (rows may share one), in table order; a
+    /// native agent's is the type its crate registered, if it did (`register_section`).
     pub fn sections() -> impl Iterator<Item = SectionSpec> {
         let mut seen: Vec<&str> = Vec::new();
-        AGENTS.iter().filter_map(|a| a.section).filter(move |s| {
+        AGENTS.iter().filter_map(|a| a.section).filter_map(move |s| {
             let new = !seen.contains(&s.key);
             seen.push(s.key);
-            new
+            new.then(|| registered(s.key).unwrap_or(s))
         })
+    }
+
+    /// The section keys of the native agents' rows (`native_only`): what their runs may read
+    /// (ERLAM's network is DQN's) and what the other runs neither read nor write.
+    pub fn native_section_keys() -> Vec<&'static str> {
+        AGENTS.iter().filter(|a| a.native_only).filter_map(|a| a.section.map(|s| s.key)).collect()
     }
 
     /// The keys of the agents with `capability`, in table order.

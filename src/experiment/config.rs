@@ -2,7 +2,7 @@
 //! A run is a pure function of this and the seed; which changes act live is the settings'
 //! (`settings`), and the run loop that plays it is `run`.
 
-use crate::agent::section::{Section, SectionSpec};
+use crate::agent::section::{same_settings, Section, SectionSpec};
 use crate::agent::{AgentInfo, AgentKind};
 use crate::arena::{ConfigError, StartHeading, Task};
 use crate::encoder::perception::check_scale;
@@ -15,7 +15,13 @@ use crate::render::Surface;
 /// Its JSON is the run's fields with each agent's section under its key (`agent` for SEC's,
 /// `mfec`, `dqn`, `erlam`), in the agent table's order. (The derives write the run's own
 /// fields; the `Serialize` and `Deserialize` below add the sections, which the agents own.)
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+///
+/// Two configurations are equal when they make the same run: the run's fields and its own
+/// agent's section agree (the other agents' sections, which a configuration keeps so that
+/// switching agents keeps each one's settings, do not change the run). So a configuration read
+/// where a native agent's section is opaque (`SectionSpec::native`) equals the one its writer
+/// held.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 #[serde(remote = "Self", rename_all = "camelCase", default, deny_unknown_fields)]
 pub struct RunConfig {
     /// The task (`arena::TASK_NAMES`).
@@ -174,6 +180,17 @@ impl RunConfig {
         self
     }
 
+    /// The keys of the sections the run reads: its agent's own; in a native agent's run, every
+    /// native agent's (ERLAM's network is DQN's).
+    fn read_keys(&self) -> Vec<&'static str> {
+        let row = self.agent_row();
+        if row.native_only {
+            AgentInfo::native_section_keys()
+        } else {
+            row.section.map(|s| s.key).into_iter().collect()
+        }
+    }
+
     /// The table's row of the run's agent.
     pub fn agent_row(&self) -> &'static AgentInfo {
         AgentInfo::of(self.kind, self.section::<crate::agent::mfec::MfecConfig>().embedding)
@@ -186,6 +203,20 @@ impl RunConfig {
             Some(spec) => self.sections.get(spec.key).expect("every row's section is held").as_any(),
             None => &(),
         }
+    }
+}
+
+impl PartialEq for RunConfig {
+    fn eq(&self, other: &Self) -> bool {
+        let fields = |c: &RunConfig| {
+            let bare = RunConfig { sections: Sections(Vec::new()), ..c.clone() };
+            RunConfig::serialize(&bare, serde_json::value::Serializer).expect("configurations serialise")
+        };
+        fields(self) == fields(other)
+            && self.read_keys().into_iter().all(|key| match (self.sections.get(key), other.sections.get(key)) {
+                (Some(a), Some(b)) => same_settings(key, a, b),
+                (a, b) => a.is_none() && b.is_none(),
+            })
     }
 }
 
@@ -214,22 +245,52 @@ impl Sections {
     pub fn get_mut(&mut self, key: &str) -> Option<&mut dyn Section> {
         self.0.iter_mut().find(|(k, _)| *k == key).map(|(_, s)| s.as_mut())
     }
+
+    /// Sets `field` of the section under `key` to `value`, as the JSON writes them, without
+    /// naming the section's type (an experiment's preset of a native agent): read back through
+    /// the section's parser and checked, or an error naming the field, the section as it was.
+    pub fn set_field(&mut self, key: &str, field: &str, value: serde_json::Value) -> Result<(), ConfigError> {
+        let spec = AgentInfo::sections()
+            .find(|s| s.key == key)
+            .ok_or_else(|| ConfigError::new(key, "is no agent's section"))?;
+        let held = self.0.iter_mut().find(|(k, _)| *k == key).expect("every row's section is held");
+        let mut object = match held.1.to_value() {
+            serde_json::Value::Object(o) => o,
+            _ => serde_json::Map::new(),
+        };
+        object.insert(field.to_string(), value);
+        let section = (spec.parse)(spec.key, serde_json::Value::Object(object))?;
+        section.validate()?;
+        held.1 = section;
+        Ok(())
+    }
 }
 
 impl serde::Serialize for Sections {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         use serde::ser::SerializeMap;
-        let mut map = s.serialize_map(Some(self.0.len()))?;
-        for (key, section) in &self.0 {
-            map.serialize_entry(key, &section.to_value())?;
+        // A native agent's section that this build does not know and no one wrote is left out.
+        let written: Vec<_> = self.0.iter().filter(|(_, section)| section.written()).collect();
+        let mut map = s.serialize_map(Some(written.len()))?;
+        for (key, section) in written {
+            map.serialize_entry(key, section.as_ref())?;
         }
         map.end()
     }
 }
 
 impl serde::Serialize for RunConfig {
+    /// The run's fields and the sections of the agents the core runs (kept, so that switching
+    /// agents keeps each one's settings); the native agents' sections only in their own runs,
+    /// so a run is written the same by a build that holds their crate (the CLI) and one that
+    /// does not (Python).
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        RunConfig::serialize(self, s)
+        if self.agent_row().native_only {
+            return RunConfig::serialize(self, s);
+        }
+        let native = AgentInfo::native_section_keys();
+        let sections = Sections(self.sections.0.iter().filter(|(k, _)| !native.contains(k)).cloned().collect());
+        RunConfig::serialize(&RunConfig { sections, ..self.clone() }, s)
     }
 }
 

@@ -3,7 +3,6 @@
 //! experiments on the start heading and the perception. Shared by the native runner and the page.
 
 use super::{AgentKind, RunConfig};
-use crate::agent::dqn::ErlamConfig;
 use crate::agent::mfec::Embedding;
 use crate::agent::mfec::MfecConfig;
 use crate::agent::SecConfig;
@@ -54,6 +53,11 @@ fn erlam_nodes(task: &str) -> usize {
     }
 }
 
+/// Sets a field of ERLAM's section, which crates/sec-dqn owns, by its JSON key.
+fn set_erlam(cfg: &mut RunConfig, field: &str, value: serde_json::Value) {
+    cfg.sections.set_field("erlam", field, value).expect("the presets' ERLAM values are in range");
+}
+
 fn sec(task: &str) -> RunConfig {
     RunConfig { task: task.into(), ..RunConfig::default() }
 }
@@ -92,7 +96,7 @@ pub fn experiment(name: &str) -> Result<Vec<Condition>, ConfigError> {
                 // The authors' ERLAM embeds with the trained model (agent_erlam.py loads it), at
                 // its calibrated scale like every trained embedding here (D17).
                 let mut erlam = RunConfig { kind: AgentKind::Erlam, perception: PerceptionKind::Trained, ..sec(task) };
-                erlam.section_mut::<ErlamConfig>().nodes = erlam_nodes(task);
+                set_erlam(&mut erlam, "nodes", erlam_nodes(task).into());
                 if task == "double-t-maze" {
                     // What D17's scale does to ERLAM: its 0.02 on the raw bottleneck.
                     let raw = RunConfig { raw_embeddings: true, ..erlam.clone() };
@@ -100,13 +104,13 @@ pub fn experiment(name: &str) -> Result<Vec<Condition>, ConfigError> {
                     // Whether ERLAM fails here by the cycles through goals that its propagation
                     // makes (results/PROTOCOL.md, the last addendum).
                     let mut kept = erlam.clone();
-                    kept.section_mut::<ErlamConfig>().propagate_past_terminals = false;
+                    set_erlam(&mut kept, "propagatePastTerminals", false.into());
                     out.push(condition(format!("{task}/ERLAM-noPastTerminals"), kept, None));
                     // The authors' 5000-node variant, logging its graph's census: whether it learns
                     // once the graph fills (results/PROTOCOL.md, 2026-12-03).
                     let mut small = erlam.clone();
-                    small.section_mut::<ErlamConfig>().nodes = 5000;
-                    small.section_mut::<ErlamConfig>().census_every = 50;
+                    set_erlam(&mut small, "nodes", 5000.into());
+                    set_erlam(&mut small, "censusEvery", 50.into());
                     out.push(condition(format!("{task}/ERLAM-5k"), small, None));
                 }
                 out.push(condition(format!("{task}/ERLAM"), erlam, Some(paper[5])));

@@ -10,8 +10,8 @@ export interface ConfigChange {
 }
 
 /** A run's configuration (every field optional; defaults are the authors' code). Each agent's
- *  section (`agent` for SEC's, `mfec`, `dqn`, `erlam`) is declared by its agent's module and
- *  merged into this interface. */
+ *  section (`agent` for SEC's, `mfec`) is declared by its agent's module and
+ *  merged into this interface; the native agents' (`dqn`, `erlam`) are kept as given, unchecked. */
 export interface RunConfig {
   task?: string;
   /** Episode limit in env steps (null: the task's, 1000). */

@@ -11,8 +11,6 @@ use crate::{optimiser_config, Dqn, Memory, Progress};
 use burn::module::Module;
 use burn::store::ModuleRecord;
 use burn::tensor::Bytes;
-use sec_playground::agent::dqn::DqnConfig;
-use sec_playground::agent::dqn::ErlamConfig;
 use sec_playground::encoder::{EMBEDDING, IMAGE};
 use sec_playground::experiment::RunConfig;
 use serde_bytes::ByteBuf;
@@ -178,8 +176,11 @@ pub(crate) fn load(dqn: &mut Dqn, input: &mut dyn Read) -> Result<(), String> {
 pub fn graph(cfg: &RunConfig, input: &mut dyn Read) -> Result<Graph, String> {
     let saved: Saved<MemoryIn> = ciborium::from_reader(BufReader::new(input)).map_err(|e| e.to_string())?;
     match saved.memory {
-        MemoryIn::Graph { graph, .. } => (*graph)
-            .restored(&Graph::new(cfg.section::<ErlamConfig>().clone(), cfg.section::<DqnConfig>().gamma), IMAGE),
+        MemoryIn::Graph { graph, .. } => {
+            let (dqn, erlam) = (crate::config::dqn(cfg), crate::config::erlam(cfg));
+            let (dqn, erlam) = (dqn.map_err(|e| e.to_string())?, erlam.map_err(|e| e.to_string())?);
+            (*graph).restored(&Graph::new(erlam, dqn.gamma), IMAGE)
+        }
         MemoryIn::Replay(_) => Err("a DQN checkpoint has no graph".into()),
     }
 }

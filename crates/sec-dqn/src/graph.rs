@@ -12,11 +12,11 @@
 //!   of by action, so a link made before an eviction no longer counts for the graph's value;
 //! - the merge test uses a k-d tree of the nodes as they were when the episode ended.
 
+use crate::ErlamConfig;
 use kiddo::immutable::float::kdtree::ImmutableKdTree;
 use kiddo::SquaredEuclidean;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
-use sec_playground::agent::dqn::ErlamConfig;
 use sec_playground::encoder::EMBEDDING;
 use sec_playground::memory::ACTIONS;
 use std::collections::{BTreeMap, HashMap};

@@ -22,6 +22,7 @@
 //! restart with an episode; here, as for SEC, every episode starts its clock at its first frame.
 
 pub mod checkpoint;
+pub mod config;
 pub mod graph;
 pub mod net;
 pub mod replay;
@@ -29,14 +30,13 @@ pub mod replay;
 use burn::optim::{GradientsParams, ModuleOptimizer, RmsPropConfig};
 use burn::prelude::*;
 use burn::tensor::TensorData;
+pub use config::{register, DqnConfig, ErlamConfig};
 use graph::{Graph, Pending};
 use net::{values, NatureCnn};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use replay::{Meta, Replay};
 use sec_playground::agent::controller::{Controller, EpisodeEnd, MemoryCensus, MemoryUse, Observation, Step};
-use sec_playground::agent::dqn::DqnConfig;
-use sec_playground::agent::dqn::ErlamConfig;
 use sec_playground::agent::mfec::softmax_entropy_bits;
 use sec_playground::agent::{Decision, Layer, Reactive};
 use sec_playground::arena::{Action, ConfigError};
@@ -58,14 +58,10 @@ pub fn factory(
     rng: &mut ChaCha8Rng,
 ) -> Option<Result<Box<dyn Controller>, ConfigError>> {
     let made = match cfg.kind {
-        AgentKind::Dqn => Dqn::new(cfg.section::<DqnConfig>().clone(), seed, rng),
-        AgentKind::Erlam => Dqn::erlam(
-            cfg.section::<DqnConfig>().clone(),
-            cfg.section::<ErlamConfig>().clone(),
-            perception.clone(),
-            seed,
-            rng,
-        ),
+        AgentKind::Dqn => config::dqn(cfg).and_then(|c| Dqn::new(c, seed, rng)),
+        AgentKind::Erlam => config::dqn(cfg)
+            .and_then(|c| Ok((c, config::erlam(cfg)?)))
+            .and_then(|(c, graph)| Dqn::erlam(c, graph, perception.clone(), seed, rng)),
         _ => return None,
     };
     Some(made.map(|d| Box::new(d) as Box<dyn Controller>))

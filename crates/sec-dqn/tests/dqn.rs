@@ -5,9 +5,9 @@
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use sec_dqn::replay::{Meta, Replay};
+use sec_dqn::DqnConfig;
 use sec_dqn::{factory, Dqn};
 use sec_playground::agent::controller::{Controller, Step};
-use sec_playground::agent::dqn::DqnConfig;
 use sec_playground::experiment::checkpoint::ResumeCheck;
 use sec_playground::experiment::{AgentKind, EpisodeMetrics, Run, RunConfig};
 
@@ -17,6 +17,7 @@ fn rng() -> ChaCha8Rng {
 
 #[test]
 fn the_network_is_the_nature_cnn() {
+    sec_dqn::register();
     let dqn = Dqn::new(DqnConfig::default(), 1, &mut rng()).unwrap();
     // conv 3->32 8x8, 32->64 4x4, 64->64 3x3, dense 3136->512, 512->9, with biases.
     let expected = (3 * 32 * 64 + 32) + (32 * 64 * 16 + 64) + (64 * 64 * 9 + 64) + (3136 * 512 + 512) + (512 * 9 + 9);
@@ -26,6 +27,7 @@ fn the_network_is_the_nature_cnn() {
 
 #[test]
 fn epsilon_falls_linearly_to_its_floor() {
+    sec_dqn::register();
     let c = DqnConfig { epsilon_decisions: 10, epsilon_start: 1.0, epsilon_end: 0.1, ..DqnConfig::default() };
     let mut e = c.epsilon_start;
     let mut seen = vec![e];
@@ -39,6 +41,7 @@ fn epsilon_falls_linearly_to_its_floor() {
 
 #[test]
 fn the_replay_buffer_keeps_the_newest_and_chains_states() {
+    sec_dqn::register();
     let mut r = Replay::new(3);
     r.start(vec![0]);
     for k in 1..=5u8 {
@@ -55,6 +58,7 @@ fn the_replay_buffer_keeps_the_newest_and_chains_states() {
 
 #[test]
 fn a_training_step_fits_the_targets_and_sync_copies_the_network() {
+    sec_dqn::register();
     let cfg = DqnConfig { batch_size: 4, replay_size: 8, learning_rate: 1e-3, ..DqnConfig::default() };
     let mut dqn = Dqn::new(cfg, 1, &mut rng()).unwrap();
     // Nine goal frames through the agent's own hook: the first starts the chain, each next one
@@ -83,6 +87,7 @@ fn a_training_step_fits_the_targets_and_sync_copies_the_network() {
 
 #[test]
 fn dqn_runs_episodes_through_the_core_run_loop_deterministically() {
+    sec_dqn::register();
     let cfg =
         RunConfig { task: "object-permanence".into(), kind: AgentKind::Dqn, t: Some(120), ..RunConfig::default() }
             .with_section(DqnConfig {
@@ -109,6 +114,7 @@ fn dqn_runs_episodes_through_the_core_run_loop_deterministically() {
 
 #[test]
 fn bad_dqn_parameters_are_refused_by_name() {
+    sec_dqn::register();
     let bad = [
         (DqnConfig { learning_rate: 0.0, ..DqnConfig::default() }, "dqn.learningRate"),
         (DqnConfig { gamma: 1.5, ..DqnConfig::default() }, "dqn.gamma"),
@@ -128,7 +134,7 @@ fn bad_dqn_parameters_are_refused_by_name() {
 }
 
 use sec_dqn::graph::{Census, Graph, LinkKey, Pending};
-use sec_playground::agent::dqn::ErlamConfig;
+use sec_dqn::ErlamConfig;
 
 fn pending(e: f32, action: u8, reward: f32) -> Pending {
     let mut embedding = [0.0; 20];
@@ -138,6 +144,7 @@ fn pending(e: f32, action: u8, reward: f32) -> Pending {
 
 #[test]
 fn the_graph_adds_episodes_backwards_and_merges_near_states() {
+    sec_dqn::register();
     let cfg = ErlamConfig { nodes: 100, ..ErlamConfig::default() };
     let mut g = Graph::new(cfg, 0.5);
     // A -> B -> C, the last paying 1: returns backwards with gamma 0.5.
@@ -165,6 +172,7 @@ fn the_graph_adds_episodes_backwards_and_merges_near_states() {
 
 #[test]
 fn value_propagation_spreads_the_best_successor_return() {
+    sec_dqn::register();
     let cfg = ErlamConfig { nodes: 100, propagate_every: 2, ..ErlamConfig::default() };
     let mut g = Graph::new(cfg, 0.5);
     // Episode 1: X -> Y (pays 0). Episode 2: Y' (= Y) -> Z paying 4.
@@ -186,6 +194,7 @@ fn value_propagation_spreads_the_best_successor_return() {
 
 #[test]
 fn a_full_graph_evicts_its_least_recently_improved_node_and_rekeys_links() {
+    sec_dqn::register();
     let cfg = ErlamConfig { nodes: 3, ..ErlamConfig::default() };
     let mut g = Graph::new(cfg, 0.5);
     for (e, a, r) in [(0.0, 1, 0.0), (1.0, 1, 0.0), (2.0, 1, 1.0)] {
@@ -201,6 +210,7 @@ fn a_full_graph_evicts_its_least_recently_improved_node_and_rekeys_links() {
 
 #[test]
 fn erlam_runs_episodes_through_the_core_run_loop() {
+    sec_dqn::register();
     let cfg =
         RunConfig { task: "object-permanence".into(), kind: AgentKind::Erlam, t: Some(100), ..RunConfig::default() }
             .with_section(DqnConfig {
@@ -227,6 +237,7 @@ fn erlam_runs_episodes_through_the_core_run_loop() {
 /// the episodes are the same as without it.
 #[test]
 fn erlam_logs_its_graphs_census_every_n_episodes_and_changes_nothing_else() {
+    sec_dqn::register();
     let cfg =
         RunConfig { task: "object-permanence".into(), kind: AgentKind::Erlam, t: Some(60), ..RunConfig::default() }
             .with_section(DqnConfig {
@@ -263,6 +274,7 @@ fn erlam_logs_its_graphs_census_every_n_episodes_and_changes_nothing_else() {
 
 #[test]
 fn erlam_embeds_with_the_runs_perception_at_its_scale() {
+    sec_dqn::register();
     use sec_playground::agent::controller::EpisodeEnd;
     use sec_playground::encoder::{Perception, PerceptionKind};
     // The graph's node for one frame, with the trained model at its calibrated scale (exp1's
@@ -320,6 +332,7 @@ fn short_dqn() -> DqnConfig {
 
 #[test]
 fn a_dqn_run_resumed_from_a_checkpoint_plays_as_if_never_interrupted() {
+    sec_dqn::register();
     // Interrupted mid-training: replay full, epsilon half-way, the target synced, Adam-free RMSprop
     // state accumulated; the entropy in the log is of the network's own Q values.
     let cfg =
@@ -337,6 +350,7 @@ fn a_dqn_run_resumed_from_a_checkpoint_plays_as_if_never_interrupted() {
 
 #[test]
 fn an_erlam_run_resumed_from_a_checkpoint_plays_as_if_never_interrupted() {
+    sec_dqn::register();
     // A small graph that evicts, propagation every 2 episodes, the checkpoint after an odd one.
     let cfg =
         RunConfig { task: "object-permanence".into(), kind: AgentKind::Erlam, t: Some(100), ..RunConfig::default() }
@@ -347,6 +361,7 @@ fn an_erlam_run_resumed_from_a_checkpoint_plays_as_if_never_interrupted() {
 
 #[test]
 fn the_census_finds_a_goal_merged_with_a_later_state_and_the_inflated_values_it_makes() {
+    sec_dqn::register();
     let cfg = ErlamConfig { nodes: 100, ..ErlamConfig::default() };
     let mut g = Graph::new(cfg, 0.5);
     // Episode 1: A -> B -> G, G terminal and paying 1.
@@ -476,6 +491,7 @@ fn poison(v: &ciborium::Value) -> Option<ciborium::Value> {
 /// tensor value as well.
 #[test]
 fn every_field_of_dqns_and_erlams_checkpoints_is_checked() {
+    sec_dqn::register();
     for kind in [AgentKind::Dqn, AgentKind::Erlam] {
         let cfg = RunConfig { task: "object-permanence".into(), kind, t: Some(100), ..RunConfig::default() }
             .with_section(short_dqn())
@@ -512,4 +528,46 @@ fn every_field_of_dqns_and_erlams_checkpoints_is_checked() {
         assert!(checked >= 12, "{kind:?}: {checked} fields");
         eprintln!("{kind:?}: {checked} fields of {} poisoned and refused", fields.len());
     }
+}
+
+/// Registered, the sections are written in full, as the committed configurations wrote them:
+/// each committed configuration of the paper's first experiment, read and written again, is
+/// its preset's text, and every line it had is there in its order and spelling, but for DQN's
+/// and ERLAM's sections in the other agents' runs, which are no longer written (the settings
+/// added since it was written are the only new lines).
+#[test]
+fn registered_sections_write_the_committed_configurations_as_they_were() {
+    sec_dqn::register();
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../results/experiments/exp1");
+    let conditions = sec_playground::experiment::presets::experiment("exp1").unwrap();
+    let lines = |t: &str, native: bool| {
+        let mut kept = Vec::new();
+        let mut skipping = false;
+        for line in t.lines().map(|l| l.trim_end_matches(',')) {
+            if !native && (line == "  \"dqn\": {" || line == "  \"erlam\": {") {
+                skipping = true;
+            } else if skipping {
+                skipping = line != "  }";
+            } else {
+                kept.push(line.to_string());
+            }
+        }
+        kept
+    };
+    let mut compared = 0;
+    for c in conditions {
+        let Ok(committed) = std::fs::read_to_string(root.join(&c.name).join("config.json")) else { continue };
+        let written = serde_json::to_string_pretty(&c.config).unwrap() + "\n";
+        let read = RunConfig::from_json(&committed).unwrap();
+        assert_eq!(read, c.config, "{}", c.name);
+        assert_eq!(serde_json::to_string_pretty(&read).unwrap() + "\n", written, "{}", c.name);
+        let native = c.config.agent_row().native_only;
+        assert_eq!(written.contains("\"dqn\": {"), native, "{}: DQN's section only in a native run", c.name);
+        let mut new = lines(&written, true).into_iter();
+        for line in lines(&committed, native) {
+            assert!(new.any(|l| l == line), "{}: {line} is not written, or not in its place", c.name);
+        }
+        compared += 1;
+    }
+    assert!(compared >= 19, "only {compared} committed configurations found");
 }

@@ -7,7 +7,7 @@ use crate::play::*;
 use crate::verify::*;
 use flate2::write::GzEncoder;
 use indicatif::ProgressBar;
-use sec_playground::agent::dqn::DqnConfig;
+use sec_dqn::DqnConfig;
 use sec_playground::experiment::AgentKind;
 use sec_playground::experiment::RunConfig;
 use std::fs;
@@ -23,6 +23,7 @@ fn dir(name: &str) -> PathBuf {
 
 #[test]
 fn an_interrupted_run_resumes_from_its_checkpoint_to_the_same_log() {
+    sec_dqn::register();
     let dqn = DqnConfig { random_decisions: 10, batch_size: 4, replay_size: 30, ..DqnConfig::default() };
     let config =
         RunConfig { task: "object-permanence".into(), kind: AgentKind::Dqn, t: Some(60), ..RunConfig::default() }

@@ -8,9 +8,9 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use sec_dqn::graph::{Graph, Pending};
 use sec_dqn::Dqn;
+use sec_dqn::DqnConfig;
+use sec_dqn::ErlamConfig;
 use sec_playground::agent::controller::{Controller, Step};
-use sec_playground::agent::dqn::DqnConfig;
-use sec_playground::agent::dqn::ErlamConfig;
 use sec_playground::experiment::checkpoint::Header;
 use std::time::Instant;
 
@@ -132,7 +132,7 @@ fn real_graph(path: &str) -> Result<(), String> {
     // own propagation took `last_sweeps` sweeps (saved with the graph); time one sweep now.
     let run_sweeps = g.last_sweeps;
     let t0 = Instant::now();
-    g.propagate(header.config.section::<ErlamConfig>().propagate_every);
+    g.propagate(sec_dqn::config::erlam(&header.config).map_err(|e| e.to_string())?.propagate_every);
     let sweep = t0.elapsed().as_secs_f64() / g.last_sweeps as f64;
     println!(
         "ERLAM graph of {} ({} episodes, seed {}): {} nodes; the run's last propagation took {} sweeps; a sweep {:.1} ms, so about {:.2} s",

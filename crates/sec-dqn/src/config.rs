@@ -1,9 +1,12 @@
-//! DQN's parameters, as the authors' `run_agent_dqn.py` sets them (docs/ALGORITHM.md, "DQN").
-//! The network itself is trained with burn in the native crate `crates/sec-dqn`, so burn never
-//! reaches the wasm build; the core only validates the configuration and runs the agent through
-//! the `Controller` hooks when a native tool supplies it (`experiment::Run::with_agents`).
+//! DQN's and ERLAM's configuration sections (`dqn`, `erlam` in a `RunConfig`), as the authors'
+//! `run_agent_dqn.py` and `run_agent_erlam.py` set them (docs/ALGORITHM.md, "DQN"). The core
+//! knows these agents only as rows of its table with opaque sections (`SectionSpec::native`);
+//! `register` gives the sections their types here, so configurations are checked, filled in
+//! and written in full by every tool that links this crate.
 
-use crate::arena::ConfigError;
+use sec_playground::agent::section::{register_section, AgentConfig, SectionSpec};
+use sec_playground::arena::ConfigError;
+use sec_playground::experiment::RunConfig;
 
 /// DQN's (and ERLAM's network's) parameters. Defaults are the authors'.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -105,18 +108,8 @@ impl DqnConfig {
     }
 }
 
-impl super::section::AgentConfig for DqnConfig {
+impl AgentConfig for DqnConfig {
     const KEY: &'static str = "dqn";
-    const TYPESCRIPT: &'static str = r#"
-export interface RunConfig {
-  dqn?: {
-    learningRate?: number; gamma?: number; batchSize?: number; replaySize?: number; randomDecisions?: number;
-    epsilonDecisions?: number; epsilonStart?: number; epsilonEnd?: number; trainEvery?: number; targetSync?: number;
-    sumRewards?: boolean;
-  };
-}
-"#;
-
     fn validate(&self) -> Result<(), ConfigError> {
         DqnConfig::validate(self)
     }
@@ -192,26 +185,48 @@ impl ErlamConfig {
     }
 }
 
-impl super::section::AgentConfig for ErlamConfig {
+impl AgentConfig for ErlamConfig {
     const KEY: &'static str = "erlam";
-    const TYPESCRIPT: &'static str = r#"
-export interface RunConfig {
-  erlam?: {
-    lambda?: number; nodes?: number; forgetting?: boolean; propagateEvery?: number; mergeDistance?: number; converge?: number;
-    propagatePastTerminals?: boolean; censusEvery?: number;
-  };
-}
-"#;
-
     fn validate(&self) -> Result<(), ConfigError> {
         ErlamConfig::validate(self)
     }
 }
 
-#[cfg(target_arch = "wasm32")]
-#[wasm_bindgen::prelude::wasm_bindgen(typescript_custom_section)]
-const DQN_CONFIG_TYPESCRIPT: &str = <DqnConfig as super::section::AgentConfig>::TYPESCRIPT;
+/// Gives the core's `dqn` and `erlam` sections these types (`register_section`): configurations
+/// read or made afterwards hold them checked and filled in. Every tool that runs or writes
+/// configurations calls it first (`factory` too); again is harmless.
+///
+/// ```
+/// use sec_playground::experiment::RunConfig;
+/// sec_dqn::register();
+/// let cfg = RunConfig::from_json(r#"{"kind": "dqn", "dqn": {"gamma": 0.9}}"#).unwrap();
+/// assert_eq!(sec_dqn::config::dqn(&cfg).unwrap().batch_size, 32, "filled in from the defaults");
+/// assert!(RunConfig::from_json(r#"{"dqn": {"gamma": 2}}"#).is_err(), "checked");
+/// ```
+pub fn register() {
+    register_section(SectionSpec::of::<DqnConfig>());
+    register_section(SectionSpec::of::<ErlamConfig>());
+}
 
-#[cfg(target_arch = "wasm32")]
-#[wasm_bindgen::prelude::wasm_bindgen(typescript_custom_section)]
-const ERLAM_CONFIG_TYPESCRIPT: &str = <ErlamConfig as super::section::AgentConfig>::TYPESCRIPT;
+/// The section of type `T` in `cfg`, whether the configuration was made before `register` (an
+/// opaque section, read here) or after; checked.
+fn section<T: AgentConfig + serde::de::DeserializeOwned + Default>(cfg: &RunConfig) -> Result<T, ConfigError> {
+    let value = cfg.sections.get(T::KEY).map_or(serde_json::Value::Null, |s| s.to_value());
+    let section = if value.is_null() {
+        T::default()
+    } else {
+        serde_json::from_value(value).map_err(|e| ConfigError::new(T::KEY, e.to_string()))?
+    };
+    section.validate()?;
+    Ok(section)
+}
+
+/// The run's DQN section.
+pub fn dqn(cfg: &RunConfig) -> Result<DqnConfig, ConfigError> {
+    section(cfg)
+}
+
+/// The run's ERLAM section.
+pub fn erlam(cfg: &RunConfig) -> Result<ErlamConfig, ConfigError> {
+    section(cfg)
+}
