@@ -225,24 +225,42 @@ export function interpolate(at, v, n) {
 
 /**
  * Mean and standard error across seeds of the 20-episode sliding mean, per episode, over the
- * episodes every seed has finished. `runs`: one array of per-episode values per seed.
+ * seeds that have played it (a comparison's pool plays its runs one after another); at the
+ * episodes `at` only, if given (the chart's drawn points). `runs`: one array of per-episode values
+ * per seed. `n` is how many seeds each point has.
  */
-export function meanAndError(runs) {
-  const smooth = runs.map((v) => {
+export function meanAndError(runs, at = null) {
+  const smooth = runs.filter((v) => v.length).map((v) => {
     const rolling = new RollingMean();
     return v.map((x) => rolling.push(x));
   });
-  const len = Math.min(...smooth.map((s) => s.length));
+  const len = Math.max(0, ...smooth.map((s) => s.length));
+  const points = at ?? Array.from({ length: len }, (_, i) => i);
   const mean = [];
   const se = [];
-  for (let i = 0; i < len; i++) {
-    const xs = smooth.map((s) => s[i]);
+  const n = [];
+  for (const i of points) {
+    if (i >= len) break;
+    const xs = smooth.filter((s) => i < s.length).map((s) => s[i]);
     const m = xs.reduce((a, b) => a + b, 0) / xs.length;
     const v = xs.length > 1 ? xs.reduce((a, b) => a + (b - m) ** 2, 0) / (xs.length - 1) : 0;
     mean.push(m);
     se.push(Math.sqrt(v / xs.length));
+    n.push(xs.length);
   }
-  return { mean, se };
+  return { mean, se, n, len };
+}
+
+/** Most points a comparison line draws: about one per pixel of the widest chart. */
+export const MAX_POINTS = 1200;
+
+/** The episodes drawn of `len`: all, or every k-th and the last, at most about `most`. */
+export function drawnEpisodes(len, most = MAX_POINTS) {
+  const stride = Math.max(1, Math.ceil(len / most));
+  const at = [];
+  for (let i = 0; i < len; i += stride) at.push(i);
+  if (len && at[at.length - 1] !== len - 1) at.push(len - 1);
+  return at;
 }
 
 /**
@@ -261,6 +279,8 @@ export class CompareChart {
     // user zoomed (drag across the chart: the range, kept until `resetZoom`).
     this.full = false;
     this.zoomed = null;
+    /** Most points per line (`MAX_POINTS`; the benchmark compares it with every episode). */
+    this.maxPoints = MAX_POINTS;
     this.timer = setInterval(() => this.redraw(), REDRAW_MS);
   }
 
@@ -307,26 +327,33 @@ export class CompareChart {
       this.drawn = { series: 0, bands: 0, episodes: 0, references: 0, liveAtFirstReference: null };
       return;
     }
-    const stats = arms.map((a) => ({ ...a, banded: a.runs.length > 1, ...meanAndError(a.runs) }));
-    const live = Math.max(0, ...stats.map((s) => s.mean.length));
+    // Drawn at most MAX_POINTS episodes per line (the CSV keeps every one).
+    const live = Math.max(0, ...arms.flatMap((a) => a.runs.map((r) => r.length)));
     const len = Math.max(live, ...references.map((r) => r.episodes));
-    const x = Array.from({ length: len }, (_, i) => i);
-    const pad = (v) => x.map((i) => (i < v.length ? v[i] : null));
+    const x = drawnEpisodes(len, this.maxPoints);
+    const stats = arms.map((a) => ({ ...a, banded: a.runs.filter((r) => r.length).length > 1, ...meanAndError(a.runs, x) }));
+    // A line's values at the drawn episodes: `v` per drawn point (the live runs') or per episode.
+    const pad = (v, perEpisode = false) => x.map((i, k) => (perEpisode ? v[i] : v[k]) ?? null);
     const data = [x];
     const series = [{ label: 'episode' }];
     const bands = [];
+    // Where each line's LTM filled: ○ on a reference line, ● on a live one.
+    const marks = [];
+    const mark = (fill, index, colour, live) => { if (fill != null && fill < len) marks.push({ fill, index, colour, live }); };
     // The reference runs first, faint, so the live curves draw over them.
     for (const r of references) {
       const mean = interpolate(r.at, r.mean, r.episodes);
       const se = interpolate(r.at, r.se, r.episodes);
       const hi = series.length;
-      data.push(pad(mean.map((m, i) => m + se[i])), pad(mean.map((m, i) => m - se[i])), pad(mean));
+      data.push(pad(mean.map((m, i) => m + se[i]), true), pad(mean.map((m, i) => m - se[i]), true), pad(mean, true));
+      mark(r.fill, hi + 2, r.colour, false);
       series.push({ label: `${r.label} reference +SE`, stroke: rgba(r.colour, 0.12), width: 1, points: { show: false } },
         { label: `${r.label} reference −SE`, stroke: rgba(r.colour, 0.12), width: 1, points: { show: false } },
         { label: `${r.label} reference`, stroke: rgba(r.colour, 0.55), width: 1, dash: [4, 3], points: { show: false } });
       bands.push({ series: [hi, hi + 1], fill: rgba(r.colour, 0.1) });
     }
     for (const s of stats) {
+      mark(s.fill, data.length, s.colour, true);
       data.push(pad(s.mean));
       series.push({ label: s.label, stroke: s.colour, width: 2, points: { show: false } });
       if (s.banded) {
@@ -337,6 +364,7 @@ export class CompareChart {
         bands.push({ series: [hi, hi + 1], fill: rgba(s.colour, 0.18) });
       }
     }
+    this.marks = marks;
     const shape = `${title}|${series.map((s) => s.label).join('|')}`;
     if (shape !== this.shape || !this.plot) {
       this.plot?.destroy();
@@ -353,6 +381,7 @@ export class CompareChart {
         bands,
         // A drag across the chart selects a range and zooms to it.
         hooks: {
+          draw: [(u) => this.drawMarks(u)],
           setSelect: [(u) => {
             if (u.select.width > 0) {
               this.zoomed = [u.posToVal(u.select.left, 'x'), u.posToVal(u.select.left + u.select.width, 'x')];
@@ -372,11 +401,38 @@ export class CompareChart {
       this.plot.setScale('x', { min: 0, max: Math.max(1, target - 1) });
     }
     const liveAtFirstReference = this.drawn.liveAtFirstReference
-      ?? (references.length ? stats.reduce((n, s) => n + s.mean.length, 0) : null);
+      ?? (references.length ? stats.reduce((n, s) => n + s.len, 0) : null);
     this.drawn = {
       series: stats.length, bands: bands.length, episodes: len, references: references.length, liveAtFirstReference,
-      live, x: [this.plot.scales.x.min, this.plot.scales.x.max],
+      live, x: [this.plot.scales.x.min, this.plot.scales.x.max], points: x.length,
+      fills: marks.map((m) => ({ episode: m.fill, live: m.live })),
     };
+  }
+
+  /** The fill marks, on their lines at the drawn point nearest their episode. */
+  drawMarks(u) {
+    const ctx = u.ctx;
+    const xs = u.data[0];
+    for (const m of this.marks ?? []) {
+      let k = 0;
+      while (k + 1 < xs.length && xs[k + 1] <= m.fill) k++;
+      const v = u.data[m.index]?.[k];
+      if (v == null || m.fill < u.scales.x.min || m.fill > u.scales.x.max) continue;
+      const px = u.valToPos(m.fill, 'x', true);
+      const py = u.valToPos(v, 'y', true);
+      ctx.save();
+      ctx.beginPath();
+      ctx.arc(px, py, 5 * devicePixelRatio, 0, 2 * Math.PI);
+      ctx.lineWidth = 2 * devicePixelRatio;
+      ctx.strokeStyle = m.colour;
+      if (m.live) {
+        ctx.fillStyle = m.colour;
+        ctx.fill();
+      } else {
+        ctx.stroke();
+      }
+      ctx.restore();
+    }
   }
 
   destroy() {

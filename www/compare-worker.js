@@ -1,27 +1,43 @@
-// One configuration of a comparison: its runs (one per seed) in this worker, at full speed, with
-// no views. Episodes go out as they finish, tagged with the seed.
+// One worker of the comparison's pool: it plays one run (a configuration and a seed) at a time,
+// at full speed with no views, to its horizon, then takes the next run the page sends it.
+// Episodes go out as they finish.
 //
-// Messages in:  {type: 'start', settings, seeds}, {type: 'play'}, {type: 'pause'}
-// Messages out: {type: 'started', settings}, {type: 'episodes', seed, list, wasmBytes},
-//               {type: 'error', message}
+// Messages in:  {type: 'start', settings, seed, episodes}, {type: 'play'}, {type: 'pause'}
+// Messages out: {type: 'ready'}, {type: 'started', settings}, {type: 'episodes', list, wasmBytes},
+//               {type: 'done'}, {type: 'error', message}
 import init, { ensureModel, gateModel, SecRun, parseSettings } from './wasm.js';
 import { AdaptiveBatch, serveMessages } from './slices.js';
 
-let runs = [];
+/** The run in play: {run, left} (episodes still to play), or null. */
+let current = null;
 let playing = false;
-// Each call steps every seed, so it aims at half a slice.
-const batch = new AdaptiveBatch(16, 5000, 1 / 2);
+/** Whether a slice is queued (one at a time, however often play and start come). */
+let scheduled = false;
+const batch = new AdaptiveBatch(16, 5000, 1);
 
 const post = (msg) => self.postMessage(msg);
 
-function loop() {
-  if (!playing || !runs.length) return;
+function kick() {
+  if (scheduled || !playing || !current) return;
+  scheduled = true;
+  setTimeout(slice, 0);
+}
+
+function slice() {
+  scheduled = false;
+  if (!playing || !current) return;
   try {
     batch.fillSlice((n) => {
-      // Round robin, so that the seeds advance together.
-      for (const r of runs) {
-        const list = r.run.runDecisions(n);
-        if (list.length) post({ type: 'episodes', seed: r.seed, list, wasmBytes: memory.buffer.byteLength });
+      if (!current) return;
+      // The run plays on past an episode's end within a batch; what is past the horizon is
+      // not the comparison's.
+      const list = current.run.runDecisions(n).slice(0, current.left);
+      current.left -= list.length;
+      if (list.length) post({ type: 'episodes', list, wasmBytes: memory.buffer.byteLength });
+      if (current.left === 0) {
+        current.run.free();
+        current = null;
+        post({ type: 'done' });
       }
     });
   } catch (e) {
@@ -29,23 +45,22 @@ function loop() {
     post({ type: 'error', message: `The simulation stopped: ${e?.message ?? e}` });
     return;
   }
-  setTimeout(loop, 0);
+  kick();
 }
 
 const handlers = {
-  async start({ settings, seeds }) {
+  async start({ settings, seed, episodes }) {
     const parsed = parseSettings(settings);
     if (parsed.errors.length) throw new Error(parsed.errors.join('; '));
     await ensureModel(gateModel(parsed.config));
-    const next = seeds.map((seed) => ({ seed, run: new SecRun(parsed.config, seed) }));
-    for (const r of runs) r.run.free();
-    runs = next;
+    current?.run.free();
+    current = { run: new SecRun(parsed.config, seed), left: episodes };
     post({ type: 'started', settings: parsed.settings });
+    kick();
   },
   play() {
-    const was = playing;
     playing = true;
-    if (!was) loop();
+    kick();
   },
   pause() { playing = false; },
 };

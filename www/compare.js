@@ -1,11 +1,31 @@
-// The comparison panel: several configurations at once, each in its own worker running the
-// same seeds, their curves overlaid in one chart with standard-error bands; one-click presets
-// for the paper's experiments 1-4.
+// The comparison panel: several configurations with the same seeds, their curves overlaid in one
+// chart with standard-error bands; one-click presets for the paper's experiments 1-4. A pool of
+// workers (the machine's threads less one) plays the runs, one run (configuration x seed) per
+// worker at a time, to the horizon; the page's own run pauses meanwhile.
 import { ARM_COLOURS, CompareChart, WINDOW } from './charts.js';
 import { COMPARE_PRESETS, PRESET_BASE, exp1In, referenceMap } from './presets.js';
 
-/** Most configurations at once (each is a worker). */
+/** Most configurations at once. */
 const MAX_ARMS = 8;
+/** Episodes a run may play (the paper's horizon is 5000). */
+export const EPISODES = { min: 10, max: 20000 };
+/** The seeds the paper's experiments ran here per arm (the reference runs have 10 or 20). */
+const PRESET_SEEDS = 5;
+/** The window over which the progress line measures its rate (ms). */
+const RATE_WINDOW_MS = 30000;
+
+/** Threads the pool may use by default: the machine's less one, for the page itself. */
+export function defaultPool() {
+  return Math.max(1, (navigator.hardwareConcurrency || 2) - 1);
+}
+
+/** A duration as the progress line says it. */
+function duration(s) {
+  if (!Number.isFinite(s)) return 'unknown';
+  if (s < 90) return `${Math.max(1, Math.round(s))} s`;
+  if (s < 5400) return `${Math.round(s / 60)} min`;
+  return `${(s / 3600).toFixed(1)} h`;
+}
 const METRICS = { reward: (m) => m.reward, entropy: (m) => m.entropy, decisions: (m) => m.decisions };
 
 let index = null;
@@ -39,9 +59,25 @@ function item(a, text) {
 
 /** Episodes every seed of a configuration has finished. */
 const finished = (arm) => (arm.runs.size ? Math.min(...[...arm.runs.values()].map((r) => r.length)) : 0);
+/** The median of `xs`, or null for none. */
+function middle(xs) {
+  if (!xs.length) return null;
+  const v = [...xs].sort((a, b) => a - b);
+  return v[(v.length - 1) >> 1];
+}
+
+/** The episode a SEC arm's LTM filled (its `m` sequences), the median over its seeds that got there. */
+function liveFill(arm) {
+  const m = Number(arm.resolved?.m);
+  if (!m || arm.resolved?.agent !== 'sec') return null;
+  return middle([...arm.runs.values()].map((eps) => eps.findIndex((e) => e.ltm >= m)).filter((i) => i >= 0));
+}
+
+/** Episodes a configuration's seeds have played, all together. */
+const played = (arm) => [...arm.runs.values()].reduce((n, r) => n + r.length, 0);
 
 export class Compare {
-  constructor(root, { current, agentInfo, onError, wasm }) {
+  constructor(root, { current, agentInfo, onError, wasm, onBusy = () => {} }) {
     this.root = root;
     this.$ = (id) => root.querySelector(`#${id}`);
     this.current = current;
@@ -49,7 +85,15 @@ export class Compare {
     this.agentInfo = agentInfo;
     this.onError = onError;
     this.wasm = wasm;
+    /** Called with true when the comparison starts playing, false when it stops (pause, done, clear). */
+    this.onBusy = onBusy;
     this.arms = [];
+    /** Every run of the comparison: {arm, seed, state: 'queued' | 'playing' | 'done'}. */
+    this.jobs = [];
+    /** The pool's workers: {worker, job, ready}. */
+    this.pool = [];
+    /** (time, episodes played) samples for the rate and the ETA. */
+    this.samples = [];
     /** Agents the page cannot run (DQN, ERLAM: native, burn), shown by their reference runs. */
     this.natives = [];
     this.running = false;
@@ -66,6 +110,33 @@ export class Compare {
     $('compare-zoom-reset').addEventListener('click', () => this.chart.resetZoom());
     $('compare-metric').addEventListener('change', () => this.chart.touch());
     $('compare-task').addEventListener('change', () => this.preset('exp1'));
+    const workers = $('compare-workers');
+    const most = Math.max(defaultPool(), navigator.hardwareConcurrency || 1);
+    workers.replaceChildren(...Array.from({ length: most }, (_, i) => new Option(String(i + 1), String(i + 1))));
+    workers.value = String(defaultPool());
+    workers.addEventListener('change', () => this.fillPool());
+  }
+
+  /** Runs played at once. */
+  poolSize() {
+    return Number(this.$('compare-workers').value) || defaultPool();
+  }
+
+  /** Episodes each run plays, or null with the error shown (naming the control and its range). */
+  horizon() {
+    const input = this.$('compare-episodes');
+    const name = 'compare episodes';
+    if (input.validity.badInput || input.value.trim() === '') {
+      this.onError(`${name}: ${input.validity.badInput ? 'is not a number' : 'is empty'}; `
+        + `give a whole number in ${EPISODES.min}..=${EPISODES.max}`);
+      return null;
+    }
+    const n = Number(input.value);
+    if (!Number.isInteger(n) || n < EPISODES.min || n > EPISODES.max) {
+      this.onError(`${name}: ${input.value} is out of range ${EPISODES.min}..=${EPISODES.max} (whole numbers)`);
+      return null;
+    }
+    return n;
   }
 
   /** The seeds every configuration runs: 1..k. */
@@ -79,6 +150,8 @@ export class Compare {
     const p = name === 'exp1' ? exp1In(this.$('compare-task').value) : { ...COMPARE_PRESETS[name], base: PRESET_BASE };
     this.clear();
     this.chart.reset();
+    this.$('compare-seeds').value = String(PRESET_SEEDS);
+    this.$('compare-episodes').value = '5000';
     this.title = p.title;
     this.caption('', '');
     // The captions quote the reference index's numbers (the paper's and our runs').
@@ -115,6 +188,7 @@ export class Compare {
     await Promise.all([...arms, ...natives].map(async (a) => {
       const [experiment, condition] = a.referenceName.split(':');
       if (!listed.has(a.referenceName)) return;
+      a.referenceFills = listed.get(a.referenceName).ltmFull ?? [];
       try {
         const r = await fetch(new URL(`../assets/reference/${experiment}/${condition}.json`, import.meta.url));
         a.reference = r.ok ? await r.json() : null;
@@ -155,7 +229,10 @@ export class Compare {
       + `α=${settings.alpha} m=${settings.m} ${settings.task}`;
     this.add(label, settings);
     if (!this.title) this.title = 'Your configurations';
-    if (this.running) this.launch(this.arms[this.arms.length - 1]);
+    if (this.jobs.length) {
+      this.queue(this.arms[this.arms.length - 1]);
+      if (this.running) this.fillPool();
+    }
   }
 
   add(label, settings, referenceName = null) {
@@ -164,40 +241,104 @@ export class Compare {
       return;
     }
     const colour = ARM_COLOURS[this.arms.length % ARM_COLOURS.length];
-    this.arms.push({ label, settings, colour, worker: null, runs: new Map(), error: null, referenceName, reference: null });
+    this.arms.push({ label, settings, colour, runs: new Map(), error: null, referenceName, reference: null });
     this.list();
     this.chart.touch();
   }
 
-  launch(arm) {
-    const query = new URLSearchParams({ task: arm.settings.task ?? 'double-t-maze' });
-    if (this.wasm) query.set('wasm', this.wasm);
-    const url = new URL(`./compare-worker.js?${query}`, import.meta.url);
-    const w = new Worker(url, { type: 'module' });
-    arm.worker = w;
-    arm.runs = new Map(this.seeds().map((s) => [s, []]));
-    arm.error = null;
-    w.onmessage = ({ data }) => {
-      if (data.type === 'ready') {
-        w.postMessage({ type: 'start', settings: arm.settings, seeds: this.seeds() });
-        if (this.running && this.visible) w.postMessage({ type: 'play' });
-      } else if (data.type === 'started') {
-        arm.resolved = data.settings; // every setting the arm's runs use, defaults included
-      } else if (data.type === 'episodes') {
-        arm.runs.get(data.seed)?.push(...data.list);
-        arm.wasmBytes = data.wasmBytes;
-        this.chart.touch();
-        this.listSoon();
-      } else if (data.type === 'error') {
-        arm.error = data.message;
-        this.onError(`${arm.label}: ${data.message}`);
-        this.list();
+  /** Queues a configuration's runs, one per seed. */
+  queue(arm) {
+    for (const seed of this.seeds()) {
+      arm.runs.set(seed, []);
+      this.jobs.push({ arm, seed, state: 'queued' });
+    }
+  }
+
+  /** The runs in the order the pool takes them: every configuration's first seed, then the second, ... */
+  plan() {
+    this.jobs = [];
+    for (const arm of this.arms) arm.runs = new Map();
+    for (const seed of this.seeds()) {
+      for (const arm of this.arms) {
+        arm.runs.set(seed, []);
+        this.jobs.push({ arm, seed, state: 'queued' });
       }
-    };
+    }
+  }
+
+  /** Starts workers up to the pool's size while runs wait. */
+  fillPool() {
+    if (!this.running) return;
+    const waiting = this.jobs.filter((j) => j.state === 'queued').length;
+    // A worker without a run is ready for one, or will be when its module has loaded.
+    const free = this.pool.filter((p) => !p.job).length;
+    const add = Math.min(this.poolSize() - this.pool.length, waiting - free);
+    for (let i = 0; i < add; i++) this.spawn();
+    for (const p of [...this.pool]) if (p.ready && !p.job) this.assign(p);
+    this.list();
+  }
+
+  spawn() {
+    const query = new URLSearchParams();
+    if (this.wasm) query.set('wasm', this.wasm);
+    const w = new Worker(new URL(`./compare-worker.js?${query}`, import.meta.url), { type: 'module' });
+    const p = { worker: w, job: null, ready: false };
+    this.pool.push(p);
+    w.onmessage = ({ data }) => this.receive(p, data);
     w.onerror = (e) => {
-      arm.error = e.message;
-      this.onError(`${arm.label}: the worker failed: ${e.message}`);
+      if (p.job) p.job.arm.error = e.message;
+      this.onError(`compare: a worker failed: ${e.message}`);
+      this.retire(p);
     };
+  }
+
+  /** Gives a worker the next run, or lets it go when none waits or the pool shrank. */
+  assign(p) {
+    const next = this.jobs.find((j) => j.state === 'queued');
+    if (!next || this.pool.indexOf(p) >= this.poolSize()) {
+      this.retire(p);
+      return;
+    }
+    next.state = 'playing';
+    p.job = next;
+    p.worker.postMessage({ type: 'start', settings: next.arm.settings, seed: next.seed, episodes: this.episodes });
+    if (this.running && this.visible) p.worker.postMessage({ type: 'play' });
+  }
+
+  retire(p) {
+    p.worker.terminate();
+    if (p.job?.state === 'playing') p.job.state = 'queued';
+    this.pool = this.pool.filter((q) => q !== p);
+    if (this.running && this.jobs.length && this.jobs.every((j) => j.state === 'done')) this.finish();
+  }
+
+  receive(p, data) {
+    const job = p.job;
+    if (data.type === 'ready') {
+      p.ready = true;
+      this.assign(p);
+    } else if (data.type === 'started') {
+      job.arm.resolved = data.settings; // every setting the arm's runs use, defaults included
+    } else if (data.type === 'episodes') {
+      job.arm.runs.get(job.seed)?.push(...data.list);
+      job.arm.wasmBytes = data.wasmBytes;
+      this.chart.touch();
+      this.listSoon();
+    } else if (data.type === 'done') {
+      job.state = 'done';
+      p.job = null;
+      this.assign(p);
+      this.list();
+    } else if (data.type === 'error') {
+      if (job) {
+        job.arm.error = data.message;
+        job.state = 'done'; // not retried: the same configuration fails the same way
+        p.job = null;
+      }
+      this.onError(`${job?.arm.label ?? 'compare'}: ${data.message}`);
+      this.assign(p);
+      this.list();
+    }
   }
 
   start() {
@@ -205,45 +346,96 @@ export class Compare {
       this.onError('compare: add a configuration or pick an experiment first');
       return;
     }
-    this.running = true;
-    for (const arm of this.arms) {
-      if (!arm.worker) this.launch(arm);
-      else if (this.visible) arm.worker.postMessage({ type: 'play' });
+    if (!this.jobs.length || this.jobs.every((j) => j.state === 'done')) {
+      const episodes = this.horizon();
+      if (episodes == null) return;
+      this.episodes = episodes;
+      this.plan();
+      this.samples = [];
+      this.chart.touch();
     }
+    this.running = true;
+    this.onBusy(true);
+    for (const p of this.pool) if (this.visible) p.worker.postMessage({ type: 'play' });
+    this.fillPool();
     this.$('compare-run').textContent = 'Pause';
     this.$('compare-seeds').disabled = true;
+    this.$('compare-episodes').disabled = true;
     this.list();
   }
 
   pause() {
     this.running = false;
-    for (const arm of this.arms) arm.worker?.postMessage({ type: 'pause' });
+    for (const p of this.pool) p.worker.postMessage({ type: 'pause' });
     this.$('compare-run').textContent = 'Resume';
+    this.onBusy(false);
+    this.list();
+  }
+
+  /** Every run at its horizon: the pool goes, and the page's run may carry on. */
+  finish() {
+    this.running = false;
+    for (const p of this.pool) p.worker.terminate();
+    this.pool = [];
+    this.$('compare-run').textContent = 'Start again';
+    this.$('compare-seeds').disabled = false;
+    this.$('compare-episodes').disabled = false;
+    this.onBusy(false);
+    this.list();
   }
 
   /** Off screen or in a hidden tab: the workers pause, and resume after. */
   setVisible(v) {
     this.visible = v;
     if (!this.running) return;
-    for (const arm of this.arms) arm.worker?.postMessage({ type: v ? 'play' : 'pause' });
+    for (const p of this.pool) p.worker.postMessage({ type: v ? 'play' : 'pause' });
   }
 
   stop() {
-    for (const arm of this.arms) arm.worker?.terminate();
+    for (const p of this.pool) p.worker.terminate();
+    this.pool = [];
+    if (this.running) this.onBusy(false);
     this.running = false;
   }
 
   clear() {
     this.stop();
     this.arms = [];
+    this.jobs = [];
     this.natives = [];
     this.title = '';
     this.caption('', '');
     this.$('compare-reference').textContent = '';
     this.$('compare-run').textContent = 'Start';
     this.$('compare-seeds').disabled = false;
+    this.$('compare-episodes').disabled = false;
     this.list();
     this.chart.touch();
+  }
+
+  /**
+   * The progress line: episodes played of all the runs', the runs at a time, and the time left at
+   * the rate of the last half minute.
+   */
+  progress() {
+    if (!this.jobs.length) return '';
+    const total = this.jobs.length * this.episodes;
+    const done = this.arms.reduce((n, a) => n + played(a), 0);
+    const now = performance.now();
+    if (this.running) {
+      this.samples.push([now, done]);
+      while (this.samples.length > 2 && now - this.samples[0][0] > RATE_WINDOW_MS) this.samples.shift();
+    }
+    const [t0, d0] = this.samples[0] ?? [now, done];
+    const rate = now > t0 + 1000 ? ((done - d0) * 1000) / (now - t0) : NaN;
+    const runs = this.jobs.filter((j) => j.state === 'done').length;
+    const head = `${this.title || 'Comparison'}: ${done.toLocaleString('en')} of ${total.toLocaleString('en')} episodes `
+      + `(${Math.floor((100 * done) / total)} %), ${runs} of ${this.jobs.length} runs done`;
+    if (runs === this.jobs.length) return `${head}.`;
+    if (!this.running) return `${head}; paused.`;
+    const playing = this.jobs.filter((j) => j.state === 'playing').length;
+    return `${head}; ${playing} playing at once`
+      + (rate > 0 ? `, ${Math.round(rate)} episodes/s, about ${duration((total - done) / rate)} left.` : '.');
   }
 
   /**
@@ -256,16 +448,20 @@ export class Compare {
     this.$('compare-more').hidden = !details;
   }
 
-  /** What the chart draws: per configuration one array of values per seed. */
+  /**
+   * What the chart draws: per configuration one array of values per seed, and where its LTM
+   * filled (`fill`: the median episode over the seeds whose memory did, for a SEC arm).
+   */
   series() {
     const f = METRICS[this.$('compare-metric').value] ?? METRICS.reward;
     const arms = this.arms.filter((a) => a.runs.size).map((a) => ({
-      label: a.label, colour: a.colour, runs: [...a.runs.values()].map((eps) => eps.map(f)),
+      label: a.label, colour: a.colour, runs: [...a.runs.values()].map((eps) => eps.map(f)), fill: liveFill(a),
     }));
     const metric = this.$('compare-metric').value in METRICS ? this.$('compare-metric').value : 'reward';
     const references = [...this.arms, ...this.natives].filter((a) => a.reference).map((a) => ({
       label: a.label, colour: a.colour, at: a.reference.at, episodes: a.reference.episodes,
       mean: a.reference.metrics[metric].mean, se: a.reference.metrics[metric].se,
+      fill: middle((a.referenceFills ?? []).filter((e) => e != null)),
     }));
     return { title: `${this.title}: ${metric} (mean of ${WINDOW} episodes)`, arms, references };
   }
@@ -285,17 +481,23 @@ export class Compare {
 
   /** The configurations with their colour, settings and progress, then the reference-only agents. */
   list() {
+    this.$('compare-progress').textContent = this.progress();
     const ol = this.$('compare-arms');
     ol.replaceChildren(...this.arms.map((a, i) => {
-      const done = finished(a);
-      const li = item(a, a.error ? a.error : a.runs.size ? `${done} episodes × ${a.runs.size} seeds` : 'not started');
+      const seeds = this.jobs.filter((j) => j.arm === a);
+      const done = seeds.filter((j) => j.state === 'done').length;
+      const text = a.error ?? (seeds.length
+        ? `${played(a).toLocaleString('en')} episodes over ${a.runs.size} seeds, ${done} at ${this.episodes}`
+        : 'not started');
+      const li = item(a, text);
       if (!this.running) {
         const rm = document.createElement('button');
         rm.type = 'button';
         rm.textContent = '×';
         rm.title = 'Remove';
         rm.addEventListener('click', () => {
-          a.worker?.terminate();
+          for (const p of this.pool.filter((q) => q.job?.arm === a)) this.retire(p);
+          this.jobs = this.jobs.filter((j) => j.arm !== a);
           this.arms.splice(i, 1);
           this.list();
           this.chart.touch();
@@ -333,6 +535,10 @@ export class Compare {
       },
       /** Each arm's worker's wasm memory in bytes, as of its last episodes (null before). */
       get wasmBytes() { return me.arms.map((a) => a.wasmBytes ?? null); },
+      /** Workers in the pool, and the runs: {label, seed, state, episodes}. */
+      get pool() { return me.pool.length; },
+      get jobs() { return me.jobs.map((j) => ({ label: j.arm.label, seed: j.seed, state: j.state, episodes: j.arm.runs.get(j.seed)?.length ?? 0 })); },
+      get progress() { return me.$('compare-progress').textContent; },
       /** Each arm's settings as its runs use them (null until its worker has started). */
       get resolved() { return me.arms.map((a) => a.resolved ?? null); },
     };

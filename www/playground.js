@@ -72,6 +72,7 @@ export class Playground {
       agentInfo: (key) => this.agentInfo(key),
       onError: (m) => this.showError(m),
       wasm: WASM,
+      onBusy: (busy) => this.compareBusy(busy),
     });
     this.rate = { samples: [], perSecond: null };
     this.tour = new Tour(root, {
@@ -146,8 +147,25 @@ export class Playground {
 
   setPlaying(p) {
     this.wantPlay = p;
+    if (p) this.$('main-paused').hidden = true; // the user's choice now
     this.send({ type: p && this.visible ? 'play' : 'pause' });
     this.views();
+  }
+
+  /**
+   * The comparison starts playing (true) or stops (false): a playing run pauses meanwhile, with a
+   * note and a button to resume it, and carries on after unless the user chose otherwise.
+   */
+  compareBusy(busy) {
+    const note = this.$('main-paused');
+    if (busy) {
+      if (!this.wantPlay) return;
+      this.setPlaying(false);
+      note.hidden = false;
+    } else if (!note.hidden) {
+      note.hidden = true;
+      this.setPlaying(true);
+    }
   }
 
   /** On screen or not (the element's observer): off screen the run pauses, and carries on after. */
@@ -230,6 +248,7 @@ export class Playground {
 
   wire(keys) {
     const $ = this.$;
+    $('main-resume').addEventListener('click', () => this.setPlaying(true));
     runControls($, {
       toggle: () => this.setPlaying(!this.wantPlay),
       step: (what) => {
@@ -362,6 +381,8 @@ export class Playground {
       get driving() { return me.driving; },
       get log() { return me.log; },
       get compare() { return me.compare.state; },
+      /** Whether the run is paused for the comparison (its note shows). */
+      get pausedForCompare() { return !me.$('main-paused').hidden; },
       get tour() { return me.tour.state; },
       /** The last decision explained (while paused or stepping). */
       get explanation() { return me.lastExplanation ?? null; },

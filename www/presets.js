@@ -59,6 +59,14 @@ const fills = (entry) => {
   const f = (entry?.ltmFull ?? []).filter((e) => e != null);
   return { filled: f.length, of: entry?.ltmFull?.length, first: Math.min(...f), last: Math.max(...f) };
 };
+/**
+ * The first episode at which an entry's runs' LTMs filled: where arms that differ only in what a
+ * full memory does (its size, forgetting, the value of old sequences) part, run for run.
+ */
+const parting = (refs, name) => {
+  const f = fills(refs.get(name));
+  return f.filled ? f.first : '(not in this build)';
+};
 /** Each run's reward per episode, to two decimals, joined. */
 const listed = (xs) => xs.map((x) => fixed(x)).join(', ');
 
@@ -149,7 +157,8 @@ export const COMPARE_PRESETS = {
       return `The paper: SEC beats NSEC at every memory size, by most with the smallest (${r(125, paper)} times at 125 `
         + `sequences, ${r(1000, paper)} at 1000). `
         + (oursSaid([r(125, ours), r(1000, ours)]) ?? `Our reference runs: ${r(125, ours)} times at 125, ${r(1000, ours)} at 1000. `)
-        + 'Live, the arms stay together: capacity matters only once a memory is full, hundreds of episodes in.';
+        + `Live, each model's two arms are one line until its 125-sequence memory fills (○): the reference `
+        + `runs part from episode ${parting(refs, 'exp2:m125/SEC')} (SEC) and ${parting(refs, 'exp2:m125/NSEC')} (NSEC).`;
     },
     caption: (refs) => {
       const sizes = [125, 250, 500, 1000];
@@ -196,7 +205,8 @@ export const COMPARE_PRESETS = {
       const said = oursSaid([base, ...variants]) ?? `Our reference runs: ${fixed(Math.min(...variants))} to `
         + `${fixed(Math.max(...variants))} per episode against the default's ${fixed(base)}. `;
       return 'The paper: removing one term of the value costs no significant reward. ' + said
-        + 'Live, the arms stay together: they can differ only once memory holds many sequences.';
+        + 'Live, the arms stay together: they can differ only once memory holds many sequences, its 500 from '
+        + `episode ${parting(refs, 'exp3:value-function/SEC-default')} in the reference runs (○ on the line).`;
     },
     caption: (refs) => {
       const get = (v) => refs.get(`exp3:value-function/SEC-${v}`);
@@ -223,9 +233,10 @@ export const COMPARE_PRESETS = {
   },
   exp4: {
     title: 'Experiment 4: forgetting',
-    summary: () => 'The paper: once the LTM is full, forgetting helps both models a little. Our reference runs point '
-      + 'the same way once the memory fills, not significantly. Live, each arm is one run with its seed\'s '
-      + 'no-forgetting arm until the memory fills, hundreds of episodes in.',
+    summary: (refs) => 'The paper: once the LTM is full, forgetting helps both models a little. Our reference runs '
+      + 'point the same way once the memory fills, not significantly. Live, each arm is one run with its seed\'s '
+      + `no-forgetting arm until the memory fills (○ on the line), from episode ${parting(refs, 'exp4:forgetting/SEC-none')} `
+      + 'in the reference runs.',
     caption: (refs) => {
       const get = (m) => refs.get(`exp4:forgetting/${m}`);
       const arms = ['SEC-none', 'NSEC-none', 'SEC-fifo', 'SEC-rwd', 'NSEC-rwd'];

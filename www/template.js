@@ -33,6 +33,8 @@ export const TEMPLATE = `
     <label class="file" title="Load a saved memory into this run (same task, encoder and n)">Load memory…
       <input id="load-memory" type="file" accept=".secmem,application/octet-stream"></label>
   </section>
+  <p id="main-paused" class="note paused-note" hidden>This run is paused while the comparison below plays, so
+    that the comparison has the machine. <button id="main-resume" type="button">Resume it</button></p>
   <p id="error" class="error" role="alert" hidden></p>
   <p id="notice" class="notice" aria-live="polite"></p>
   <div class="layout">
@@ -113,8 +115,9 @@ export const TEMPLATE = `
   <section id="charts" class="charts" aria-label="Learning curves"></section>
   <section id="compare" class="compare" aria-label="Compare configurations">
     <h2>Compare</h2>
-    <p class="help">Run several configurations side by side, each in its own worker, with the same seeds; the
-      chart overlays their 20-episode mean reward, with a band of ± one standard error across seeds.</p>
+    <p class="help">Run several configurations with the same seeds, to the paper's horizon: a pool of workers
+      plays one run (a configuration and a seed) each at a time. The chart overlays their 20-episode mean
+      reward, with a band of ± one standard error across the seeds played so far.</p>
     <div class="compare-bar">
       <span>Paper's experiments:
         <button id="compare-exp1" type="button">1: SEC vs NSEC vs MFEC</button>
@@ -130,6 +133,10 @@ export const TEMPLATE = `
       <label>seeds <select id="compare-seeds">
         <option>1</option><option>2</option><option selected>3</option><option>4</option><option>5</option>
       </select></label>
+      <label title="Episodes each run plays (the paper's horizon is 5000)">episodes
+        <input id="compare-episodes" type="number" min="10" max="20000" step="10" value="5000" inputmode="numeric"></label>
+      <label title="Runs played at once, one per worker: the machine's threads less one, or fewer">workers
+        <select id="compare-workers"></select></label>
       <label>chart <select id="compare-metric">
         <option value="reward">reward</option><option value="entropy">entropy</option>
         <option value="decisions">decisions</option>
@@ -142,6 +149,7 @@ export const TEMPLATE = `
     </div>
     <p id="compare-caption" class="caption"></p>
     <details id="compare-more" class="caption" hidden><summary>more</summary><p id="compare-more-text"></p></details>
+    <p id="compare-progress" class="note" aria-live="off"></p>
     <p id="compare-reference" class="note" aria-live="polite"></p>
     <ol id="compare-arms" class="arms"></ol>
     <div id="compare-chart" class="compare-chart"></div>

@@ -30,8 +30,13 @@ afterEach(async () => {
   for (const p of pages.splice(0)) if (!p.isClosed()) await p.close();
 });
 
+/** The threads the pages here say the machine has: a comparison's pool is one less (4), so a
+ *  preset's three configurations start at once on any machine. */
+const THREADS = 5;
+
 async function newPage() {
   const page = await browser.newPage({ viewport: { width: 1300, height: 1000 }, acceptDownloads: true });
+  await page.addInitScript((n) => Object.defineProperty(Navigator.prototype, 'hardwareConcurrency', { get: () => n }), THREADS);
   pages.push(page);
   return page;
 }
@@ -154,6 +159,94 @@ test('compare mode: a preset starts its runs; two configurations draw two series
   }
 });
 
+test('compare at the horizon: a pool of 4 plays four runs at once while the page\'s run waits', async () => {
+  const problems = [];
+  const page = await open('#task=object-permanence', problems);
+  try {
+    await ready(page);
+    await page.waitForFunction(() => window.secPlayground.playing);
+    assert.equal(await page.inputValue('#compare-workers'), String(THREADS - 1), 'the threads less one');
+    await page.click('#compare-exp1');
+    const c = () => page.evaluate(() => window.secPlayground.compare);
+    // Experiment 1 to the paper's horizon: 3 configurations x 5 seeds x 5000 episodes.
+    assert.equal(await page.inputValue('#compare-episodes'), '5000');
+    assert.equal((await c()).jobs.length, 15);
+    // The page's run pauses, with a note that says why.
+    await page.waitForFunction(() => window.secPlayground.pausedForCompare && !window.secPlayground.playing);
+    assert.ok(await page.locator('#main-paused').isVisible());
+    const mainEpisodes = await page.evaluate(() => window.secPlayground.episodes);
+    // Four runs play, the first seed of each configuration first.
+    await page.waitForFunction(() => {
+      const playing = window.secPlayground.compare.jobs.filter((j) => j.state === 'playing');
+      return playing.length === 4 && playing.every((j) => j.episodes > 0);
+    }, null, { timeout: 120000, polling: 250 });
+    const first = (await c()).jobs.filter((j) => j.state === 'playing');
+    assert.deepEqual(first.map((j) => j.seed), [1, 1, 1, 2]);
+    // Every one of them advances, all at once (none waits for another to finish).
+    await page.waitForFunction((before) => {
+      const now = window.secPlayground.compare.jobs;
+      return before.every((b) => now.some((j) => j.label === b.label && j.seed === b.seed && j.episodes > b.episodes + 5));
+    }, first, { timeout: 120000, polling: 250 });
+    assert.equal((await c()).pool, 4);
+    assert.match((await c()).progress, /of 75,000 episodes .*4 playing at once/);
+    assert.equal(await page.evaluate(() => window.secPlayground.episodes), mainEpisodes, 'the page\'s run stayed paused');
+    // Pausing the comparison gives the machine back to the page's run.
+    await page.click('#compare-run');
+    await page.waitForFunction(() => !window.secPlayground.pausedForCompare && window.secPlayground.playing);
+    assert.match((await c()).progress, /paused/);
+    // Resumed, it pauses the page's run again; "Resume it" plays it beside the comparison.
+    await page.click('#compare-run');
+    await page.waitForFunction(() => window.secPlayground.pausedForCompare);
+    await page.click('#main-resume');
+    await page.waitForFunction(() => !window.secPlayground.pausedForCompare && window.secPlayground.playing);
+    assert.ok((await c()).running);
+    assert.deepEqual(problems, []);
+  } finally {
+    await page.close();
+  }
+});
+
+test('a comparison plays each run to its horizon, then the next, and a bad horizon is refused by name', async () => {
+  const problems = [];
+  const page = await open('#task=object-permanence&m=10', problems);
+  try {
+    await ready(page);
+    await page.selectOption('#compare-workers', '1');
+    await page.selectOption('#compare-seeds', '2');
+    await page.click('#compare-add');
+    // A non-number and an out-of-range number are refused, naming the control and its range.
+    await page.fill('#compare-episodes', '');
+    // What a number input holds while its text is not a number ('1e': badInput, value '').
+    await page.locator('#compare-episodes').pressSequentially('1e');
+    await page.click('#compare-run');
+    await page.waitForFunction(() => /compare episodes: is not a number/.test(document.getElementById('error').textContent));
+    assert.match(await page.locator('#error').innerText(), /10\.\.=20000/);
+    await page.fill('#compare-episodes', '70000');
+    await page.click('#compare-run');
+    await page.waitForFunction(() => /compare episodes: 70000 is out of range 10\.\.=20000/.test(document.getElementById('error').textContent));
+    assert.equal((await page.evaluate(() => window.secPlayground.compare)).running, false, 'nothing started');
+    await page.fill('#compare-episodes', '60');
+    await page.click('#compare-run');
+    // One worker: seed 1 to 60 episodes, then seed 2, then done; the page's run carries on.
+    await page.waitForFunction(() => window.secPlayground.compare.jobs.every((j) => j.state === 'done'), null, { timeout: 240000, polling: 250 });
+    const c = await page.evaluate(() => window.secPlayground.compare);
+    assert.deepEqual(c.jobs.map((j) => [j.seed, j.episodes]), [[1, 60], [2, 60]]);
+    // Its 10-sequence LTM filled early, and the chart marks the episode on its line.
+    await page.waitForFunction(() => window.secPlayground.compare.drawn.fills?.some((f) => f.live));
+    const fill = (await page.evaluate(() => window.secPlayground.compare.drawn.fills)).find((f) => f.live);
+    const ltm = await page.evaluate(() => window.secPlayground.compare.resolved[0].m);
+    assert.equal(ltm, '10');
+    assert.ok(fill.episode > 0 && fill.episode < 60, JSON.stringify(fill));
+    assert.equal(c.pool, 0, 'the workers are let go');
+    assert.ok(!c.running);
+    await page.waitForFunction(() => window.secPlayground.playing && !window.secPlayground.pausedForCompare);
+    assert.match(c.progress, /120 of 120 episodes \(100 %\), 2 of 2 runs done\./);
+    assert.deepEqual(problems.filter((p) => !/compare episodes/.test(p)), []);
+  } finally {
+    await page.close();
+  }
+});
+
 test('a preset draws its reference runs at once, made at the settings its arms run', async () => {
   const problems = [];
   const page = await open('', problems);
@@ -197,6 +290,35 @@ test('a preset draws its reference runs at once, made at the settings its arms r
     await page.waitForFunction(() => /detour/.test(window.secPlayground.compare.caption));
     await page.waitForFunction(() => window.secPlayground.compare.resolved.every((s) => s), null, { timeout: 60000 });
     assert.deepEqual((await page.evaluate(() => window.secPlayground.compare.resolved)).map((s) => s.task), ['detour', 'detour', 'detour']);
+    assert.deepEqual(problems, []);
+  } finally {
+    await page.close();
+  }
+});
+
+test('Experiment 2 marks where each memory fills and says from which episode its arms part', async () => {
+  const problems = [];
+  const page = await open('', problems);
+  try {
+    await ready(page);
+    await page.click('#compare-exp2');
+    const index = await page.evaluate(async () => (await (await fetch('assets/reference/index.json')).json()).references);
+    const entry = (name) => index.find((r) => r.reference === name);
+    const first = (name) => Math.min(...entry(name).ltmFull.filter((e) => e != null));
+    await page.waitForFunction(() => window.secPlayground.compare.drawn.references === 4, null, { timeout: 30000 });
+    await page.waitForFunction(() => window.secPlayground.compare.captionShort !== '');
+    const c = await page.evaluate(() => window.secPlayground.compare);
+    // The summary names where the reference runs of the two sizes part: the 125-sequence LTM's first fill.
+    assert.ok(c.captionShort.includes(`part from episode ${first('exp2:m125/SEC')} (SEC) and ${first('exp2:m125/NSEC')} (NSEC)`),
+      c.captionShort);
+    // Each reference line has its fill marked (○), at its runs' median fill.
+    const marks = c.drawn.fills.filter((f) => !f.live).map((f) => f.episode);
+    assert.equal(marks.length, 4);
+    const med = (name) => {
+      const v = entry(name).ltmFull.filter((e) => e != null).sort((a, b) => a - b);
+      return v[(v.length - 1) >> 1];
+    };
+    assert.deepEqual(marks, ['m125/SEC', 'm125/NSEC', 'm1000/SEC', 'm1000/NSEC'].map((m) => med(`exp2:${m}`)));
     assert.deepEqual(problems, []);
   } finally {
     await page.close();
