@@ -1,7 +1,7 @@
 // The controls: one per setting of the core's `parameters()` (symbol, one-line explanation,
 // range), the run bar (play, step, reset, speed, presets) and the keyboard shortcuts. Values go
 // out as strings, exactly as the URL hash holds them; the core validates them.
-import { onControl } from './typing.js';
+import { keepsKey } from './typing.js';
 
 /** The speed slider's stops, in decisions per second; the last is "max". */
 export const SPEEDS = [1, 2, 5, 10, 25, 50, 100, 250, 1000, 'max'];
@@ -180,7 +180,7 @@ export function runControls($, actions, { target = window } = {}) {
   speed.addEventListener('input', () => actions.speed(showSpeed()));
   showSpeed();
   target.addEventListener('keydown', (e) => {
-    if (onControl(e) || e.ctrlKey || e.metaKey || e.altKey) return;
+    if (keepsKey(e) || e.ctrlKey || e.metaKey || e.altKey) return;
     const key = {
       ' ': actions.toggle, '.': () => actions.step('decision'), e: () => actions.step('episode'), r: actions.reset,
       d: actions.drive,

@@ -35,16 +35,28 @@ export function whyLayer(view, agent) {
 
 const fmt = (x, d = 4) => (Math.abs(x) >= 1e4 || (x !== 0 && Math.abs(x) < 1e-3) ? x.toExponential(2) : x.toFixed(d));
 
-/** The explain panel: the selected couplets' terms and their sum into Q and p per action. */
-export function drawExplanation(root, e) {
+/** Who took the decision, said first. */
+const ACTED = {
+  C: 'Memory acted (the contextual layer): the action was drawn from its vote p below.',
+  R: 'The reactive layer acted: its walk chose the action. Memory\'s vote below was not acted on.',
+  H: 'You acted (driving): your action was taken. Memory\'s vote below was not acted on.',
+};
+
+/**
+ * The explain panel: first which layer acted (`layer`: C, R or H), then the selected couplets'
+ * terms and their sum into Q and p per action.
+ */
+export function drawExplanation(root, e, layer) {
   const body = root.querySelector('tbody');
   const foot = root.querySelector('tfoot');
   const formula = root.querySelector('.formula');
+  const acted = ACTED[layer] ?? '';
   if (!e || !e.couplets.length) {
     body.replaceChildren();
     foot.replaceChildren();
-    formula.textContent = 'No stored couplet passed the thresholds at the last decision: Q is empty and the '
-      + 'reactive layer acts. Step on until memory selects something.';
+    const who = layer === 'H' ? 'You acted (driving): your action was taken.' : 'The reactive layer acted.';
+    formula.textContent = `${who} No stored couplet passed the thresholds at this decision, so memory had no `
+      + 'vote. Step on until memory selects something.';
     return;
   }
   const g = e.sequentialBias ? 'G = (1 − MAE) × T' : 'G = 1 − MAE (no bias: NSEC)';
@@ -52,10 +64,13 @@ export function drawExplanation(root, e) {
     default: 'G × rr × exp(−d/τ)', noGi: 'rr × exp(−d/τ)', noDist: 'G × rr', noRR: 'G × exp(−d/τ)',
     soloGi: 'G', soloDist: 'exp(−d/τ)', soloRR: 'rr',
   }[e.valueFunction];
-  formula.textContent = `Selected: ${g} > θ_abs ${e.thetaAbs} and G / Gmax > θ_prop ${e.thetaProp}. `
+  formula.textContent = `${acted} Selected: ${g} > θ_abs ${e.thetaAbs} and G / Gmax > θ_prop ${e.thetaProp}. `
     + `Each votes value = ${v} (τ = ${e.tau}; rr: its sequence's reward over the best selected; `
     + 'd: its distance to the goal, (n − position) / n) for its action; Q sums the votes per action and '
-    + 'p = Q / ΣQ is what the 3×3 grid shows; the action is drawn from p.';
+    + 'p = Q / ΣQ is what the 3×3 grid shows'
+    + ({ C: '; the action was drawn from p.', H: ', the vote your driving overrode.' }[layer]
+      ?? ', the vote the reactive layer overrode.');
+  formula.textContent = formula.textContent.trim();
   const rows = e.couplets.slice(0, 200).map((c) => {
     const tr = document.createElement('tr');
     for (const x of [c.sequence, c.position, fmt(c.g), fmt(c.t), fmt(c.rr, 3), fmt(c.d, 3), ACTION_NAMES[c.action], fmt(c.value)]) {

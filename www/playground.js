@@ -525,7 +525,7 @@ Playground.prototype.handlers = {
       : `${v.gateMse == null ? 'not measured yet' : v.gateMse.toFixed(4)}${v.gate != null ? ` (gate ${+v.gate.toPrecision(4)})` : ''}`;
     if (msg.explain) {
       this.lastExplanation = msg.explain;
-      drawExplanation($('explain'), msg.explain);
+      drawExplanation($('explain'), msg.explain, v.layer);
     }
     else if (this.wantPlay) $('explain').querySelector('.formula').textContent = 'Pause or step to see the last decision explained.';
     this.status();

@@ -71,6 +71,41 @@ test('the warm-up says why the reactive layer acts, and a decision explains its 
   const sums = await page.$$eval('#explain tfoot tr', (trs) => trs.map((tr) => Number(tr.dataset.action)));
   assert.deepEqual(sums, e.q.map((v, a) => (v > 0 ? a : -1)).filter((a) => a >= 0));
   assert.match(await page.textContent('#explain .formula'), /G \/ Gmax > θ_prop/);
+  // It says first which layer acted, and "drawn from p" only when memory did.
+  const formula = await page.textContent('#explain .formula');
+  if (layer === 'C') assert.match(formula, /^Memory acted \(the contextual layer\).*drawn from p/);
+  else assert.match(formula, /^The reactive layer acted: .*not acted on/);
+  if (layer !== 'C') assert.doesNotMatch(formula, /drawn from p/);
+  assert.deepEqual(problems, []);
+});
+
+test('the explanation says which layer acted: the reactive layer\'s decision shows memory\'s vote as not acted on', async () => {
+  const { page, problems } = await open('#task=object-permanence');
+  await page.waitForFunction(() => window.secPlayground.view.layer);
+  // The panel as the page draws it, for one explanation with couplets and each layer.
+  const texts = await page.evaluate(async () => {
+    const { drawExplanation } = await import('./www/explain.js');
+    const root = document.getElementById('explain').cloneNode(true);
+    const e = {
+      couplets: [{ sequence: 0, position: 3, g: 0.99, t: 1, rr: 1, d: 0.5, action: 3, value: 0.6 }],
+      q: [0, 0, 0, 0.6, 0, 0, 0, 0, 0], p: [0, 0, 0, 1, 0, 0, 0, 0, 0],
+      sequentialBias: true, valueFunction: 'default', thetaAbs: 0.98, thetaProp: 0.995, tau: 0.9,
+    };
+    const out = {};
+    for (const layer of ['C', 'R', 'H']) {
+      drawExplanation(root, e, layer);
+      out[layer] = root.querySelector('.formula').textContent;
+    }
+    drawExplanation(root, { ...e, couplets: [] }, 'R');
+    out.none = root.querySelector('.formula').textContent;
+    return out;
+  });
+  assert.match(texts.C, /^Memory acted .*the action was drawn from p\.$/);
+  assert.match(texts.R, /^The reactive layer acted: its walk chose the action\. Memory's vote below was not acted on\./);
+  assert.match(texts.R, /the vote the reactive layer overrode\.$/);
+  assert.match(texts.H, /^You acted .*the vote your driving overrode\.$/);
+  for (const t of [texts.R, texts.H, texts.none]) assert.doesNotMatch(t, /drawn from p/);
+  assert.match(texts.none, /^The reactive layer acted\. No stored couplet passed/);
   assert.deepEqual(problems, []);
 });
 

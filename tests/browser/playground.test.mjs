@@ -214,13 +214,26 @@ test('pause stops the run, step advances it by one decision, a hidden tab pauses
   await page.waitForFunction((s) => window.secPlayground.view.step !== s, before[1]);
   const step = await page.evaluate(() => window.secPlayground.view.step);
   assert.ok(step === before[1] + 4 || step < before[1], `${before[1]} -> ${step}`);
-  // Space on the focused "Step decision" button steps again; it does not toggle play.
+  // After a click the button keeps focus, but not the keys: Space plays, '.' steps.
   await page.keyboard.press(' ');
-  await page.waitForFunction((s) => window.secPlayground.view.step !== s, step);
-  await page.waitForTimeout(300);
-  assert.equal(await page.evaluate(() => window.secPlayground.playing), false, 'Space on a button is the button');
-  // With no control focused, Space plays again.
+  await page.waitForFunction(() => window.secPlayground.playing);
+  await page.keyboard.press(' ');
+  await page.waitForFunction(() => !window.secPlayground.playing);
+  const paused = await page.evaluate(() => window.secPlayground.view.step);
+  await page.keyboard.press('.');
+  await page.waitForFunction((s) => window.secPlayground.view.step !== s, paused);
+  // A button reached by the keyboard keeps its own keys: Space is the button. (Focus moved by
+  // script after a key press shows as the keyboard's, as Tab's does.)
   await page.evaluate(() => document.activeElement?.blur());
+  await page.keyboard.press('Shift');
+  await page.focus('#step-decision');
+  assert.ok(await page.evaluate(() => document.activeElement.matches(':focus-visible')));
+  const stepped = await page.evaluate(() => window.secPlayground.view.step);
+  await page.keyboard.press(' ');
+  await page.waitForFunction((s) => window.secPlayground.view.step !== s, stepped);
+  assert.equal(await page.evaluate(() => window.secPlayground.playing), false, 'Space on a focused button is the button');
+  // After a click on the speed slider, the shortcuts still work.
+  await page.click('#speed');
   await page.keyboard.press(' ');
   await page.waitForFunction(() => window.secPlayground.playing);
   // A hidden tab pauses the run, and it plays again when the tab is back.
@@ -232,6 +245,27 @@ test('pause stops the run, step advances it by one decision, a hidden tab pauses
   await page.waitForFunction(() => !window.secPlayground.playing);
   await visibility(false);
   await page.waitForFunction(() => window.secPlayground.playing);
+  await page.close();
+});
+
+test('after Drive is clicked off, Space plays or pauses and does not drive again', async () => {
+  const page = await open('#task=object-permanence');
+  await page.waitForFunction(() => window.secPlayground.points >= 1, null, { timeout: 30000 });
+  await page.click('#drive');
+  await page.waitForFunction(() => window.secPlayground.driving);
+  await page.click('#drive');
+  await page.waitForFunction(() => !window.secPlayground.driving);
+  const playing = await page.evaluate(() => window.secPlayground.playing);
+  await page.keyboard.press(' ');
+  await page.waitForFunction((p) => window.secPlayground.playing !== p, playing);
+  assert.equal(await page.evaluate(() => window.secPlayground.driving), false, 'Space is the shortcut, not the button');
+  // 'e' steps an episode after a click on a control of the parameters (a checkbox).
+  if (await page.evaluate(() => window.secPlayground.playing)) await page.keyboard.press(' ');
+  await page.waitForFunction(() => !window.secPlayground.playing);
+  await page.click('#record');
+  const episodes = await page.evaluate(() => window.secPlayground.episodes);
+  await page.keyboard.press('e');
+  await page.waitForFunction((n) => window.secPlayground.episodes > n, episodes, { timeout: 60000 });
   await page.close();
 });
 
