@@ -139,8 +139,9 @@ export function buildControls(root, params, onChange) {
         else el.removeAttribute('aria-invalid');
       }
     },
+    /** Hides the rows of `keys` and shows every other (a later call replaces an earlier one). */
     hide(keys) {
-      for (const k of keys) root.querySelector(`.param[data-key="${k}"]`)?.setAttribute('hidden', '');
+      for (const row of root.querySelectorAll('.param[data-key]')) row.hidden = keys.includes(row.dataset.key);
     },
     /** Disables, with a note, the knobs that `agent` (the agent table's row) does not read. */
     agent(agent) {

@@ -32,7 +32,7 @@ class SecPlaygroundElement extends HTMLElement {
     this.playground = new Playground(root, {
       settings: this.settingsFromAttributes(),
       autoplay: this.hasAttribute('autoplay'),
-      hide: (this.getAttribute('hide') ?? '').split(/[\s,]+/).filter(Boolean),
+      hide: this.hideList(),
       keys: this,
     });
     this.observer = new IntersectionObserver((entries) => {
@@ -42,6 +42,7 @@ class SecPlaygroundElement extends HTMLElement {
     // Only the attributes that changed: one refused earlier must not block the later ones.
     this.attributes$ = new MutationObserver((records) => {
       const changed = new Set(records.map((r) => r.attributeName));
+      if (changed.has('hide')) this.playground.setHidden(this.hideList());
       const all = this.settingsFromAttributes();
       const keys = Object.keys(all).filter((name) => changed.has(name));
       if (keys.length) this.playground.set(Object.fromEntries(keys.map((k) => [k, all[k]])));
@@ -59,6 +60,11 @@ class SecPlaygroundElement extends HTMLElement {
       this.playground = null;
       this.shadowRoot.replaceChildren();
     });
+  }
+
+  /** The `hide` attribute's parts and keys. */
+  hideList() {
+    return (this.getAttribute('hide') ?? '').split(/[\s,]+/).filter(Boolean);
   }
 
   settingsFromAttributes() {

@@ -83,11 +83,25 @@ export class Playground {
       },
       view: () => this.lastView,
     });
-    for (const part of hide) {
-      if (/^[a-z-]+$/i.test(part)) root.querySelector(`.playground .${part}, .playground #${part}`)?.setAttribute('hidden', '');
-    }
+    this.hidden = [];
+    this.setHidden(hide);
     this.wire(keys);
     this.startWorker();
+  }
+
+  /**
+   * What a teacher hides: parts (runbar, keepbar, controls, views, charts, compare, or one view:
+   * camera, arena, reconstruction, heat, policy) and setting keys. Again at any time (the
+   * element's `hide` attribute): what was hidden before and is not listed shows again. Without
+   * its controls the views take the whole width (the layout's one column).
+   */
+  setHidden(hide) {
+    const part = (name) => (/^[a-z-]+$/i.test(name)
+      ? this.root.querySelector(`.playground .${name}, .playground #${name}`) : null);
+    for (const name of this.hidden) part(name)?.removeAttribute('hidden');
+    for (const name of hide) part(name)?.setAttribute('hidden', '');
+    this.hidden = [...hide];
+    this.controls?.hide(this.hidden);
   }
 
   /** The error at the top of the page, and each refused value's next to its control. */

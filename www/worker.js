@@ -164,8 +164,10 @@ const handlers = {
       if (gateModel(next.config) !== gateModel(run.config())) await ensureModel(gateModel(next.config));
       mode = run.replaceConfig(next.config).applied;
     }
+    // What changed, under the table's keys (an attribute `thetaprop` is `thetaProp` here).
+    const changed = Object.fromEntries(Object.entries(next.settings).filter(([k, v]) => settings?.[k] !== v));
     settings = next.settings;
-    post({ type: 'started', settings, errors: [], mode, changes });
+    post({ type: 'started', settings, errors: [], mode, changes: changed });
     postView(true);
   },
   preset({ name }) {

@@ -605,6 +605,57 @@ test('two <sec-playground> elements on a course page run their own settings; the
   await page.close();
 });
 
+test('an element without its controls is compact, takes a new hide at once, and labels changes by their symbols', async () => {
+  const problems = [];
+  const page = await newPage();
+  page.on('pageerror', (e) => problems.push(String(e)));
+  // A course page of its own, served beside the playground.
+  await page.route(`${base}compact.html`, (route) => route.fulfill({ contentType: 'text/html', body: `<!doctype html>
+    <body style="margin:0;width:1200px"><script src="www/sec-playground.js"></script>
+    <sec-playground id="p" task="object-permanence" hide="controls compare keepbar" autoplay></sec-playground>` }));
+  await page.goto(`${base}compact.html`);
+  await page.waitForFunction(() => document.getElementById('p').state?.episodes > 0, null, { timeout: 90000 });
+  const shape = () => page.evaluate(() => {
+    const el = document.getElementById('p');
+    const r = el.shadowRoot;
+    const views = r.querySelector('.views').getBoundingClientRect();
+    return { height: el.getBoundingClientRect().height, views: views.width, controls: !r.getElementById('controls').hidden,
+      compare: !r.getElementById('compare').hidden };
+  });
+  const compact = await shape();
+  // The views take the width the controls left (one column), so the element stays short.
+  assert.ok(compact.views > 1000, `views ${compact.views} px wide`);
+  assert.ok(compact.height < 1400, `element ${compact.height} px tall`);
+  assert.equal(compact.controls, false);
+  // A new hide applies at once: the controls back, the compare section hidden.
+  await page.evaluate(() => document.getElementById('p').setAttribute('hide', 'compare keepbar n'));
+  await page.waitForFunction(() => !document.getElementById('p').shadowRoot.getElementById('controls').hidden);
+  const shown = await shape();
+  assert.ok(shown.views < compact.views && !shown.compare, JSON.stringify(shown));
+  assert.ok(await page.evaluate(() => document.getElementById('p').shadowRoot.querySelector('.param[data-key="n"]').hidden));
+  assert.ok(await page.evaluate(() => !document.getElementById('p').shadowRoot.querySelector('.param[data-key="m"]').hidden));
+  // A camelCase attribute (lowercased by HTML) is named by the table's symbol.
+  await page.evaluate(() => document.getElementById('p').setAttribute('thetaprop', '0.99'));
+  await page.waitForFunction(() => document.getElementById('p').state.settings.thetaProp === '0.99');
+  const notice = await page.evaluate(() => document.getElementById('p').shadowRoot.getElementById('notice').textContent);
+  assert.match(notice, /θ_prop=0\.99/);
+  assert.doesNotMatch(notice, /thetaprop/);
+  assert.ok((await page.evaluate(() => document.getElementById('p').state.marks)).some((m) => /θ_prop=0\.99/.test(m.label ?? m)));
+  assert.deepEqual(problems, []);
+  await page.close();
+});
+
+test('opened from disk, an element without text of its own says how to serve the page', async () => {
+  const page = await newPage();
+  await page.goto(new URL('../../www/examples/course.html', import.meta.url).href);
+  // The page's own fallback stays as written; the element without one gets the shipped text.
+  await page.waitForFunction(() => document.querySelector('#nsec p'));
+  assert.match(await page.textContent('#nsec'), /served over HTTP.*python3 -m http\.server/s);
+  assert.equal(await page.locator('#sec p').count(), 1);
+  assert.ok(await page.isVisible('#sec .sec-fallback'));
+  await page.close();
+});
+
 test('the self-contained build runs from a plain static folder', async () => {
   const dist = fileURLToPath(new URL('../../dist/sec-playground', import.meta.url));
   assert.ok(existsSync(dist), 'scripts/build.sh writes dist/sec-playground');
