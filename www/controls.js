@@ -25,16 +25,16 @@ function input(p) {
   const el = document.createElement('input');
   if (kind.type === 'switch') {
     el.type = 'checkbox';
-  } else if (kind.auto) {
-    // A number or the word "auto" (empty shows auto): a text box, checked by the core.
-    el.type = 'text';
-    el.inputMode = 'decimal';
-    el.placeholder = 'auto';
   } else {
-    el.type = 'number';
-    el.min = String(kind.min);
-    el.max = String(kind.max);
-    el.step = kind.type === 'number' ? String(kind.step) : '1';
+    // A text box with a number keyboard, not an <input type=number>: that one hands over ''
+    // for text it cannot read, so the core could only say "empty"; this one hands over what was
+    // typed, and the core names it ("tau: 'abc' is not a number in [0.01, 100]").
+    el.type = 'text';
+    el.inputMode = kind.type === 'integer' ? 'numeric' : 'decimal';
+    el.autocomplete = 'off';
+    el.spellcheck = false;
+    // A number or the word "auto" (empty shows auto).
+    if (kind.auto) el.placeholder = 'auto';
   }
   return el;
 }
@@ -85,9 +85,9 @@ export function buildControls(root, params, onChange) {
       // A slider next to the number box for the real-valued knobs.
       const slider = document.createElement('input');
       slider.type = 'range';
-      slider.min = el.min;
-      slider.max = el.max;
-      slider.step = el.step;
+      slider.min = String(p.kind.min);
+      slider.max = String(p.kind.max);
+      slider.step = String(p.kind.step);
       slider.setAttribute('aria-label', `${p.symbol} slider`);
       slider.addEventListener('input', () => { el.value = slider.value; });
       slider.addEventListener('change', () => onChange(p.key, slider.value));

@@ -4,15 +4,24 @@
 const FIELDS = ['episode', 'layout', 'reward', 'rawReward', 'goal', 'envSteps', 'decisions', 'entropy',
   'entropyFresh', 'ltm', 'contextualShare', 'human'];
 
+/**
+ * Significant digits a CSV number keeps: an episode's sums (the raw reward adds 1/t per env
+ * step) carry float error from about the 15th digit (-1.0000000000000007 for -1), and nothing
+ * it measures is finer than this.
+ */
+export const CSV_DIGITS = 9;
+
 function cell(v) {
   if (v == null) return '';
-  const s = typeof v === 'boolean' ? (v ? '1' : '0') : String(v);
+  const s = typeof v === 'boolean' ? (v ? '1' : '0')
+    : typeof v === 'number' ? String(Number(v.toPrecision(CSV_DIGITS))) : String(v);
   return /[",\n]/.test(s) ? `"${s.replace(/"/g, '""')}"` : s;
 }
 
 /**
  * `runs`: [{name, seed, episodes: EpisodeMetrics[]}]. A header, then one row per episode and
- * run; numbers as JavaScript prints them (shortest round trip), so nothing is lost.
+ * run; numbers rounded to CSV_DIGITS significant digits (the run's own log, the JSON export and
+ * the native runs keep every bit).
  */
 export function episodesCsv(runs) {
   const lines = [['run', 'seed', ...FIELDS].join(',')];

@@ -263,6 +263,11 @@ export class Playground {
   wire(keys) {
     const $ = this.$;
     $('main-resume').addEventListener('click', () => this.setPlaying(true));
+    $('reward-help').addEventListener('click', () => {
+      const note = $('reward-note');
+      note.hidden = !note.hidden;
+      $('reward-help').setAttribute('aria-expanded', String(!note.hidden));
+    });
     runControls($, {
       toggle: () => this.setPlaying(!this.wantPlay),
       step: (what) => {

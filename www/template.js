@@ -18,7 +18,13 @@ export const TEMPLATE = `
       <button id="preset-paper" type="button" title="The paper's text: θ_abs 0.995, θ_prop 0.98, α 0.1 (D2, D3)">paper</button>
     </span>
     <dl id="status" class="status" aria-live="off"></dl>
+    <button id="reward-help" class="help-button" type="button" aria-expanded="false" aria-controls="reward-note"
+      title="What reward and raw mean">reward?</button>
   </section>
+  <p id="reward-note" class="note reward-note" hidden><strong>reward</strong>: the episode's return as the paper's
+    tables count it, the goal's reward less 1/t for every env step (t: the episode limit), and 0 when that is below
+    0 (no goal reached). <strong>raw</strong>: that sum before the floor, shown when it is below 0. The charts show
+    the reward; the CSV has both.</p>
   <section class="keepbar" aria-label="Drive, export and memory files">
     <button id="drive" type="button" aria-pressed="false"
       title="Drive the agent yourself with the arrow keys or the on-screen pad (d); the run slows to a watchable speed">Drive</button>

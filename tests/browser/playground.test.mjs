@@ -195,6 +195,13 @@ test('a bad control value is refused by name and the run goes on', async () => {
   assert.equal((await hashOf(page)).beta, '0.05');
   const step = await page.evaluate(() => window.secPlayground.view.step);
   await page.waitForFunction((s) => window.secPlayground.view.step !== s, step);
+  // Text typed where a number goes is named as typed, not taken for an empty box.
+  await page.fill('#p-tau', '');
+  await page.locator('#p-tau').pressSequentially('abc');
+  await page.press('#p-tau', 'Enter');
+  await page.waitForFunction(() => /tau: 'abc' is not a number in \[0\.01, 100\]/.test(document.getElementById('error').textContent));
+  await page.waitForFunction(() => document.getElementById('p-tau').value === '0.9');
+  assert.equal(await page.evaluate(() => window.secPlayground.settings.tau), '0.9');
   await page.close();
 });
 

@@ -504,6 +504,23 @@ test('CSV export has a header and one row per episode; memory files save, load, 
   assert.equal(text[0], 'run,seed,episode,layout,reward,rawReward,goal,envSteps,decisions,entropy,entropyFresh,ltm,contextualShare,human');
   assert.equal(text.length, n + 1, 'one row per episode');
   assert.match(text[1], /^main,2,0,8-7-\d,/);
+  // Numbers rounded to 9 significant digits: a failed episode's raw reward, 1000 steps at -1/1000
+  // each, is -1, not -1.0000000000000007; each equals the log's value so rounded.
+  const log = await page.evaluate(() => window.secPlayground.log);
+  const cols = text[0].split(',');
+  for (const [i, line] of text.slice(1).entries()) {
+    const row = line.split(',');
+    for (const f of ['reward', 'rawReward', 'entropy', 'contextualShare']) {
+      const cell = row[cols.indexOf(f)];
+      assert.equal(Number(cell), Number(log[i][f].toPrecision(9)), `${f} of episode ${i}`);
+      assert.ok(cell.replace(/^-?0?\.?0*|[.-]|e.*$/g, '').length <= 9, `${f} ${cell}`);
+    }
+  }
+  const failed = log.findIndex((m) => !m.goal && m.envSteps === 1000);
+  if (failed >= 0) assert.equal(text[failed + 1].split(',')[cols.indexOf('rawReward')], '-1');
+  // Reward and raw are explained where they show.
+  await page.click('#reward-help');
+  assert.match(await page.textContent('#reward-note'), /less 1\/t for every env step.*raw.*before the floor/s);
   const [json] = await Promise.all([page.waitForEvent('download'), page.click('#export-json')]);
   const cfg = JSON.parse(readFileSync(await json.path(), 'utf8'));
   assert.equal(cfg.settings.task, 'object-permanence');
