@@ -122,6 +122,11 @@ export class Charts {
     this.columns = CHARTS.map(() => ({ values: [], means: [], rolling: new RollingMean() }));
     this.dirty = false;
     const width = Math.max(300, Math.min(560, Math.floor((root.clientWidth || 900) / 2) - 16));
+    // The scheme's curve colours (style.css), read once: a page does not switch scheme mid-run.
+    const css = root instanceof Element ? getComputedStyle(root) : null;
+    const colour = (name, fallback) => css?.getPropertyValue(name).trim() || fallback;
+    const episodeColour = colour('--chart-episode', '#4a8fc9');
+    const meanColour = colour('--chart-mean', '#1d4ed8');
     this.plots = CHARTS.map((c) => {
       const box = document.createElement('figure');
       box.className = 'chart';
@@ -129,10 +134,10 @@ export class Charts {
       (slots[c.id] ?? root).append(box);
       const series = [
         { label: 'episode' },
-        { label: c.mean ? 'per episode' : c.title, stroke: c.mean ? 'rgba(29,154,214,0.35)' : '#1d9ad6', width: 1,
+        { label: c.mean ? 'per episode' : c.title, stroke: c.mean ? episodeColour : meanColour, width: 1,
           points: { show: false } },
       ];
-      if (c.mean) series.push({ label: `mean of ${WINDOW}`, stroke: '#1d4ed8', width: 2, points: { show: false } });
+      if (c.mean) series.push({ label: `mean of ${WINDOW}`, stroke: meanColour, width: 2, points: { show: false } });
       return new uPlot({
         title: c.title,
         width: slots[c.id] ? Math.min(width, SLOT_WIDTH) : width,

@@ -212,13 +212,20 @@ export class Playground {
     const b = this.$('drive');
     b.setAttribute('aria-pressed', String(on));
     b.classList.toggle('on', on);
-    this.$('drive-pad').hidden = !on;
+    const pad = this.$('drive-pad');
+    pad.hidden = !on;
     this.send({ type: 'speed', value: this.effectiveSpeed() });
     this.sendDriver();
     if (on) {
-      this.notice('Driving: hold the arrow keys (↑ forward, ↓ back, ← → turn) or a button of the pad under the camera; '
+      // A finger drives with the pad: it comes into view, and the notice says to touch it.
+      const touch = this.lastPointer === 'touch' || matchMedia('(pointer: coarse)').matches;
+      this.notice((touch
+        ? 'Driving: touch and hold a button of the pad under the camera (↑ forward, ↓ back, ↶ ↷ turn); '
+        : 'Driving: hold the arrow keys (↑ forward, ↓ back, ← → turn) or a button of the pad under the camera; ')
         + 'nothing held: stand still. '
         + (this.$('record').checked ? 'Recording: a rewarded episode goes into the LTM.' : 'Not recording.'));
+      const box = pad.getBoundingClientRect();
+      if (box.top < 0 || box.bottom > innerHeight) pad.scrollIntoView({ block: 'nearest' });
       if (!this.wantPlay) this.setPlaying(true);
     } else {
       this.notice('The agent drives again.');
@@ -263,6 +270,9 @@ export class Playground {
   wire(keys) {
     const $ = this.$;
     $('main-resume').addEventListener('click', () => this.setPlaying(true));
+    $('to-controls').addEventListener('click', () => $('controls').scrollIntoView({ block: 'start' }));
+    // Whether the last press was a finger's (Drive then says to touch the pad).
+    this.listen(this.root, 'pointerdown', (e) => { this.lastPointer = e.pointerType; });
     $('reward-help').addEventListener('click', () => {
       const note = $('reward-note');
       note.hidden = !note.hidden;

@@ -13,6 +13,7 @@ export const TEMPLATE = `
       <output id="speed-out">1000/s</output>
     </label>
     <button id="tour" type="button" title="A guided tour through one decision (or add #tour to the address)">Tour</button>
+    <button id="to-controls" class="to-controls" type="button" title="Jump to the settings, below the views">Settings ↓</button>
     <span class="presets">Preset
       <button id="preset-code" type="button" title="The authors' code: θ_abs 0.98, θ_prop 0.995, α 0.01">code</button>
       <button id="preset-paper" type="button" title="The paper's text: θ_abs 0.995, θ_prop 0.98, α 0.1 (D2, D3)">paper</button>

@@ -188,6 +188,26 @@ test('on a phone-sized screen nothing is wider than the screen and the camera co
   assert.deepEqual(small, [], 'targets under 44 px');
   mkdirSync(ARTIFACTS, { recursive: true });
   await page.screenshot({ path: fileURLToPath(new URL('phone.png', ARTIFACTS)), fullPage: false });
+  // The explanation, open, with the widest numbers its table shows, fits the screen.
+  const table = await page.evaluate(async () => {
+    const { drawExplanation } = await import('./www/explain.js');
+    const details = document.getElementById('explain');
+    details.open = true;
+    const couplets = Array.from({ length: 12 }, (_, i) => ({
+      sequence: 480 + i, position: 49, g: 0.987654, t: 1.198765, rr: 0.123456, d: 0.98, action: 8, value: 1.2345e-5,
+    }));
+    const q = [0, 0, 0, 0, 0, 0, 0, 0, 1.4814e-4];
+    drawExplanation(details, { couplets, q, p: q.map((v) => v / 1.4814e-4), sequentialBias: true, valueFunction: 'default',
+      thetaAbs: 0.98, thetaProp: 0.995, tau: 0.9 }, 'R');
+    const r = details.querySelector('table').getBoundingClientRect();
+    return { left: r.left, right: r.right, page: document.documentElement.scrollWidth };
+  });
+  assert.ok(table.left >= 0 && table.right <= 390 && table.page <= 390, `the explain table spans ${JSON.stringify(table)}`);
+  // A short way to the settings, four screens down.
+  const y = () => page.evaluate(() => document.getElementById('controls').getBoundingClientRect().top);
+  assert.ok(await y() > 844, 'the settings start below the first screen');
+  await page.click('#to-controls');
+  await page.waitForFunction(() => Math.abs(document.getElementById('controls').getBoundingClientRect().top) < 5);
 });
 
 test('at 1400x900 the camera, the why-line, the action grid and the reward chart are on the first screen', async () => {
@@ -286,11 +306,27 @@ test('text colours pass WCAG AA contrast in the light and the dark scheme', asyn
         const b = lum(bg);
         return (Math.max(a, b) + 0.05) / (Math.min(a, b) + 0.05);
       };
+      // The learning curves' lines, as their legend's markers draw them (the colour uPlot strokes).
+      // A translucent colour is what it shows over the background.
+      const over = (s) => {
+        const [r, g, b, alpha = 1] = s.match(/[\d.]+/g).map(Number);
+        return [r, g, b].map((v, i) => alpha * v + (1 - alpha) * bg[i]);
+      };
+      const lines = [...document.querySelectorAll('.u-legend .u-marker')].map((m) => {
+        const a = lum(over(getComputedStyle(m).borderTopColor));
+        const b = lum(bg);
+        return (Math.max(a, b) + 0.05) / (Math.min(a, b) + 0.05);
+      });
       return {
         text: ratio(document.body), help: ratio(document.querySelector('.param .help')),
         why: ratio(document.getElementById('why')), caption: ratio(document.querySelector('figcaption')),
+        lines,
       };
     });
-    for (const [what, r] of Object.entries(ratios)) assert.ok(r >= 4.5, `${scheme}: ${what} contrast ${r.toFixed(2)}`);
+    const { lines, ...texts } = ratios;
+    for (const [what, r] of Object.entries(texts)) assert.ok(r >= 4.5, `${scheme}: ${what} contrast ${r.toFixed(2)}`);
+    // Lines are graphics: WCAG's 3:1 (each chart's per-episode line and its mean).
+    assert.ok(lines.length >= 9, `${lines.length} lines`);
+    for (const r of lines) assert.ok(r >= 3, `${scheme}: a chart line's contrast ${r.toFixed(2)}`);
   }
 });

@@ -414,9 +414,16 @@ test('the drive pad moves the agent by touch, and stops when the finger lifts', 
   await page.goto(`${base}#task=object-permanence&seed=3`);
   await ready(page);
   assert.equal(await page.isVisible('#drive-pad'), false, 'the pad shows only while driving');
+  // Scrolled so that Drive is at the top: the pad, below the camera, would open off screen.
+  await page.evaluate(() => window.scrollTo(0, document.getElementById('drive').getBoundingClientRect().top + scrollY - 4));
   await page.tap('#drive');
   await page.waitForFunction(() => window.secPlayground.driving);
   assert.equal(await page.isVisible('#drive-pad'), true);
+  // It comes into view, and the notice says to touch it (not the arrow keys).
+  const pad = await page.evaluate(() => document.getElementById('drive-pad').getBoundingClientRect());
+  assert.ok(pad.top >= 0 && pad.bottom <= 844, `the pad is at ${pad.top}-${pad.bottom}`);
+  assert.match(await page.textContent('#notice'), /touch and hold a button of the pad/);
+  assert.doesNotMatch(await page.textContent('#notice'), /arrow keys/);
   const touch = await page.context().newCDPSession(page);
   const at = () => page.evaluate(() => {
     const v = window.secPlayground.view;
@@ -425,7 +432,9 @@ test('the drive pad moves the agent by touch, and stops when the finger lifts', 
   // A fresh run, driven from its start.
   await page.tap('#reset');
   await page.waitForFunction(() => window.secPlayground.episodes === 0 && window.secPlayground.view.step < 8);
-  // The notice above moves the pad down: wait until the pad stays put between two frames.
+  // Reset is at the top: back to the pad. The notice above moves the pad down: wait until the
+  // pad stays put between two frames.
+  await page.locator('#drive-pad').scrollIntoViewIfNeeded();
   await page.waitForFunction(() => {
     const top = document.querySelector('#drive-pad button[data-action="3"]').getBoundingClientRect().top;
     const still = top === window.padTop;
