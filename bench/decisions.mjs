@@ -19,12 +19,12 @@ const DECISIONS = 2000;
  * machine's speed drifts over minutes and hours, so both numbers are reported. Self-contained:
  * it runs in Node and, as source, in the page.
  */
-function measure(wasm, batches, decisions, now, config = {}) {
+function measure(wasm, batches, decisions, now, config = {}, fill = 500) {
   const rates = [];
   let ltm = 0;
   for (let i = 0; i < batches; i++) {
     const run = new wasm.SecRun(config, 1);
-    run.benchFillMemory(500);
+    run.benchFillMemory(fill);
     run.runDecisions(200);
     const t0 = now();
     run.runDecisions(decisions);
@@ -44,8 +44,13 @@ const pkg = process.env.SEC_PKG ?? `${root}pkg/hooks`;
 const wasm = await import(`${pkg}/sec_playground.js`);
 wasm.initSync({ module: readFileSync(`${pkg}/sec_playground_bg.wasm`) });
 wasm.registerModel(readFileSync(`${root}assets/encoders/double-t-maze.secae`));
+// As the memory fills (issue 54): the rate at LTM 30, 150 and 430 sequences, then full.
+for (const fill of [30, 150, 430]) {
+  console.log(`node ${process.version}, LTM ${fill}: ${show(measure(wasm, BATCHES, DECISIONS, () => performance.now(), {}, fill))}`);
+}
 const node = measure(wasm, BATCHES, DECISIONS, () => performance.now());
 console.log(`node ${process.version}: ${show(node)}`);
+if (process.argv.includes('--fills-only')) process.exit(0);
 // The paper preset's perception, for comparison: the trained encoder embeds and its embedding
 // doubles as the gate's, where the default's untrained encoder leaves the gate its own encode.
 const trained = measure(wasm, BATCHES, DECISIONS, () => performance.now(), { perception: 'trained' });
@@ -76,7 +81,9 @@ try {
     await wasm.default();
     wasm.registerModel(new Uint8Array(await (await fetch(model)).arrayBuffer()));
     const measure = new Function(`return ${measureSrc}`)();
-    return measure(wasm, batches, decisions, () => performance.now());
+    const fills = {};
+    for (const fill of [30, 150, 430]) fills[fill] = measure(wasm, batches, decisions, () => performance.now(), {}, fill);
+    return { ...measure(wasm, batches, decisions, () => performance.now()), fills };
   }, {
     src: `${base}pkg/hooks/sec_playground.js`,
     model: `${base}assets/encoders/double-t-maze.secae`,
@@ -84,6 +91,7 @@ try {
     batches: BATCHES,
     decisions: DECISIONS,
   });
+  for (const [fill, r] of Object.entries(chrome.fills)) console.log(`chromium ${browser.version()}, LTM ${fill}: ${show(r)}`);
   console.log(`chromium ${browser.version()}: ${show(chrome)}`);
 
   // The page at max speed: count animation frames on the main thread for 5 s.

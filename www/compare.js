@@ -66,10 +66,13 @@ function middle(xs) {
   return v[(v.length - 1) >> 1];
 }
 
-/** The episode a SEC arm's LTM filled (its `m` sequences), the median over its seeds that got there. */
-function liveFill(arm) {
+/**
+ * The episode an arm's LTM filled (its `m` sequences), the median over its seeds that got there;
+ * for an agent with a sequential memory (the table's `hasMemory`: `info`).
+ */
+function liveFill(arm, info) {
   const m = Number(arm.resolved?.m);
-  if (!m || arm.resolved?.agent !== 'sec') return null;
+  if (!m || !info?.hasMemory) return null;
   return middle([...arm.runs.values()].map((eps) => eps.findIndex((e) => e.ltm >= m)).filter((i) => i >= 0));
 }
 
@@ -455,7 +458,7 @@ export class Compare {
   series() {
     const f = METRICS[this.$('compare-metric').value] ?? METRICS.reward;
     const arms = this.arms.filter((a) => a.runs.size).map((a) => ({
-      label: a.label, colour: a.colour, runs: [...a.runs.values()].map((eps) => eps.map(f)), fill: liveFill(a),
+      label: a.label, colour: a.colour, runs: [...a.runs.values()].map((eps) => eps.map(f)), fill: liveFill(a, this.agentInfo(a.resolved?.agent)),
     }));
     const metric = this.$('compare-metric').value in METRICS ? this.$('compare-metric').value : 'reward';
     const references = [...this.arms, ...this.natives].filter((a) => a.reference).map((a) => ({
