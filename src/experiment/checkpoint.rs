@@ -286,7 +286,7 @@ impl Run {
             let message = format!("written by seed {}, not {seed}", header.seed);
             return Err(FileError::field("checkpoint", "seed", message).into());
         }
-        if header.config != cfg {
+        if !header.config.same_run(&cfg) {
             return Err(FileError::field("checkpoint", "config", "written by a run of another configuration").into());
         }
         let stream = header.word_pos()?;

@@ -15,12 +15,7 @@ use crate::render::Surface;
 /// Its JSON is the run's fields with each agent's section under its key (`agent` for SEC's,
 /// `mfec`, `dqn`, `erlam`), in the agent table's order. (The derives write the run's own
 /// fields; the `Serialize` and `Deserialize` below add the sections, which the agents own.)
-///
-/// Two configurations are equal when they make the same run: the run's fields and its own
-/// agent's section agree (the other agents' sections, which a configuration keeps so that
-/// switching agents keeps each one's settings, do not change the run). So a configuration read
-/// where a native agent's section is opaque (`SectionSpec::native`) equals the one its writer
-/// held.
+/// Two configurations are equal when every field and section is; `same_run` asks less.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 #[serde(remote = "Self", rename_all = "camelCase", default, deny_unknown_fields)]
 pub struct RunConfig {
@@ -207,16 +202,36 @@ impl RunConfig {
 }
 
 impl PartialEq for RunConfig {
+    /// The same configuration: every field and every agent's section (a native one held opaque
+    /// here and typed there compares through its registered type, `same_settings`).
     fn eq(&self, other: &Self) -> bool {
+        self.same_fields(other) && self.same_sections(other, &self.sections.keys())
+    }
+}
+
+impl RunConfig {
+    /// Whether `other` makes the same run: the run's fields and the sections its agent reads
+    /// agree (the other agents' sections, which a configuration keeps so that switching agents
+    /// keeps each one's settings, do not change the run). What the runner compares a result's
+    /// configuration with, so a configuration written by a build that holds a native agent's
+    /// crate (the CLI) matches one read by a build that does not (Python) and the other way round.
+    pub fn same_run(&self, other: &RunConfig) -> bool {
+        self.same_fields(other) && self.same_sections(other, &self.read_keys())
+    }
+
+    fn same_fields(&self, other: &RunConfig) -> bool {
         let fields = |c: &RunConfig| {
             let bare = RunConfig { sections: Sections(Vec::new()), ..c.clone() };
             RunConfig::serialize(&bare, serde_json::value::Serializer).expect("configurations serialise")
         };
         fields(self) == fields(other)
-            && self.read_keys().into_iter().all(|key| match (self.sections.get(key), other.sections.get(key)) {
-                (Some(a), Some(b)) => same_settings(key, a, b),
-                (a, b) => a.is_none() && b.is_none(),
-            })
+    }
+
+    fn same_sections(&self, other: &RunConfig, keys: &[&str]) -> bool {
+        keys.iter().all(|&key| match (self.sections.get(key), other.sections.get(key)) {
+            (Some(a), Some(b)) => same_settings(key, a, b),
+            (a, b) => a.is_none() && b.is_none(),
+        })
     }
 }
 
@@ -239,6 +254,11 @@ impl Sections {
     /// The section under `key`.
     pub fn get(&self, key: &str) -> Option<&dyn Section> {
         self.0.iter().find(|(k, _)| *k == key).map(|(_, s)| s.as_ref())
+    }
+
+    /// The keys of the sections held, in the table's order.
+    pub fn keys(&self) -> Vec<&'static str> {
+        self.0.iter().map(|(k, _)| *k).collect()
     }
 
     /// The section under `key`, to change.

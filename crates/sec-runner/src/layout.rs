@@ -86,7 +86,7 @@ pub fn prepare(out: &Path, manifest: &ExperimentManifest) -> Result<(), String> 
         let text = serde_json::to_string_pretty(&c.config).expect("configurations serialise") + "\n";
         // Compared as configurations, so a file written before a new field (with its default)
         // was added still matches.
-        let same = |old: &str| serde_json::from_str::<RunConfig>(old).is_ok_and(|o| o == c.config);
+        let same = |old: &str| serde_json::from_str::<RunConfig>(old).is_ok_and(|o| o.same_run(&c.config));
         match fs::read_to_string(&path) {
             Ok(old) if !same(&old) => {
                 return Err(format!(

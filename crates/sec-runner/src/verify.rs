@@ -19,7 +19,7 @@ pub fn gaps(dir: &Path) -> Result<Vec<String>, String> {
     for c in &manifest.conditions {
         let config = dir.join(&c.name).join("config.json");
         if let Ok(text) = fs::read_to_string(&config) {
-            if serde_json::from_str::<RunConfig>(&text).ok().as_ref() != Some(&c.config) {
+            if !serde_json::from_str::<RunConfig>(&text).is_ok_and(|o| o.same_run(&c.config)) {
                 out.push(format!("{}: config.json is another configuration than experiment.json's", c.name));
             }
         }
@@ -28,7 +28,7 @@ pub fn gaps(dir: &Path) -> Result<Vec<String>, String> {
                 // The configurations as parsed, defaults filled in: a setting added since the
                 // manifest was written takes its default on both sides (a hash of the JSON would
                 // differ).
-                if m.config != c.config || m.seed != seed {
+                if !m.config.same_run(&c.config) || m.seed != seed {
                     out.push(format!("{} seed {seed}: its manifest names another configuration or seed", c.name));
                 }
             }
@@ -99,7 +99,7 @@ impl Finished {
         let own = out.join(&job.condition);
         self.dirs
             .iter()
-            .filter(|(dir, config)| *config == job.config && !same_dir(dir, &own))
+            .filter(|(dir, config)| config.same_run(&job.config) && !same_dir(dir, &own))
             .map(|(dir, _)| dir.join(format!("seed-{}.jsonl.gz", job.seed)))
             .map(|path| (finished_episodes(&path), path))
             .filter(|(n, _)| *n >= episodes)

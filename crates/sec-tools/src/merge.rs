@@ -91,7 +91,7 @@ pub fn merge(sources: &[PathBuf], into: &Path) -> Result<Merged, String> {
                     if let Some(mf) = manifest::read(&path)? {
                         // Parsed configurations, defaults filled in (a setting added since takes its
                         // default on both sides).
-                        if mf.config != c.config || mf.seed != seed {
+                        if !mf.config.same_run(&c.config) || mf.seed != seed {
                             return Err(format!(
                                 "{}: its manifest names configuration {} seed {}, not {name}/{}'s {hash} seed {seed}; not merged",
                                 path.display(),

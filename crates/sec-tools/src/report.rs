@@ -327,7 +327,9 @@ fn forgetting_pairs(conds: &[ConditionRuns]) -> String {
         }
         let mut without = c.condition.config.clone();
         without.section_mut::<SecConfig>().memory.forgetting = Forgetting::None;
-        let Some(r) = conds.iter().find(|r| r.group() == c.group() && r.condition.config == without) else { continue };
+        let Some(r) = conds.iter().find(|r| r.group() == c.group() && r.condition.config.same_run(&without)) else {
+            continue;
+        };
         let (mut fills, mut identical, mut after) = (Vec::new(), 0, [0.0, 0.0]);
         let (mut more, mut fewer, mut episodes_after) = (0, 0, 0);
         let seeds: Vec<u64> = c.seeds.iter().copied().filter(|s| r.seeds.contains(s)).collect();
