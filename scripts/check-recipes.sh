@@ -2,7 +2,8 @@
 # Follows docs/ARCHITECTURE.md's recipes on a copy of the committed tree (HEAD) and checks that
 # each works with the files it names and no others: "Add an agent" (an always-forward walker with
 # one live setting: its module, its row and variant in the table, one line in mod.rs) and "Add a
-# setting" (a SEC setting: its field, row and declaration for JS, all in sec.rs), each with the
+# setting" (a SEC setting: its field, row and declaration for JS, all in sec.rs) and "Add a task"
+# (its row and layouts in tasks.rs, its model, the page's list in www/tasks.js), each with the
 # checks the recipe says follow (the agents, settings, TypeScript and layers tests pass: the row is
 # in the table, its setting in the settings table and live on a running agent; without its
 # declaration the TypeScript test names what is missing). Not part of the test command (it
@@ -181,3 +182,39 @@ expect_files "src/agent/sec.rs" "Add a setting"
 cargo test -q -p sec-playground --test settings --test typescript --test agents >/dev/null 2>&1 \
   || { echo "FAIL: the core's tests with the new setting" >&2; exit 1; }
 echo "ok: 1 file (its field, row and declaration, all in sec.rs); the settings, TypeScript and agents tests pass"
+
+echo "== Add a task: a row and its layouts in tasks.rs, its model, the page's list"
+cd "$repo"
+fresh
+cd "$work/tree"
+python3 - <<'PYEOF'
+p = 'src/arena/tasks.rs'
+s = open(p).read()
+s = s.replace('pub const TASKS: [TaskInfo; 6] = [', 'pub const TASKS: [TaskInfo; 7] = [', 1)
+row = '''    TaskInfo {
+        name: "recipe-arch",
+        title: "the recipe's arch",
+        description: "The cylinder's arch again, as a recipe check's task (scripts/check-recipes.sh).",
+        gym_id: "SecPlayground/RecipeArch-v0",
+        model_file: "recipe-arch.secae",
+        layouts: recipe_arch,
+        model: model!("recipe-arch.secae"),
+        textured_model: &[],
+    },
+];'''
+i = s.index('\n];\n', s.index('pub const TASKS'))
+s = s[:i + 1] + row + s[i + 3:]
+s += '''
+/// The recipe check's layouts: the cylinder's.
+fn recipe_arch() -> Vec<Layout> {
+    vec![cylinder()]
+}
+'''
+open(p, 'w').write(s)
+PYEOF
+cp assets/encoders/cylinder.secae assets/encoders/recipe-arch.secae
+sed -i "s/'object-permanence-pits'\]/'object-permanence-pits', 'recipe-arch']/" www/tasks.js
+expect_files "assets/encoders/recipe-arch.secae src/arena/tasks.rs www/tasks.js" "Add a task"
+cargo test -q -p sec-playground --test tasks --test settings --test layers >/dev/null 2>&1 \
+  || { echo "FAIL: the core's tests with the new task" >&2; exit 1; }
+echo "ok: 2 files and the model; the tasks, settings and layers tests pass"
