@@ -540,7 +540,13 @@ export class Compare {
       get wasmBytes() { return me.arms.map((a) => a.wasmBytes ?? null); },
       /** Workers in the pool, and the runs: {label, seed, state, episodes}. */
       get pool() { return me.pool.length; },
-      get jobs() { return me.jobs.map((j) => ({ label: j.arm.label, seed: j.seed, state: j.state, episodes: j.arm.runs.get(j.seed)?.length ?? 0 })); },
+      get jobs() {
+        return me.jobs.map((j) => {
+          const eps = j.arm.runs.get(j.seed) ?? [];
+          return { label: j.arm.label, seed: j.seed, state: j.state, episodes: eps.length,
+            decisions: eps.reduce((n, e) => n + e.decisions, 0) };
+        });
+      },
       get progress() { return me.$('compare-progress').textContent; },
       /** Each arm's settings as its runs use them (null until its worker has started). */
       get resolved() { return me.arms.map((a) => a.resolved ?? null); },
