@@ -21,6 +21,9 @@ const row = (label, m, t0) => console.log([label, ((Date.now() - t0) / 60000).to
 
 try {
   const page = await browser.newPage({ viewport: { width: 1300, height: 1000 } });
+  // The compare's pool is the machine's threads less one: say there are ARMS + 1, so that every
+  // arm plays at once (one worker each) on any machine.
+  await page.addInitScript((n) => Object.defineProperty(Navigator.prototype, 'hardwareConcurrency', { get: () => n }), ARMS + 1);
   const cdp = await page.context().newCDPSession(page);
   await cdp.send('Performance.enable');
   await page.goto(`${base}#task=double-t-maze`);
@@ -37,13 +40,16 @@ try {
     await page.waitForFunction((n) => window.secPlayground.episodes >= n, n, { timeout: 0, polling: 1000 });
     row(String(n), await pageMemory(page, cdp), t0);
   }
-  // The compare: four arms (the current settings, added four times), one seed each, while the
-  // main run keeps playing.
+  // The compare: four arms (the current settings, added four times), one seed each, to a
+  // horizon they do not reach in the time, while the main run keeps playing (it pauses for a
+  // comparison: "Resume it").
   if (COMPARE_MINUTES > 0) {
     await page.click('#compare-clear');
     await page.selectOption('#compare-seeds', '1');
+    await page.fill('#compare-episodes', '20000');
     for (let i = 0; i < ARMS; i++) await page.click('#compare-add');
     await page.click('#compare-run');
+    await page.click('#main-resume');
     console.log(`compare: ${ARMS} workers for ${COMPARE_MINUTES} minutes`);
     const t1 = Date.now();
     for (let i = 1; i <= 10; i++) {
