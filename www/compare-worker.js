@@ -6,7 +6,7 @@
 // Messages out: {type: 'ready'}, {type: 'started', settings}, {type: 'episodes', list, wasmBytes},
 //               {type: 'done'}, {type: 'error', message}
 import init, { ensureModel, gateModel, SecRun, parseSettings } from './wasm.js';
-import { AdaptiveBatch, serveMessages } from './slices.js';
+import { AdaptiveBatch, serveMessages, soon } from './slices.js';
 
 /** The run in play: {run, left} (episodes still to play), or null. */
 let current = null;
@@ -20,7 +20,7 @@ const post = (msg) => self.postMessage(msg);
 function kick() {
   if (scheduled || !playing || !current) return;
   scheduled = true;
-  setTimeout(slice, 0);
+  soon(slice);
 }
 
 function slice() {

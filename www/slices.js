@@ -28,6 +28,19 @@ export class AdaptiveBatch {
 }
 
 /**
+ * Runs `fn` as a new task, after the messages already queued (so a pause still gets in between
+ * two slices). Not `setTimeout(fn, 0)`: once nested, a timer waits at least 4 ms (the HTML
+ * timer clamp), which took a quarter of every 12 ms slice at full speed.
+ */
+export function soon(fn) {
+  waiting.push(fn);
+  channel.port2.postMessage(null);
+}
+const waiting = [];
+const channel = new MessageChannel();
+channel.port1.onmessage = () => waiting.shift()?.();
+
+/**
  * Runs `handlers[data.type](data)` for each message, one at a time and in order (a handler that
  * fetches a model finishes before the next starts); a thrown error, or an unknown type, goes to
  * `onError`.

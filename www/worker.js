@@ -11,7 +11,7 @@
 //               {type: 'episodes', list}, {type: 'view', ...}, {type: 'state', playing},
 //               {type: 'memory', bytes}, {type: 'loaded', sequences, what}, {type: 'error', message, fatal}
 import init, { build, ensureModel, gateModel, SecRun, agents, frameSize, parameters, parseSettings, applySettings, presetSettings, panicForTest } from './wasm.js';
-import { AdaptiveBatch, SLICE_MS, serveMessages } from './slices.js';
+import { AdaptiveBatch, SLICE_MS, serveMessages, soon } from './slices.js';
 
 /** Most view posts per second while watching; the page asks for fewer at max speed. */
 const VIEW_HZ = 30;
@@ -98,7 +98,8 @@ function loop() {
     trapped(e);
     return;
   }
-  setTimeout(loop, speed === Infinity ? 0 : Math.max(0, Math.min(1000 / speed, 1000 / VIEW_HZ)));
+  if (speed === Infinity) soon(loop);
+  else setTimeout(loop, Math.max(0, Math.min(1000 / speed, 1000 / VIEW_HZ)));
 }
 
 function trapped(e) {
