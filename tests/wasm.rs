@@ -448,3 +448,49 @@ fn the_task_table_crosses_to_js_as_the_core_declares_it() {
     assert_eq!(table, serde_json::to_value(sec_playground::arena::TASKS).unwrap());
     assert_eq!(table.as_array().unwrap().len(), TASK_NAMES.len());
 }
+
+/// The wasm similarity kernels (simd128's four couplets side by side, and f64 once the LTM has
+/// been through forgetting) give the bits of numpy's pairwise sum of one couplet at a time, for
+/// rows that are a multiple of four and rows whose last block overlaps. No golden run reaches
+/// forgetting, so this is what ties wasm's f64 similarity to the native one.
+#[wasm_bindgen_test]
+fn the_simd128_similarity_kernels_sum_in_numpys_order() {
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+    use sec_playground::arena::Action;
+    use sec_playground::encoder::EMBEDDING;
+    use sec_playground::memory::{pairwise20, Couplet, Forgetting, Memory, MemoryConfig};
+    let mut r = ChaCha8Rng::seed_from_u64(54);
+    for n in [4, 13, 50] {
+        let cfg = MemoryConfig { n, m: 3, forgetting: Forgetting::Fifo, sequential_bias: false, ..MemoryConfig::default() };
+        let mut mem = Memory::new(cfg).unwrap();
+        let mut rows: Vec<Vec<[f32; EMBEDDING]>> = Vec::new();
+        for stores in 0..3 {
+            let row: Vec<[f32; EMBEDDING]> = (0..n).map(|_| std::array::from_fn(|_| r.gen_range(-1.0..4.0))).collect();
+            for x in &row {
+                mem.update(Couplet { embedding: *x, action: Action::RIGHT });
+            }
+            mem.store(1.0, &mut ChaCha8Rng::seed_from_u64(1));
+            rows.push(row);
+            if stores == 2 {
+                rows.remove(0); // m = 3 is full: FIFO forgot the oldest, and the LTM is now f64
+            }
+            for _ in 0..10 {
+                let q: [f32; EMBEDDING] = std::array::from_fn(|_| r.gen_range(-1.0..4.0));
+                mem.retrieve(&q, &mut ChaCha8Rng::seed_from_u64(2));
+                let want: Vec<f64> = rows
+                    .iter()
+                    .flatten()
+                    .map(|x| {
+                        if stores == 2 {
+                            1.0 - pairwise20(|k| (q[k] as f64 - x[k] as f64).abs()) / EMBEDDING as f64
+                        } else {
+                            (1.0 - pairwise20(|k| (q[k] - x[k]).abs()) / EMBEDDING as f32) as f64
+                        }
+                    })
+                    .collect();
+                assert_eq!(mem.biased_similarity(), want, "n = {n}, after {} stores", stores + 1);
+            }
+        }
+    }
+}
