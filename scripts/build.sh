@@ -4,7 +4,7 @@
 # only by the arena page), and the arena page's own build with it (pkg/arena/: scalar, which every
 # engine runs; that page runs no encoder), each through binaryen's wasm-opt from npm, the page's
 # vendored npm files, and dist/sec-playground/: a self-contained static folder a teacher copies
-# next to a course page (no build step, no network).
+# next to a course page (no build step, no network), which is also the npm package.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
@@ -35,9 +35,10 @@ cp -r assets/encoders dist/sec-playground/assets/encoders
 cp -r assets/reference dist/sec-playground/assets/reference
 cp -r assets/warm-up dist/sec-playground/assets/warm-up
 for d in pkg pkg/scalar pkg/arena; do
-    cp "$d/sec_playground.js" "$d/sec_playground_bg.wasm" "dist/sec-playground/$d/"
+    cp "$d/sec_playground.js" "$d/sec_playground.d.ts" "$d/sec_playground_bg.wasm" "dist/sec-playground/$d/"
 done
-cp LICENSE* dist/sec-playground/ 2>/dev/null || true
+# The folder is also the npm package (package.json, README; the element's manifest is in www/).
+node scripts/npm-package.mjs dist/sec-playground
 for f in pkg/sec_playground_bg.wasm pkg/scalar/sec_playground_bg.wasm pkg/arena/sec_playground_bg.wasm; do
     echo "[build] $f: $(stat -c %s "$f") bytes, $(gzip -9c "$f" | wc -c) gzipped"
 done

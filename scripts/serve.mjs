@@ -12,8 +12,14 @@ const TYPES = {
   '.svg': 'image/svg+xml', '.secae': 'application/octet-stream', '.yml': 'text/yaml', '.yaml': 'text/yaml', '.ts': 'text/plain; charset=utf-8',
 };
 
-/** Serves `dir` (default: the repository) on `port` (0: any free one); resolves to the server. */
-export function serve(port = 8080, host = '127.0.0.1', dir = root) {
+/**
+ * Serves `dir` (default: the repository) on `port` (0: any free one); resolves to the server.
+ * Every answer allows loading from any origin (`Access-Control-Allow-Origin: *`), as static hosts
+ * such as GitHub Pages do, so that embed.html runs in a frame sandboxed without
+ * allow-same-origin; `cors: false` leaves the header out (a host that does not send it).
+ */
+export function serve(port = 8080, host = '127.0.0.1', dir = root, { cors = true } = {}) {
+  const allow = cors ? { 'access-control-allow-origin': '*' } : {};
   const server = createServer(async (req, res) => {
     try {
       const path = decodeURIComponent(new URL(req.url, 'http://x').pathname);
@@ -21,10 +27,10 @@ export function serve(port = 8080, host = '127.0.0.1', dir = root) {
       if (!file.startsWith(dir)) { res.writeHead(403).end(); return; }
       if ((await stat(file)).isDirectory()) file = join(file, 'index.html');
       const body = await readFile(file);
-      res.writeHead(200, { 'content-type': TYPES[extname(file)] ?? 'application/octet-stream', 'cache-control': 'no-cache' });
+      res.writeHead(200, { 'content-type': TYPES[extname(file)] ?? 'application/octet-stream', 'cache-control': 'no-cache', ...allow });
       res.end(body);
     } catch {
-      res.writeHead(404, { 'content-type': 'text/plain' }).end('not found');
+      res.writeHead(404, { 'content-type': 'text/plain', ...allow }).end('not found');
     }
   });
   return new Promise((ok) => server.listen(port, host, () => ok(server)));

@@ -2,10 +2,10 @@
 // at full speed with no views, to its horizon, then takes the next run the page sends it.
 // Episodes go out as they finish.
 //
-// Messages in:  {type: 'start', settings, seed, episodes}, {type: 'play'}, {type: 'pause'}
+// Messages in:  {type: 'boot', wasm} (first), {type: 'start', settings, seed, episodes}, {type: 'play'}, {type: 'pause'}
 // Messages out: {type: 'ready'}, {type: 'started', settings}, {type: 'episodes', list, wasmBytes},
 //               {type: 'done'}, {type: 'error', message}
-import init, { ensureModel, gateModel, SecRun, parseSettings } from './wasm.js';
+import { load, ensureModel, gateModel, SecRun, parseSettings } from './wasm.js';
 import { AdaptiveBatch, serveMessages, soon } from './slices.js';
 
 /** The run in play: {run, left} (episodes still to play), or null. */
@@ -67,6 +67,10 @@ const handlers = {
 
 serveMessages(handlers, (e) => post({ type: 'error', message: String(e?.message ?? e) }));
 
-// The instance's memory, whose size goes out with the episodes (a leak shows).
-const { memory } = await init();
-post({ type: 'ready' });
+/** The instance's memory, whose size goes out with the episodes (a leak shows). */
+let memory = null;
+/** The page's first message: which build (`wasm`) to load. */
+handlers.boot = async ({ wasm }) => {
+  ({ memory } = await load({ wanted: wasm }));
+  post({ type: 'ready' });
+};

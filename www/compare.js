@@ -4,6 +4,7 @@
 // worker at a time, to the horizon; the page's own run pauses meanwhile.
 import { ARM_COLOURS, CompareChart, WINDOW } from './charts.js';
 import { COMPARE_PRESETS, PRESET_BASE, exp1In, referenceMap } from './presets.js';
+import { importingWorker, sameOrigin } from './workers.js';
 
 /** Most configurations at once. */
 const MAX_ARMS = 8;
@@ -193,7 +194,10 @@ export class Compare {
       if (!listed.has(a.referenceName)) return;
       a.referenceFills = listed.get(a.referenceName).ltmFull ?? [];
       try {
-        const r = await fetch(new URL(`../assets/reference/${experiment}/${condition}.json`, import.meta.url));
+        // Every reference is experiment/group/arm.json: three literal levels, so that a bundler
+        // (Vite) can list the files this address may name and copy them.
+        const [group, arm] = condition.split('/');
+        const r = await fetch(new URL(`../assets/reference/${experiment}/${group}/${arm}.json`, import.meta.url));
         a.reference = r.ok ? await r.json() : null;
       } catch {
         a.reference = null;
@@ -282,9 +286,9 @@ export class Compare {
   }
 
   spawn() {
-    const query = new URLSearchParams();
-    if (this.wasm) query.set('wasm', this.wasm);
-    const w = new Worker(new URL(`./compare-worker.js?${query}`, import.meta.url), { type: 'module' });
+    const url = new URL('./compare-worker.js', import.meta.url);
+    const w = sameOrigin(url) ? new Worker(new URL('./compare-worker.js', import.meta.url), { type: 'module' }) : importingWorker(url);
+    w.postMessage({ type: 'boot', wasm: this.wasm });
     const p = { worker: w, job: null, ready: false };
     this.pool.push(p);
     w.onmessage = ({ data }) => this.receive(p, data);

@@ -13,10 +13,16 @@
 //
 // What is inside the tag shows only until the element starts (its shadow root has no slot): a
 // page opened from disk, where browsers load no modules, shows it instead of nothing.
+//
+// Script drives it as a host page drives the iframe (docs/EMBED.md): the methods play, pause,
+// reset, step, configure, getState, getMetrics, saveMemory and loadMemory, and the events
+// `ready`, `episode`, `state` and `error` (CustomEvents whose `detail` is the protocol's payload).
 import { Playground } from './playground.js';
 
+const EVENTS = ['ready', 'episode', 'state', 'error'];
 const OWN = new Set(['hide', 'autoplay', 'class', 'style', 'id', 'tabindex', 'title', 'lang', 'dir']);
-const CSS = ['./vendor/uPlot.min.css', './style.css'].map((p) => new URL(p, import.meta.url).href);
+// Each a literal `new URL(..., import.meta.url)`, so that a bundler (Vite) copies the file.
+const CSS = [new URL('./vendor/uPlot.min.css', import.meta.url).href, new URL('./style.css', import.meta.url).href];
 
 class SecPlaygroundElement extends HTMLElement {
   connectedCallback() {
@@ -35,6 +41,9 @@ class SecPlaygroundElement extends HTMLElement {
       hide: this.hideList(),
       keys: this,
     });
+    for (const type of EVENTS) {
+      this.playground.on(type, (detail) => this.dispatchEvent(new CustomEvent(type, { detail })));
+    }
     this.observer = new IntersectionObserver((entries) => {
       for (const e of entries) this.playground.setOnScreen(e.isIntersecting);
     });
@@ -76,6 +85,30 @@ class SecPlaygroundElement extends HTMLElement {
   get state() {
     return this.playground?.state;
   }
+
+  /** The playground, or an error naming the call when the element is not on a page. */
+  api(name) {
+    if (!this.playground) throw new Error(`${name}: the <sec-playground> element is not on a page`);
+    return this.playground;
+  }
+
+  play() { return this.api('play').play(); }
+
+  pause() { return this.api('pause').pause(); }
+
+  reset() { return this.api('reset').reset(); }
+
+  step(what = 'decision') { return this.api('step').step(what); }
+
+  configure(settings) { return this.api('configure').configure(settings); }
+
+  getState() { return this.api('getState').getState(); }
+
+  getMetrics(format = 'rows') { return this.api('getMetrics').getMetrics(format); }
+
+  saveMemory() { return this.api('saveMemory').saveMemory(); }
+
+  loadMemory(bytes) { return this.api('loadMemory').loadMemory(bytes); }
 }
 
 if (!customElements.get('sec-playground')) customElements.define('sec-playground', SecPlaygroundElement);

@@ -11,6 +11,10 @@ import { drawExplanation, whyLayer } from './explain.js';
 import { keyboard } from './keys.js';
 import { download, episodesCsv } from './export.js';
 import { TEMPLATE } from './template.js';
+import { importingWorker, sameOrigin } from './workers.js';
+
+/** The version of the programmatic API and the iframe protocol (docs/EMBED.md). */
+export const API_VERSION = 1;
 
 /** Decisions per second while a person drives (the speed slider's value above it is capped). */
 const DRIVE_SPEED = 8;
@@ -64,6 +68,12 @@ export class Playground {
     this.keyAction = 0; // the held arrow keys' action
     this.padAction = null; // the held pad button's, which wins while held
     this.listeners = [];
+    /** The API's events (`on`): ready, episode, state, error. */
+    this.events = new EventTarget();
+    /** The API's requests awaiting the worker's answer, by id. */
+    this.pending = new Map();
+    this.nextRequest = 1;
+    this.started$ = new Promise((ok) => { this.whenStarted = ok; });
     // The reward curve beside the camera, unless the views are hidden (then with the other charts).
     const besideCamera = !hide.includes('views') && !hide.includes('charts');
     this.charts = new Charts(this.$('charts'), besideCamera ? { reward: this.$('chart-slot') } : {});
@@ -110,7 +120,10 @@ export class Playground {
     el.textContent = message ?? '';
     el.hidden = !message;
     this.controls?.refused(message ? message.split(/; |\. (?=[A-Z])/) : []);
-    if (message) this.notice(''); // a notice of what applied before is stale now
+    if (message) {
+      this.notice(''); // a notice of what applied before is stale now
+      this.emit('error', { message });
+    }
   }
 
   notice(text) {
@@ -125,19 +138,25 @@ export class Playground {
   startWorker() {
     this.worker?.terminate();
     this.fatal = false;
-    // The first task goes with the worker's address, so it fetches its model while the wasm loads.
-    const query = new URLSearchParams({ task: (this.settings ?? this.initial).task ?? 'double-t-maze' });
-    if (WASM) query.set('wasm', WASM);
-    const url = new URL(`./worker.js?${query}`, import.meta.url);
-    this.worker = new Worker(url, { type: 'module' });
+    for (const { fail } of this.pending.values()) fail(new Error('the simulation restarted'));
+    this.pending.clear();
+    const url = new URL('./worker.js', import.meta.url);
+    this.worker = sameOrigin(url) ? new Worker(new URL('./worker.js', import.meta.url), { type: 'module' }) : importingWorker(url);
     this.worker.onmessage = ({ data }) => this.handlers[data.type]?.call(this, data);
-    this.worker.onerror = (e) => this.showError(`The simulation worker failed: ${e.message}`);
+    this.worker.onerror = (e) => this.showError(`The simulation worker failed: ${e.message ?? 'it could not start'}`);
+    // Which build, and the first task: the worker fetches its model while the wasm loads.
+    this.send({ type: 'boot', wasm: WASM, task: (this.settings ?? this.initial).task ?? 'double-t-maze' });
   }
 
   writeHash() {
     if (!this.useHash) return;
     const h = `#${new URLSearchParams(this.settings)}`;
-    if (location.hash !== h) history.replaceState(null, '', h);
+    if (location.hash === h) return;
+    try {
+      history.replaceState(null, '', h);
+    } catch {
+      // A sandboxed frame with an opaque origin may not rewrite its address: the hash is a convenience.
+    }
   }
 
   /** What the worker posts: every view while someone can see them, fewer at max speed, and
@@ -280,14 +299,9 @@ export class Playground {
     });
     runControls($, {
       toggle: () => this.setPlaying(!this.wantPlay),
-      step: (what) => {
-        if (this.wantPlay) {
-          this.wantPlay = false;
-          this.views();
-        }
-        this.send({ type: 'step', what });
-      },
-      reset: () => (this.fatal ? this.startWorker() : this.send({ type: 'reset' })),
+      // A refusal shows as the page's error; the promise has nothing to add.
+      step: (what) => this.step(what).catch(() => {}),
+      reset: () => this.reset().catch(() => {}),
       preset: (name) => this.send({ type: 'preset', name }),
       speed: (v) => {
         this.speed = v;
@@ -390,6 +404,116 @@ export class Playground {
   exportJson() {
     this.pendingJson = true;
     this.send({ type: 'config' });
+  }
+
+  // The programmatic API: what the element's methods, the iframe protocol (docs/EMBED.md) and
+  // the notebook widget call. Settings go through the core's table as the controls' do.
+
+  /** Calls `f(detail)` on each `type` event (ready, episode, state, error); returns the unsubscribe. */
+  on(type, f) {
+    const h = (e) => f(e.detail);
+    this.events.addEventListener(type, h);
+    return () => this.events.removeEventListener(type, h);
+  }
+
+  emit(type, detail) {
+    this.events.dispatchEvent(new CustomEvent(type, { detail }));
+  }
+
+  /** Sends `msg` with a fresh id; resolves with the worker's result, rejects with its error. */
+  request(msg, transfer = []) {
+    return new Promise((ok, fail) => {
+      const id = this.nextRequest++;
+      this.pending.set(id, { ok, fail });
+      this.send({ ...msg, id }, transfer);
+    });
+  }
+
+  play() {
+    this.setPlaying(true);
+    return this.getState();
+  }
+
+  pause() {
+    this.setPlaying(false);
+    return this.getState();
+  }
+
+  /** A new run with the same settings (and seed). */
+  async reset() {
+    await this.started$;
+    if (this.fatal) this.startWorker();
+    else await this.request({ type: 'reset' });
+    return this.getState();
+  }
+
+  /** One decision or one whole episode (`what`), paused after it. */
+  async step(what = 'decision') {
+    await this.started$;
+    if (this.wantPlay) {
+      this.wantPlay = false;
+      this.views();
+    }
+    await this.request({ type: 'step', what });
+    return this.getState();
+  }
+
+  /**
+   * Applies settings (keys of the core's table, as in the URL hash) as one batch, all or none.
+   * Resolves with what applied: `{applied: 'live' | 'restart' | 'unchanged', changes, settings}`
+   * (`changes` under the table's keys); rejects naming each bad key and its range.
+   */
+  async configure(settings) {
+    if (settings == null || typeof settings !== 'object' || Array.isArray(settings)) {
+      throw new Error(`configure: settings must be an object of keys to values, not ${JSON.stringify(settings)}`);
+    }
+    await this.started$;
+    const changes = Object.fromEntries(Object.entries(settings).map(([k, v]) => [k, String(v)]));
+    const r = await this.request({ type: 'set', changes });
+    return { applied: r.mode, changes: r.changes, settings: r.settings };
+  }
+
+  /**
+   * Where the run is: `playing` (asked to play) and `running` (stepping now: not while it is off
+   * screen, in a hidden tab or paused for a comparison), decisions and episodes so far, the LTM
+   * and the settings.
+   */
+  getState() {
+    const v = this.lastView;
+    return {
+      playing: this.wantPlay,
+      running: this.playing,
+      decisions: v?.decisions ?? 0,
+      episode: this.episodes,
+      ltm: v?.ltm ?? 0,
+      capacity: v?.capacity ?? null,
+      settings: this.settings ? { ...this.settings } : null,
+    };
+  }
+
+  /** Every finished episode of this run: its metrics rows, or the CSV the export writes. */
+  getMetrics(format = 'rows') {
+    if (format === 'csv') {
+      return episodesCsv([{ name: 'main', settings: this.settings, seed: this.settings?.seed, episodes: this.log }]);
+    }
+    if (format !== 'rows') throw new Error(`getMetrics: format '${format}' is not one of rows, csv`);
+    return this.log.map((m) => ({ ...m }));
+  }
+
+  /** The run's memory file (an ArrayBuffer), as "Save memory" writes it. */
+  async saveMemory() {
+    await this.started$;
+    return this.request({ type: 'saveMemory' });
+  }
+
+  /** Loads a memory file (ArrayBuffer or typed array); resolves with the sequences it holds. */
+  async loadMemory(bytes) {
+    const buffer = bytes instanceof ArrayBuffer ? bytes : ArrayBuffer.isView(bytes)
+      ? bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.byteLength) : null;
+    if (!buffer) throw new Error('loadMemory: bytes must be an ArrayBuffer or a typed array');
+    await this.started$;
+    const { sequences } = await this.request({ type: 'loadMemory', bytes: buffer });
+    return { sequences };
   }
 
   /** What tests and the curious can read. */
@@ -507,6 +631,10 @@ Playground.prototype.handlers = {
         : `Applied live: ${what}`);
     }
     if (first || msg.fresh) this.setPlaying(this.wantPlay);
+    if (first) {
+      this.whenStarted();
+      this.emit('ready', { version: API_VERSION, settings: { ...this.settings } });
+    }
     if (first && this.tourAsked) {
       this.tourAsked = false;
       this.tour.start();
@@ -517,6 +645,7 @@ Playground.prototype.handlers = {
     this.episodes += list.length;
     for (const m of list) {
       this.log.push(m);
+      this.emit('episode', { ...m });
       if (m.human && this.agentInfo()?.canBeDriven && this.$('record').checked) this.afterDrive(m);
     }
   },
@@ -561,6 +690,7 @@ Playground.prototype.handlers = {
   },
   state(msg) {
     this.playing = msg.playing;
+    this.emit('state', this.getState());
     if (!this.playing) this.rate.samples.length = 0;
     this.$('play').textContent = this.playing ? 'Pause' : 'Play';
     this.$('play').closest('.playground').dataset.playing = this.playing;
@@ -589,7 +719,15 @@ Playground.prototype.handlers = {
     const json = JSON.stringify({ settings: this.settings, seed, config }, null, 2);
     download(this.root, `sec-config-${this.settings.task}-seed${seed}.json`, 'application/json', json);
   },
+  done({ id, result }) {
+    this.pending.get(id)?.ok(result);
+    this.pending.delete(id);
+  },
   error(msg) {
+    if (this.pending.has(msg.id)) {
+      this.pending.get(msg.id).fail(new Error(msg.message));
+      this.pending.delete(msg.id);
+    }
     this.showError(msg.message);
     this.fatal ||= msg.fatal;
     // A refused value: show the settings still in force, in the controls and the address bar.

@@ -43,13 +43,18 @@ channel.port1.onmessage = () => waiting.shift()?.();
 /**
  * Runs `handlers[data.type](data)` for each message, one at a time and in order (a handler that
  * fetches a model finishes before the next starts); a thrown error, or an unknown type, goes to
- * `onError`.
+ * `onError(error, id)`. A message with an `id` (a request of the page's API) is answered with
+ * `{type: 'done', id, result}`, the handler's value, after everything the handler posted, or its
+ * error carries the `id`.
  */
 export function serveMessages(handlers, onError) {
   let queue = Promise.resolve();
   self.onmessage = ({ data }) => {
     const h = handlers[data?.type];
-    if (!h) return onError(new Error(`unknown message '${data?.type}'`));
-    queue = queue.then(() => h(data)).catch(onError);
+    const id = data?.id;
+    if (!h) return onError(new Error(`unknown message '${data?.type}'`), id);
+    queue = queue.then(() => h(data)).then((result) => {
+      if (id != null) self.postMessage({ type: 'done', id, result });
+    }).catch((e) => onError(e, id));
   };
 }

@@ -1,31 +1,42 @@
-// Loads the simulation's wasm: the SIMD build (simd128) where the browser runs wasm SIMD, the
-// scalar build otherwise. Both give the same bits (the kernels sum in the same order), so a run
-// is the same on either. `?wasm=scalar` in the page's address forces the fallback (for tests and
-// for comparing speed). `?wasm=hooks` loads the test flavour (scripts/build-hooks.sh), the SIMD
-// build with the test hooks; the published page has no such folder.
+// Loads the simulation's wasm into a worker (`load`, told by the page which build): the SIMD build
+// (simd128) where the browser runs wasm SIMD, the scalar build otherwise. Both give the same bits
+// (the kernels sum in the same order), so a run is the same on either. `?wasm=scalar` in the
+// page's address forces the fallback (for tests and for comparing speed). `?wasm=hooks` loads the
+// test flavour (scripts/build-hooks.sh), the SIMD build with the test hooks; the published page
+// has no such folder. Every file is addressed by a literal `new URL(..., import.meta.url)` or
+// `import(...)`, so a bundler (Vite) finds and copies the wasm and the models.
 
 import { TASKS } from './tasks.js';
 
 /** A function returning a v128 (i8x16.splat, i8x16.popcnt): valid only where SIMD is. */
 const SIMD_PROBE = new Uint8Array([0, 97, 115, 109, 1, 0, 0, 0, 1, 5, 1, 96, 0, 1, 123, 3, 2, 1, 0, 10, 10, 1, 8, 0,
   65, 0, 253, 15, 253, 98, 11]);
+/** The test flavour, out of a bundler's sight (only the repository has it). */
+const HOOKS = ['..', 'pkg', 'hooks', 'sec_playground.js'].join('/');
 
 /** Models being registered, and model downloads under way, by task. */
 const loading = new Map();
 const fetched = new Map();
 
-const params = new URLSearchParams(self.location?.search ?? '');
-/** Which build runs: 'simd', 'scalar' or 'hooks'. */
-export const build = params.get('wasm') === 'hooks' ? 'hooks'
-  : params.get('wasm') === 'scalar' || !WebAssembly.validate(SIMD_PROBE) ? 'scalar' : 'simd';
-const GLUE = { simd: '../pkg/sec_playground.js', scalar: '../pkg/scalar/sec_playground.js', hooks: '../pkg/hooks/sec_playground.js' };
-// The worker is told its first task: fetch its model while the wasm loads.
-if (params.get('task')) prefetchModel(params.get('task'));
-const glue = await import(GLUE[build]);
+/** Which build runs: 'simd', 'scalar' or 'hooks' (set by `load`). */
+export let build = null;
+// The glue's exports, bound by `load` (live bindings: importers see them once it has run).
+export let SecRun, agents, parameters, parseSettings, applySettings, presetSettings, panicForTest, registerModel, hasModel,
+  taskNames, frameSize;
 
-export default glue.default;
-export const { SecRun, agents, parameters, parseSettings, applySettings, presetSettings, panicForTest, registerModel, hasModel,
-  taskNames, ArenaEnv, taskDescription, frameSize, maxTextFileBytes } = glue;
+/**
+ * Loads and instantiates the build `wanted` ('scalar', 'hooks', or anything else for the best
+ * this engine runs), fetching the model of `task` meanwhile; resolves with the wasm's exports.
+ */
+export async function load({ wanted = null, task = null } = {}) {
+  build = wanted === 'hooks' ? 'hooks' : wanted === 'scalar' || !WebAssembly.validate(SIMD_PROBE) ? 'scalar' : 'simd';
+  if (task) prefetchModel(task);
+  const glue = build === 'hooks' ? await import(/* @vite-ignore */ new URL(HOOKS, import.meta.url).href)
+    : build === 'scalar' ? await import('../pkg/scalar/sec_playground.js') : await import('../pkg/sec_playground.js');
+  ({ SecRun, agents, parameters, parseSettings, applySettings, presetSettings, panicForTest, registerModel, hasModel,
+    taskNames, frameSize } = glue);
+  return glue.default();
+}
 
 /** The trained model a run's reconstruction gate uses: its task's, trained on frames of its
  * surface (the core's `encoder::model_name`): `<task>` flat, `<task>-textured` textured. */

@@ -2,7 +2,10 @@
 // smooth at any speed, and posts what the page draws. No SharedArrayBuffer: images are copied
 // out of wasm memory and transferred.
 //
-// Messages in:  {type: 'start', settings}, {type: 'set', changes}, {type: 'play'}, {type: 'pause'},
+// Any message may carry an `id`: it is then answered with {type: 'done', id, result} (or an error
+// with the id) after what it posted; `set` gives {mode, changes, settings}, `saveMemory` with an
+// id gives the bytes instead of posting them, `loadMemory` gives {sequences}.
+// Messages in:  {type: 'boot', wasm, task} (first), {type: 'start', settings}, {type: 'set', changes}, {type: 'play'}, {type: 'pause'},
 //               {type: 'speed', value}, {type: 'step', what: 'decision' | 'episode'},
 //               {type: 'reset'}, {type: 'views', camera, top, heat, hz, explain}, {type: 'drive', action, record},
 //               {type: 'saveMemory'}, {type: 'loadMemory', bytes},
@@ -10,7 +13,7 @@
 // Messages out: {type: 'ready', params, agents, defaults, build}, {type: 'started', settings, errors, mode},
 //               {type: 'episodes', list}, {type: 'view', ...}, {type: 'state', playing},
 //               {type: 'memory', bytes}, {type: 'loaded', sequences, what}, {type: 'error', message, fatal}
-import init, { build, ensureModel, gateModel, SecRun, agents, frameSize, parameters, parseSettings, applySettings, presetSettings, panicForTest } from './wasm.js';
+import { load, build, ensureModel, gateModel, SecRun, agents, frameSize, parameters, parseSettings, applySettings, presetSettings, panicForTest } from './wasm.js';
 import { AdaptiveBatch, SLICE_MS, serveMessages, soon } from './slices.js';
 
 /** Most view posts per second while watching; the page asks for fewer at max speed. */
@@ -32,8 +35,8 @@ let wasmMemory = null; // the instance's memory: its size goes out with each vie
 
 const post = (msg, transfer) => self.postMessage(msg, transfer ?? []);
 
-function fail(e, fatal = false) {
-  post({ type: 'error', message: String(e?.message ?? e), fatal });
+function fail(e, fatal = false, id = undefined) {
+  post({ type: 'error', message: String(e?.message ?? e), fatal, id });
 }
 
 /** Copies a view into wasm memory into a transferable buffer. */
@@ -102,10 +105,10 @@ function loop() {
   else setTimeout(loop, Math.max(0, Math.min(1000 / speed, 1000 / VIEW_HZ)));
 }
 
-function trapped(e) {
+function trapped(e, id = undefined) {
   dead = true;
   playing = false;
-  fail(`The simulation stopped: ${e?.message ?? e}. Reset to start again.`, true);
+  fail(`The simulation stopped: ${e?.message ?? e}. Reset to start again.`, true, id);
   post({ type: 'state', playing });
 }
 
@@ -155,7 +158,7 @@ const handlers = {
     const same = Object.keys(next.settings).every((k) => next.settings[k] === settings[k]);
     if (same && run && !dead) {
       // Nothing to change (e.g. the same value twice).
-      return;
+      return { mode: 'unchanged', changes: {}, settings };
     }
     let mode;
     if (!run || dead || next.seed !== run.seed) {
@@ -170,6 +173,7 @@ const handlers = {
     settings = next.settings;
     post({ type: 'started', settings, errors: [], mode, changes: changed });
     postView(true);
+    return { mode, changes: changed, settings };
   },
   preset({ name }) {
     return handlers.set({ changes: presetSettings(name) });
@@ -210,14 +214,17 @@ const handlers = {
   config() {
     post({ type: 'config', config: run.config(), seed: run.seed });
   },
-  saveMemory() {
+  /** The memory file: posted for the page to download, or the request's result (`id`). */
+  saveMemory({ id }) {
     const bytes = run.saveMemory();
+    if (id != null) return bytes.buffer;
     post({ type: 'memory', bytes: bytes.buffer }, [bytes.buffer]);
   },
   loadMemory({ bytes }) {
     const sequences = run.loadMemory(new Uint8Array(bytes));
     post({ type: 'loaded', sequences });
     postView(true);
+    return { sequences };
   },
   /**
    * "Skip the warm-up": the run starts again from a reference run's memory (`what` says which),
@@ -254,12 +261,20 @@ const handlers = {
 };
 
 // A bad value: the message names it; the run is as it was. A trap: the run is gone.
-serveMessages(handlers, (e) => (e instanceof WebAssembly.RuntimeError ? trapped(e) : fail(e)));
+serveMessages(handlers, (e, id) => (e instanceof WebAssembly.RuntimeError ? trapped(e, id) : fail(e, false, id)));
 
-init()
-  .then((wasm) => {
-    wasmMemory = wasm.memory;
-    const parsed = parseSettings({});
-    post({ type: 'ready', params: parameters(), agents: agents(), defaults: parsed.settings, build });
-  })
-  .catch((e) => fail(`The simulation could not load: ${e?.message ?? e}`, true));
+/**
+ * The page's first message: which build (`wasm`) and the first task, whose model is fetched while
+ * the wasm loads. Messages after it wait until it is done (serveMessages runs them in order).
+ */
+handlers.boot = async ({ wasm, task }) => {
+  try {
+    wasmMemory = (await load({ wanted: wasm, task })).memory;
+  } catch (e) {
+    fail(`The simulation could not load: ${e?.message ?? e}`, true);
+    dead = true;
+    return;
+  }
+  const parsed = parseSettings({});
+  post({ type: 'ready', params: parameters(), agents: agents(), defaults: parsed.settings, build });
+};
