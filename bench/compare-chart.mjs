@@ -4,15 +4,9 @@
 // its end) and 4 reference curves, drawn by the page's CompareChart as the comparison redraws it
 // (a new point in every run, then a redraw): the median and the longest of 50 redraws, with at
 // most MAX_POINTS points per line (what the page draws) and with every episode (before).
-import { chromium } from 'playwright-core';
-import { serve } from '../scripts/serve.mjs';
+import { openChromium } from './browser.mjs';
 
-const server = await serve(0);
-const base = `http://127.0.0.1:${server.address().port}/`;
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
-  args: ['--no-sandbox', '--disable-gpu', '--no-first-run', '--disable-background-networking'],
-});
+const { server, browser, base } = await openChromium(['--no-first-run', '--disable-background-networking']);
 
 try {
   const page = await browser.newPage({ viewport: { width: 1300, height: 1000 } });

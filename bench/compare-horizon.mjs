@@ -6,16 +6,10 @@
 // and decisions/s (its decisions over the time it played), and what the same runs would take on
 // an 8-thread machine's pool of 7 at this machine's speed per thread: the runs' measured times
 // scheduled in the pool's order (each run to the first free worker).
-import { chromium } from 'playwright-core';
-import { serve } from '../scripts/serve.mjs';
+import { openChromium, UNTHROTTLED } from './browser.mjs';
 
 const workers = process.argv[2];
-const server = await serve(0);
-const base = `http://127.0.0.1:${server.address().port}/`;
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
-  args: ['--no-sandbox', '--disable-gpu', '--disable-background-timer-throttling', '--disable-renderer-backgrounding'],
-});
+const { server, browser, base } = await openChromium(UNTHROTTLED);
 
 /** The makespan of `times` (in the pool's order) on `k` workers, each run to the first free one. */
 function makespan(times, k) {

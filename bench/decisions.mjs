@@ -5,8 +5,7 @@
 import { readFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import { performance } from 'node:perf_hooks';
-import { chromium } from 'playwright-core';
-import { serve } from '../scripts/serve.mjs';
+import { openChromium, UNTHROTTLED } from './browser.mjs';
 
 const root = fileURLToPath(new URL('..', import.meta.url));
 const BATCHES = 11;
@@ -67,12 +66,7 @@ try {
 }
 if (process.argv.includes('--node-only')) process.exit(0);
 
-const server = await serve(0);
-const base = `http://127.0.0.1:${server.address().port}/`;
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
-  args: ['--no-sandbox', '--disable-gpu', '--disable-background-timer-throttling', '--disable-renderer-backgrounding'],
-});
+const { server, browser, base } = await openChromium(UNTHROTTLED);
 try {
   const page = await browser.newPage({ viewport: { width: 1300, height: 1000 } });
   await page.goto(`${base}arena.html`);

@@ -4,15 +4,10 @@
 // of 8 s (default 4), each the decisions of the episodes finished in it over its time, with the
 // LTM at its start and end and the page's own readout. What a student sees, views and messages
 // included, where bench/decisions.mjs times the wasm alone.
-import { chromium } from 'playwright-core';
-import { serve } from '../scripts/serve.mjs';
+import { openChromium } from './browser.mjs';
 
 const WINDOWS = Number(process.argv[2] ?? 4);
-const server = await serve(0);
-const base = `http://127.0.0.1:${server.address().port}/`;
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium', args: ['--no-sandbox', '--disable-gpu'],
-});
+const { server, browser, base } = await openChromium();
 try {
   const page = await browser.newPage({ viewport: { width: 1300, height: 1000 } });
   await page.goto(`${base}#task=double-t-maze`);

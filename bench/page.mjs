@@ -7,16 +7,10 @@
 // it draws its first camera image; the median of 5 cold loads (a fresh browser context each,
 // cache off), on a local server, so network time is ~0 and the figure is the page's own work.
 import { gzipSync } from 'node:zlib';
-import { chromium } from 'playwright-core';
-import { serve } from '../scripts/serve.mjs';
+import { openChromium } from './browser.mjs';
 
 const LOADS = 5;
-const server = await serve(0);
-const base = `http://127.0.0.1:${server.address().port}/`;
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
-  args: ['--no-sandbox', '--disable-gpu', '--no-first-run', '--disable-background-networking'],
-});
+const { server, browser, base } = await openChromium(['--no-first-run', '--disable-background-networking']);
 
 async function load(path, wantBytes) {
   const context = await browser.newContext({ viewport: { width: 1300, height: 1000 } });

@@ -7,19 +7,13 @@
 // build-hooks.sh does into another folder and `wasm-opt -O3 -g` instead of `-O3`.
 import { fileURLToPath } from 'node:url';
 import { relative } from 'node:path';
-import { chromium } from 'playwright-core';
-import { serve } from '../scripts/serve.mjs';
+import { openChromium, UNTHROTTLED } from './browser.mjs';
 
 const root = fileURLToPath(new URL('..', import.meta.url));
 const pkg = relative(root, process.argv[2] ?? `${root}pkg/hooks`);
 const DECISIONS = 10000;
 
-const server = await serve(0);
-const base = `http://127.0.0.1:${server.address().port}/`;
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
-  args: ['--no-sandbox', '--disable-gpu', '--disable-background-timer-throttling', '--disable-renderer-backgrounding'],
-});
+const { server, browser, base } = await openChromium(UNTHROTTLED);
 try {
   const page = await browser.newPage();
   await page.goto(`${base}arena.html`);
