@@ -462,7 +462,8 @@ fn the_simd128_similarity_kernels_sum_in_numpys_order() {
     use sec_playground::memory::{pairwise20, Couplet, Forgetting, Memory, MemoryConfig};
     let mut r = ChaCha8Rng::seed_from_u64(54);
     for n in [4, 13, 50] {
-        let cfg = MemoryConfig { n, m: 3, forgetting: Forgetting::Fifo, sequential_bias: false, ..MemoryConfig::default() };
+        let cfg =
+            MemoryConfig { n, m: 3, forgetting: Forgetting::Fifo, sequential_bias: false, ..MemoryConfig::default() };
         let mut mem = Memory::new(cfg).unwrap();
         let mut rows: Vec<Vec<[f32; EMBEDDING]>> = Vec::new();
         for stores in 0..3 {
