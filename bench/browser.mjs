@@ -16,3 +16,12 @@ export async function openChromium(args = []) {
   });
   return { server, browser, base };
 }
+
+/** Sets the page's speed slider to its last stop, max speed. */
+export function maxSpeed(page) {
+  return page.evaluate(() => {
+    const s = document.getElementById('speed');
+    s.value = s.max;
+    s.dispatchEvent(new Event('input'));
+  });
+}

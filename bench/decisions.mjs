@@ -5,7 +5,7 @@
 import { readFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import { performance } from 'node:perf_hooks';
-import { openChromium, UNTHROTTLED } from './browser.mjs';
+import { openChromium, UNTHROTTLED, maxSpeed } from './browser.mjs';
 
 const root = fileURLToPath(new URL('..', import.meta.url));
 const BATCHES = 11;
@@ -91,11 +91,7 @@ try {
   // The page at max speed: count animation frames on the main thread for 5 s.
   await page.goto(`${base}#speed=max`);
   await page.waitForFunction(() => window.secPlayground?.playing);
-  await page.evaluate(() => {
-    const s = document.getElementById('speed');
-    s.value = String(Number(s.max));
-    s.dispatchEvent(new Event('input'));
-  });
+  await maxSpeed(page);
   await page.waitForTimeout(1000);
   const fps = await page.evaluate(() => new Promise((ok) => {
     let frames = 0;

@@ -8,6 +8,7 @@
 // run's worker and of each compare worker (their last messages). Flat after the warm-up means no
 // leak: the heap may grow only by the episodes the page keeps for its charts and CSV.
 import { launch, pageMemory } from '../tests/browser/harness.mjs';
+import { maxSpeed } from './browser.mjs';
 
 const EPISODES = Number(process.env.EPISODES ?? 5000);
 const EVERY = Math.max(1, Math.round(EPISODES / 20));
@@ -28,11 +29,7 @@ try {
   await cdp.send('Performance.enable');
   await page.goto(`${base}#task=double-t-maze`);
   await page.waitForFunction(() => window.secPlayground?.settings && window.secPlayground.view);
-  await page.evaluate(() => {
-    const s = document.getElementById('speed');
-    s.value = s.max;
-    s.dispatchEvent(new Event('input'));
-  });
+  await maxSpeed(page);
   console.log(`chromium ${browser.version()}; the double T-maze at max speed, ${EPISODES} episodes (code preset, m = 500)`);
   console.log(['episodes', 'minutes', 'heap MiB', 'DOM nodes', 'listeners', 'wasm MiB', 'compare wasm MiB', 'compare episodes'].join('\t'));
   const t0 = Date.now();

@@ -4,7 +4,7 @@
 // of 8 s (default 4), each the decisions of the episodes finished in it over its time, with the
 // LTM at its start and end and the page's own readout. What a student sees, views and messages
 // included, where bench/decisions.mjs times the wasm alone.
-import { openChromium } from './browser.mjs';
+import { openChromium, maxSpeed } from './browser.mjs';
 
 const WINDOWS = Number(process.argv[2] ?? 4);
 const { server, browser, base } = await openChromium();
@@ -12,11 +12,7 @@ try {
   const page = await browser.newPage({ viewport: { width: 1300, height: 1000 } });
   await page.goto(`${base}#task=double-t-maze`);
   await page.waitForFunction(() => window.secPlayground?.settings && window.secPlayground.view);
-  await page.evaluate(() => {
-    const s = document.getElementById('speed');
-    s.value = s.max;
-    s.dispatchEvent(new Event('input'));
-  });
+  await maxSpeed(page);
   await page.waitForTimeout(3000);
   for (let i = 0; i < WINDOWS; i++) {
     const a = await page.evaluate(() => ({ ep: window.secPlayground.episodes, t: performance.now(), ltm: window.secPlayground.view.ltm }));
