@@ -37,6 +37,19 @@ cp -r assets/warm-up dist/sec-playground/assets/warm-up
 for d in pkg pkg/scalar pkg/arena; do
     cp "$d/sec_playground.js" "$d/sec_playground.d.ts" "$d/sec_playground_bg.wasm" "dist/sec-playground/$d/"
 done
+# The notebook widget's module (one file: the element and its workers; docs/EMBED.md), in the
+# package for static pages (MyST), and with the files it is given at run time in the Python
+# package, whose kernel sends them (crates/sec-py/python/sec_playground/notebook.py).
+node scripts/widget-build.mjs dist/sec-playground
+widget=crates/sec-py/python/sec_playground/_widget
+rm -rf "$widget"
+mkdir -p "$widget/files/pkg/scalar" "$widget/files/assets" "$widget/files/www/vendor"
+cp dist/sec-playground/widget.js "$widget/"
+cp pkg/sec_playground_bg.wasm "$widget/files/pkg/"
+cp pkg/scalar/sec_playground_bg.wasm "$widget/files/pkg/scalar/"
+cp -r assets/encoders assets/reference assets/warm-up "$widget/files/assets/"
+cp www/style.css "$widget/files/www/"
+cp www/vendor/uPlot.min.css "$widget/files/www/vendor/"
 # The folder is also the npm package (package.json, README; the element's manifest is in www/).
 node scripts/npm-package.mjs dist/sec-playground
 for f in pkg/sec_playground_bg.wasm pkg/scalar/sec_playground_bg.wasm pkg/arena/sec_playground_bg.wasm; do

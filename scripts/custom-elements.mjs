@@ -76,6 +76,9 @@ export function manifest(params, defaults, version) {
           event('episode', 'SecPlaygroundEpisode', 'An episode finished: its metrics row.'),
           event('state', 'SecPlaygroundState', 'Play or pause.'),
           event('error', '{message: string}', 'An error the playground shows (a refused value names its key and range).'),
+          event('settings', "{applied: 'live' | 'restart' | 'unchanged', changes: Record<string, string> | null, settings: Record<string, string>}", 'Settings changed after the first run started, by a control, a shortcut or the API.'),
+          event('run', '{settings: Record<string, string>}', 'A new run began (the first, a reset, or a change that restarts): its episodes count from 1.'),
+          event('explanation', 'object', "The last decision explained (posted while paused or stepping): the contextual layer's sum term by term."),
         ],
       }],
       exports: [

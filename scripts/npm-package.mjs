@@ -30,13 +30,14 @@ const pkg = {
     './embed-host': { types: './www/embed-host.d.ts', default: './www/embed-host.js' },
     './wasm': { types: './pkg/sec_playground.d.ts', default: './pkg/sec_playground.js' },
     './custom-elements.json': './www/custom-elements.json',
+    './widget': './widget.js',
     './package.json': './package.json',
     './*': './*',
   },
   types: './www/element.d.ts',
   customElements: 'www/custom-elements.json',
   sideEffects: ['./www/element.js', './www/sec-playground.js'],
-  files: ['index.html', 'embed.html', 'arena.html', 'www', 'pkg', 'assets', 'README.md'],
+  files: ['index.html', 'embed.html', 'arena.html', 'widget.js', 'www', 'pkg', 'assets', 'README.md'],
 };
 writeFileSync(`${dir}/package.json`, `${JSON.stringify(pkg, null, 2)}\n`);
 
@@ -69,5 +70,17 @@ the element's methods and events, and the iframe protocol for platforms that onl
 (\`embed.html\`, driven with \`sec-playground/embed-host\`), are in docs/EMBED.md of the repository.
 \`sec-playground/wasm\` is the WebAssembly API itself (\`SecRun\`, \`ArenaEnv\`; TypeScript
 declarations included).
+
+## In a notebook or a book
+
+\`widget.js\` (\`sec-playground/widget\`) is the element as an anywidget module, one file with its
+workers. The Python package's \`sec_playground.widget()\` uses it with the files from the kernel;
+a MyST / Jupyter Book page renders it with no kernel, the files from this package:
+
+\`\`\`markdown
+:::{anywidget} https://cdn.jsdelivr.net/npm/sec-playground@${version}/widget.js
+{"files": "https://cdn.jsdelivr.net/npm/sec-playground@${version}/", "task": "detour", "alpha": 0.05}
+:::
+\`\`\`
 `);
 console.log(`${dir}: package.json and README.md for sec-playground ${version}`);

@@ -22,8 +22,10 @@ maturin sdist -m crates/sec-py/Cargo.toml -o target/wheels
 sdist=$(ls target/wheels/sec_playground-*.tar.gz)
 files=$(tar tzf "$sdist")
 say "$sdist: $(stat -c %s "$sdist") bytes, $(wc -l <<<"$files") files"
+# The notebook widget's module and files are built here (scripts/build.sh) and carried as they are.
 for f in pyproject.toml Cargo.toml Cargo.lock src/lib.rs assets/encoders/double-t-maze.secae \
-         crates/sec-py/src/lib.rs python/sec_playground/__init__.py README.md; do
+         crates/sec-py/src/lib.rs python/sec_playground/__init__.py README.md \
+         python/sec_playground/_widget/widget.js python/sec_playground/_widget/files/pkg/sec_playground_bg.wasm; do
     grep -qx "sec_playground-[^/]*/$f" <<<"$files" || { say "the sdist lacks $f"; exit 1; }
 done
 # The workspace's results, page, tests and docs stay out (the crates' own tests may come along).

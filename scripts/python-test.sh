@@ -3,7 +3,9 @@
 # manylinux2014 wheel (maturin with zig from PyPI as the linker, in target/py-build), installs it
 # into a test venv (target/py-venv) and runs pytest there with no Rust toolchain on PATH. About two
 # minutes on a warm cache; the first run installs the pinned packages of
-# crates/sec-py/requirements-{build,test}.txt and compiles PyO3.
+# crates/sec-py/requirements-{build,test}.txt (JupyterLab among them, for the widget's browser
+# test) and compiles PyO3. The wheel carries the notebook widget's module, which scripts/build.sh
+# makes: run that first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
@@ -11,6 +13,10 @@ build="$PWD/target/py-build"
 venv="${SEC_PY_VENV:-$PWD/target/py-venv}"
 for v in "$build" "$venv"; do [ -x "$v/bin/python" ] || python3 -m venv "$v"; done
 "$build/bin/pip" install -q --disable-pip-version-check -r crates/sec-py/requirements-build.txt
+if [ ! -f crates/sec-py/python/sec_playground/_widget/widget.js ]; then
+    echo "[python-test] the notebook widget's module is missing: run scripts/build.sh first (the wheel carries it)" >&2
+    exit 1
+fi
 rm -f target/wheels/sec_playground-*.whl
 VIRTUAL_ENV="$build" PATH="$build/bin:$PATH" maturin build --release --quiet --zig --compatibility manylinux2014 \
     -m crates/sec-py/Cargo.toml -o target/wheels

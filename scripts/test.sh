@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs every test: the fast gate (fmt, clippy, docs), native Rust tests, the Python package's
-# pytest suite, the wasm tests under Node, and the page in real Chromium.
+# pytest suite, the wasm tests under Node, and the page in real Chromium (with the notebook widget
+# in JupyterLab, from the Python test venv, and on a MyST page).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
@@ -9,10 +10,10 @@ echo "== the fast gate (scripts/lint.sh)"
 ./scripts/setup.sh
 echo "== native tests (cargo test --workspace)"
 cargo test --workspace
+echo "== release wasm build for the page (and the notebook widget's module, which the wheel carries)"
+./scripts/build.sh
 echo "== the Python package (scripts/python-test.sh: the manylinux wheel, pytest in a venv without Rust)"
 ./scripts/python-test.sh
-echo "== release wasm build for the page"
-./scripts/build.sh
 echo "== the page's test flavour (pkg/hooks: the test hooks on)"
 ./scripts/build-hooks.sh
 # Release: it reuses the build just made, and the golden runs take seconds instead of minutes.

@@ -357,17 +357,20 @@ export class CompareChart {
         { label: `${r.label} reference`, stroke: rgba(r.colour, 0.55), width: 1, dash: [4, 3], points: { show: false } });
       bands.push({ series: [hi, hi + 1], fill: rgba(r.colour, 0.1) });
     }
+    let banded = bands.length;
     for (const s of stats) {
       mark(s.fill, data.length, s.colour, true);
       data.push(pad(s.mean));
       series.push({ label: s.label, stroke: s.colour, width: 2, points: { show: false } });
-      if (s.banded) {
-        const hi = series.length;
-        data.push(pad(s.mean.map((m, i) => m + s.se[i])), pad(s.mean.map((m, i) => m - s.se[i])));
-        series.push({ label: `${s.label} +SE`, stroke: rgba(s.colour, 0.25), width: 1, points: { show: false } },
-          { label: `${s.label} −SE`, stroke: rgba(s.colour, 0.25), width: 1, points: { show: false } });
-        bands.push({ series: [hi, hi + 1], fill: rgba(s.colour, 0.18) });
-      }
+      // Every arm has its band's lines, empty until a second run has episodes: the chart's
+      // series stay the same as runs start, so it is not rebuilt under a user's drag.
+      const hi = series.length;
+      const none = x.map(() => null);
+      data.push(s.banded ? pad(s.mean.map((m, i) => m + s.se[i])) : none, s.banded ? pad(s.mean.map((m, i) => m - s.se[i])) : none);
+      series.push({ label: `${s.label} +SE`, stroke: rgba(s.colour, 0.25), width: 1, points: { show: false } },
+        { label: `${s.label} −SE`, stroke: rgba(s.colour, 0.25), width: 1, points: { show: false } });
+      bands.push({ series: [hi, hi + 1], fill: rgba(s.colour, 0.18) });
+      if (s.banded) banded++;
     }
     this.marks = marks;
     const shape = `${title}|${series.map((s) => s.label).join('|')}`;
@@ -408,7 +411,7 @@ export class CompareChart {
     const liveAtFirstReference = this.drawn.liveAtFirstReference
       ?? (references.length ? stats.reduce((n, s) => n + s.len, 0) : null);
     this.drawn = {
-      series: stats.length, bands: bands.length, episodes: len, references: references.length, liveAtFirstReference,
+      series: stats.length, bands: banded, episodes: len, references: references.length, liveAtFirstReference,
       live, x: [this.plot.scales.x.min, this.plot.scales.x.max], points: x.length,
       fills: marks.map((m) => ({ episode: m.fill, live: m.live })),
     };

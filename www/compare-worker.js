@@ -2,9 +2,10 @@
 // at full speed with no views, to its horizon, then takes the next run the page sends it.
 // Episodes go out as they finish.
 //
-// Messages in:  {type: 'boot', wasm} (first), {type: 'start', settings, seed, episodes}, {type: 'play'}, {type: 'pause'}
+// Messages in:  {type: 'boot', wasm, files} (first), {type: 'start', settings, seed, episodes}, {type: 'play'}, {type: 'pause'},
+//               {type: 'file', id, bytes | error}
 // Messages out: {type: 'ready'}, {type: 'started', settings}, {type: 'episodes', list, wasmBytes},
-//               {type: 'done'}, {type: 'error', message}
+//               {type: 'done'}, {type: 'error', message}, {type: 'file', id, path} (files.js)
 import { load, ensureModel, gateModel, SecRun, parseSettings } from './wasm.js';
 import { AdaptiveBatch, serveMessages, soon } from './slices.js';
 
@@ -70,7 +71,7 @@ serveMessages(handlers, (e) => post({ type: 'error', message: String(e?.message 
 /** The instance's memory, whose size goes out with the episodes (a leak shows). */
 let memory = null;
 /** The page's first message: which build (`wasm`) to load. */
-handlers.boot = async ({ wasm }) => {
-  ({ memory } = await load({ wanted: wasm }));
+handlers.boot = async ({ wasm, files }) => {
+  ({ memory } = await load({ wanted: wasm, files }));
   post({ type: 'ready' });
 };

@@ -5,6 +5,7 @@
 import { ARM_COLOURS, CompareChart, WINDOW } from './charts.js';
 import { COMPARE_PRESETS, PRESET_BASE, exp1In, referenceMap } from './presets.js';
 import { importingWorker, sameOrigin } from './workers.js';
+import { answerFileRequest, fetchFile, filesForWorker } from './files.js';
 
 /** Most configurations at once. */
 const MAX_ARMS = 8;
@@ -33,7 +34,7 @@ let index = null;
 /** The reference runs there are (`experiment:condition` names), fetched once. */
 /** The reference runs there are, by `experiment:condition` name, with their numbers; fetched once. */
 function referenceIndex() {
-  index ??= fetch(new URL('../assets/reference/index.json', import.meta.url))
+  index ??= fetchFile('assets/reference/index.json', () => new URL('../assets/reference/index.json', import.meta.url))
     .then((r) => (r.ok ? r.json() : { references: [] }))
     .then(referenceMap)
     .catch(() => referenceMap({}));
@@ -197,7 +198,8 @@ export class Compare {
         // Every reference is experiment/group/arm.json: three literal levels, so that a bundler
         // (Vite) can list the files this address may name and copy them.
         const [group, arm] = condition.split('/');
-        const r = await fetch(new URL(`../assets/reference/${experiment}/${group}/${arm}.json`, import.meta.url));
+        const r = await fetchFile(`assets/reference/${experiment}/${group}/${arm}.json`,
+          () => new URL(`../assets/reference/${experiment}/${group}/${arm}.json`, import.meta.url));
         a.reference = r.ok ? await r.json() : null;
       } catch {
         a.reference = null;
@@ -286,9 +288,9 @@ export class Compare {
   }
 
   spawn() {
-    const url = new URL('./compare-worker.js', import.meta.url);
-    const w = sameOrigin(url) ? new Worker(new URL('./compare-worker.js', import.meta.url), { type: 'module' }) : importingWorker(url);
-    w.postMessage({ type: 'boot', wasm: this.wasm });
+    const w = sameOrigin(import.meta.url) ? new Worker(new URL('./compare-worker.js', import.meta.url), { type: 'module' })
+      : importingWorker(new URL('./compare-worker.js', import.meta.url));
+    w.postMessage({ type: 'boot', wasm: this.wasm, files: filesForWorker() });
     const p = { worker: w, job: null, ready: false };
     this.pool.push(p);
     w.onmessage = ({ data }) => this.receive(p, data);
@@ -321,7 +323,9 @@ export class Compare {
 
   receive(p, data) {
     const job = p.job;
-    if (data.type === 'ready') {
+    if (data.type === 'file') {
+      answerFileRequest(p.worker, data);
+    } else if (data.type === 'ready') {
       p.ready = true;
       this.assign(p);
     } else if (data.type === 'started') {

@@ -83,6 +83,12 @@ export interface SecPlaygroundEventMap {
   episode: CustomEvent<SecPlaygroundEpisode>;
   state: CustomEvent<SecPlaygroundState>;
   error: CustomEvent<{ message: string }>;
+  /** Settings changed after the first run started (a control, a shortcut, the API). */
+  settings: CustomEvent<{ applied: 'live' | 'restart' | 'unchanged'; changes: Partial<SecPlaygroundSettingStrings> | null; settings: SecPlaygroundSettingStrings }>;
+  /** A new run began: its episodes count from 1. */
+  run: CustomEvent<{ settings: SecPlaygroundSettingStrings }>;
+  /** The last decision explained (while paused or stepping). */
+  explanation: CustomEvent<Record<string, unknown>>;
 }
 
 export declare class SecPlaygroundElement extends HTMLElement {

@@ -18,21 +18,33 @@
 // reset, step, configure, getState, getMetrics, saveMemory and loadMemory, and the events
 // `ready`, `episode`, `state` and `error` (CustomEvents whose `detail` is the protocol's payload).
 import { Playground } from './playground.js';
+import { fetchFile, filesProvided } from './files.js';
 
-const EVENTS = ['ready', 'episode', 'state', 'error'];
+const EVENTS = ['ready', 'episode', 'state', 'error', 'settings', 'run', 'explanation'];
 const OWN = new Set(['hide', 'autoplay', 'class', 'style', 'id', 'tabindex', 'title', 'lang', 'dir']);
-// Each a literal `new URL(..., import.meta.url)`, so that a bundler (Vite) copies the file.
-const CSS = [new URL('./vendor/uPlot.min.css', import.meta.url).href, new URL('./style.css', import.meta.url).href];
+/** The style sheets, each a literal `new URL(..., import.meta.url)` so that a bundler (Vite)
+ * copies the file (a function: a module loaded from a string has no address to resolve them by). */
+const CSS = () => [new URL('./vendor/uPlot.min.css', import.meta.url).href, new URL('./style.css', import.meta.url).href];
+/** The same, as paths in the package, where the files are provided (files.js). */
+const CSS_FILES = ['www/vendor/uPlot.min.css', 'www/style.css'];
 
 class SecPlaygroundElement extends HTMLElement {
   connectedCallback() {
     if (this.playground) return;
     const root = this.shadowRoot ?? this.attachShadow({ mode: 'open' });
-    for (const href of CSS) {
-      const link = document.createElement('link');
-      link.rel = 'stylesheet';
-      link.href = href;
-      root.append(link);
+    if (filesProvided()) {
+      for (const path of CSS_FILES) {
+        const style = document.createElement('style');
+        root.append(style);
+        fetchFile(path).then((r) => (r.ok ? r.text() : '')).then((text) => { style.textContent = text; });
+      }
+    } else {
+      for (const href of CSS()) {
+        const link = document.createElement('link');
+        link.rel = 'stylesheet';
+        link.href = href;
+        root.append(link);
+      }
     }
     if (!this.hasAttribute('tabindex')) this.tabIndex = 0; // focus takes the keyboard shortcuts
     this.playground = new Playground(root, {

@@ -12,6 +12,7 @@ import { keyboard } from './keys.js';
 import { download, episodesCsv } from './export.js';
 import { TEMPLATE } from './template.js';
 import { importingWorker, sameOrigin } from './workers.js';
+import { answerFileRequest, fetchFile, filesForWorker } from './files.js';
 
 /** The version of the programmatic API and the iframe protocol (docs/EMBED.md). */
 export const API_VERSION = 1;
@@ -140,12 +141,12 @@ export class Playground {
     this.fatal = false;
     for (const { fail } of this.pending.values()) fail(new Error('the simulation restarted'));
     this.pending.clear();
-    const url = new URL('./worker.js', import.meta.url);
-    this.worker = sameOrigin(url) ? new Worker(new URL('./worker.js', import.meta.url), { type: 'module' }) : importingWorker(url);
+    this.worker = sameOrigin(import.meta.url) ? new Worker(new URL('./worker.js', import.meta.url), { type: 'module' })
+      : importingWorker(new URL('./worker.js', import.meta.url));
     this.worker.onmessage = ({ data }) => this.handlers[data.type]?.call(this, data);
     this.worker.onerror = (e) => this.showError(`The simulation worker failed: ${e.message ?? 'it could not start'}`);
     // Which build, and the first task: the worker fetches its model while the wasm loads.
-    this.send({ type: 'boot', wasm: WASM, task: (this.settings ?? this.initial).task ?? 'double-t-maze' });
+    this.send({ type: 'boot', wasm: WASM, task: (this.settings ?? this.initial).task ?? 'double-t-maze', files: filesForWorker() });
   }
 
   writeHash() {
@@ -359,14 +360,14 @@ export class Playground {
       return;
     }
     try {
-      const r0 = await fetch(new URL('../assets/warm-up/index.json', import.meta.url));
+      const r0 = await fetchFile('assets/warm-up/index.json', () => new URL('../assets/warm-up/index.json', import.meta.url));
       if (!r0.ok) throw new Error(`assets/warm-up/index.json: HTTP ${r0.status}`);
       const index = await r0.json();
       const entry = index[task];
       if (!entry) {
         throw new Error(`there is no warm-up memory for the task '${task}' (there is one for: ${Object.keys(index).join(', ')})`);
       }
-      const r = await fetch(new URL(`../assets/warm-up/${entry.file}`, import.meta.url));
+      const r = await fetchFile(`assets/warm-up/${entry.file}`, () => new URL(`../assets/warm-up/${entry.file}`, import.meta.url));
       if (!r.ok) throw new Error(`${entry.file}: HTTP ${r.status}`);
       const bytes = await r.arrayBuffer();
       this.send({ type: 'warmUp', bytes, what: entry }, [bytes]);
@@ -409,7 +410,12 @@ export class Playground {
   // The programmatic API: what the element's methods, the iframe protocol (docs/EMBED.md) and
   // the notebook widget call. Settings go through the core's table as the controls' do.
 
-  /** Calls `f(detail)` on each `type` event (ready, episode, state, error); returns the unsubscribe. */
+  /**
+   * Calls `f(detail)` on each `type` event; returns the unsubscribe. ready, episode, state and
+   * error are the iframe protocol's; settings (changed by anyone: `{applied, changes, settings}`),
+   * run (a new run began: its episodes count from 1 again) and explanation (the last decision's,
+   * posted while paused or stepping) serve hosts that mirror the page (the notebook widget).
+   */
   on(type, f) {
     const h = (e) => f(e.detail);
     this.events.addEventListener(type, h);
@@ -634,7 +640,11 @@ Playground.prototype.handlers = {
     if (first) {
       this.whenStarted();
       this.emit('ready', { version: API_VERSION, settings: { ...this.settings } });
+    } else {
+      // Whoever changed them (a control, a shortcut, the API): a host mirrors the settings.
+      this.emit('settings', { applied: msg.mode, changes: msg.changes ?? null, settings: { ...this.settings } });
     }
+    if (msg.mode === 'restart') this.emit('run', { settings: { ...this.settings } });
     if (first && this.tourAsked) {
       this.tourAsked = false;
       this.tour.start();
@@ -683,6 +693,7 @@ Playground.prototype.handlers = {
       : `${v.gateMse == null ? 'not measured yet' : v.gateMse.toFixed(4)}${v.gate != null ? ` (gate ${+v.gate.toPrecision(4)})` : ''}`;
     if (msg.explain) {
       this.lastExplanation = msg.explain;
+      this.emit('explanation', msg.explain);
       drawExplanation($('explain'), msg.explain, v.layer);
     }
     else if (this.wantPlay) $('explain').querySelector('.formula').textContent = 'Pause or step to see the last decision explained.';
@@ -718,6 +729,9 @@ Playground.prototype.handlers = {
     this.pendingJson = false;
     const json = JSON.stringify({ settings: this.settings, seed, config }, null, 2);
     download(this.root, `sec-config-${this.settings.task}-seed${seed}.json`, 'application/json', json);
+  },
+  file(msg) {
+    answerFileRequest(this.worker, msg);
   },
   done({ id, result }) {
     this.pending.get(id)?.ok(result);

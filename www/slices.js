@@ -1,5 +1,6 @@
 // What both simulation workers share: stepping in time slices with a batch size that adapts to
 // the machine, and handling messages one at a time, in order.
+import { takeFileAnswer } from './files.js';
 
 /** Longest time slice of simulation before yielding to messages (ms). */
 export const SLICE_MS = 12;
@@ -50,6 +51,7 @@ channel.port1.onmessage = () => waiting.shift()?.();
 export function serveMessages(handlers, onError) {
   let queue = Promise.resolve();
   self.onmessage = ({ data }) => {
+    if (takeFileAnswer(data)) return; // a file the running handler may be waiting for
     const h = handlers[data?.type];
     const id = data?.id;
     if (!h) return onError(new Error(`unknown message '${data?.type}'`), id);

@@ -7,6 +7,7 @@
 // `import(...)`, so a bundler (Vite) finds and copies the wasm and the models.
 
 import { TASKS } from './tasks.js';
+import { fetchFile, filesProvided, provideFiles } from './files.js';
 
 /** A function returning a v128 (i8x16.splat, i8x16.popcnt): valid only where SIMD is. */
 const SIMD_PROBE = new Uint8Array([0, 97, 115, 109, 1, 0, 0, 0, 1, 5, 1, 96, 0, 1, 123, 3, 2, 1, 0, 10, 10, 1, 8, 0,
@@ -27,15 +28,23 @@ export let SecRun, agents, parameters, parseSettings, applySettings, presetSetti
 /**
  * Loads and instantiates the build `wanted` ('scalar', 'hooks', or anything else for the best
  * this engine runs), fetching the model of `task` meanwhile; resolves with the wasm's exports.
+ * `files`: where the files come from (files.js; the page's boot message says), beside the modules
+ * when null.
  */
-export async function load({ wanted = null, task = null } = {}) {
+export async function load({ wanted = null, task = null, files = null } = {}) {
   build = wanted === 'hooks' ? 'hooks' : wanted === 'scalar' || !WebAssembly.validate(SIMD_PROBE) ? 'scalar' : 'simd';
+  if (files) provideFiles(files);
   if (task) prefetchModel(task);
   const glue = build === 'hooks' ? await import(/* @vite-ignore */ new URL(HOOKS, import.meta.url).href)
     : build === 'scalar' ? await import('../pkg/scalar/sec_playground.js') : await import('../pkg/sec_playground.js');
   ({ SecRun, agents, parameters, parseSettings, applySettings, presetSettings, panicForTest, registerModel, hasModel,
     taskNames, frameSize } = glue);
-  return glue.default();
+  if (!filesProvided() || build === 'hooks') return glue.default();
+  // The glue's own default is the wasm beside it, which a provided source replaces.
+  const wasm = build === 'scalar' ? 'pkg/scalar/sec_playground_bg.wasm' : 'pkg/sec_playground_bg.wasm';
+  const r = await fetchFile(wasm);
+  if (!r.ok) throw new Error(`${wasm} could not be loaded (${r.statusText || `HTTP ${r.status}`})`);
+  return glue.default({ module_or_path: r });
 }
 
 /** The trained model a run's reconstruction gate uses: its task's, trained on frames of its
@@ -54,8 +63,9 @@ function taskOf(model) {
  * `ensureModel` uses it. An unknown task fetches nothing: the run refuses it by name. */
 export function prefetchModel(task) {
   if (!TASKS.includes(taskOf(task)) || fetched.has(task)) return;
-  fetched.set(task, fetch(new URL(`../assets/encoders/${task}.secae`, import.meta.url)).then((r) => {
-    if (!r.ok) throw new Error(`weights: the model of '${task}' could not be loaded (HTTP ${r.status})`);
+  const here = () => new URL(`../assets/encoders/${task}.secae`, import.meta.url);
+  fetched.set(task, fetchFile(`assets/encoders/${task}.secae`, here).then((r) => {
+    if (!r.ok) throw new Error(`weights: the model of '${task}' could not be loaded (${r.statusText || `HTTP ${r.status}`})`);
     return r.arrayBuffer();
   }));
   fetched.get(task).catch(() => {}); // reported when ensureModel awaits it

@@ -5,14 +5,15 @@
 // Any message may carry an `id`: it is then answered with {type: 'done', id, result} (or an error
 // with the id) after what it posted; `set` gives {mode, changes, settings}, `saveMemory` with an
 // id gives the bytes instead of posting them, `loadMemory` gives {sequences}.
-// Messages in:  {type: 'boot', wasm, task} (first), {type: 'start', settings}, {type: 'set', changes}, {type: 'play'}, {type: 'pause'},
+// Messages in:  {type: 'boot', wasm, task, files} (first), {type: 'start', settings}, {type: 'set', changes}, {type: 'play'}, {type: 'pause'},
 //               {type: 'speed', value}, {type: 'step', what: 'decision' | 'episode'},
 //               {type: 'reset'}, {type: 'views', camera, top, heat, hz, explain}, {type: 'drive', action, record},
 //               {type: 'saveMemory'}, {type: 'loadMemory', bytes},
-//               {type: 'warmUp', bytes, what}, {type: 'crash'} (a test hook)
+//               {type: 'warmUp', bytes, what}, {type: 'crash'} (a test hook), {type: 'file', id, bytes | error}
 // Messages out: {type: 'ready', params, agents, defaults, build}, {type: 'started', settings, errors, mode},
 //               {type: 'episodes', list}, {type: 'view', ...}, {type: 'state', playing},
-//               {type: 'memory', bytes}, {type: 'loaded', sequences, what}, {type: 'error', message, fatal}
+//               {type: 'memory', bytes}, {type: 'loaded', sequences, what}, {type: 'error', message, fatal},
+//               {type: 'file', id, path} (a file it needs, where the page provides them: files.js)
 import { load, build, ensureModel, gateModel, SecRun, agents, frameSize, parameters, parseSettings, applySettings, presetSettings, panicForTest } from './wasm.js';
 import { AdaptiveBatch, SLICE_MS, serveMessages, soon } from './slices.js';
 
@@ -267,9 +268,9 @@ serveMessages(handlers, (e, id) => (e instanceof WebAssembly.RuntimeError ? trap
  * The page's first message: which build (`wasm`) and the first task, whose model is fetched while
  * the wasm loads. Messages after it wait until it is done (serveMessages runs them in order).
  */
-handlers.boot = async ({ wasm, task }) => {
+handlers.boot = async ({ wasm, task, files }) => {
   try {
-    wasmMemory = (await load({ wanted: wasm, task })).memory;
+    wasmMemory = (await load({ wanted: wasm, task, files })).memory;
   } catch (e) {
     fail(`The simulation could not load: ${e?.message ?? e}`, true);
     dead = true;

@@ -3,9 +3,10 @@
 // bundlers (Vite) recognise and bundle; this module decides when that cannot work.
 
 /**
- * Whether this page may start a worker from `url` itself: only from its own origin. A page on
- * another origin than the modules (the element loaded from a CDN) or an opaque one (an iframe
- * sandboxed without allow-same-origin) may not.
+ * Whether this page may start a worker from `url` (the starting module's address) itself: only
+ * from its own origin. A page on another origin than the modules (the element loaded from a CDN)
+ * or an opaque one (an iframe sandboxed without allow-same-origin) may not. A module a notebook
+ * loaded from a `blob:` address has the notebook's origin, and its bundler inlined the workers.
  */
 export function sameOrigin(url) {
   return self.origin !== 'null' && new URL(url).origin === self.origin;

@@ -11,7 +11,7 @@
 
 use pyo3::prelude::*;
 use sec_playground::arena::TASK_NAMES;
-use sec_playground::experiment::RunConfig;
+use sec_playground::experiment::{settings, RunConfig};
 use sec_playground::seed::MAX_SEED;
 
 mod checks;
@@ -40,7 +40,7 @@ fn read_text_file(path: std::path::PathBuf, what: &str) -> PyResult<String> {
 #[pyfunction]
 #[pyo3(signature = (agent=None))]
 fn parameters_json(agent: Option<&str>) -> PyResult<String> {
-    let params = sec_playground::experiment::settings::params_for(agent).map_err(value_error)?;
+    let params = settings::params_for(agent).map_err(value_error)?;
     Ok(json(&params))
 }
 
@@ -50,8 +50,24 @@ fn parameters_json(agent: Option<&str>) -> PyResult<String> {
 #[pyfunction]
 fn apply_settings(config: &str, pairs: Vec<(String, String)>) -> PyResult<String> {
     let cfg = RunConfig::from_json(config).map_err(value_error)?;
-    let next = sec_playground::experiment::settings::with_settings(&cfg, &pairs).map_err(value_error)?;
+    let next = settings::with_settings(&cfg, &pairs).map_err(value_error)?;
     Ok(json(&next))
+}
+
+/// The page's settings, every key (what the URL hash shows), after the `changes` (key, value as
+/// the hash writes it) are applied to `current` (the defaults where it is empty) as one batch, as
+/// JSON: what the notebook widget checks before the page sees a value. A bad change raises
+/// ValueError naming each key and its range, `; `-separated, and nothing applies.
+#[pyfunction]
+fn page_settings(current: Vec<(String, String)>, changes: Vec<(String, String)>) -> PyResult<String> {
+    let (cfg, seed, errors) = settings::from_settings(&current.into_iter().collect());
+    if let Some(e) = errors.first() {
+        return Err(value_error(e));
+    }
+    match settings::apply_all(&cfg, seed, &changes.into_iter().collect()) {
+        Ok((cfg, seed)) => Ok(json(&settings::to_settings(&cfg, seed))),
+        Err(errors) => Err(value_error(errors.iter().map(|e| e.to_string()).collect::<Vec<_>>().join("; "))),
+    }
 }
 
 #[pymodule]
@@ -64,6 +80,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(read_text_file, m)?)?;
     m.add_function(wrap_pyfunction!(parameters_json, m)?)?;
     m.add_function(wrap_pyfunction!(apply_settings, m)?)?;
+    m.add_function(wrap_pyfunction!(page_settings, m)?)?;
     m.add_function(wrap_pyfunction!(grid::grid_conditions, m)?)?;
     m.add_function(wrap_pyfunction!(grid::grid_seeds, m)?)?;
     m.add_function(wrap_pyfunction!(grid::grid_prepare, m)?)?;

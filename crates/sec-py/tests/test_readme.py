@@ -29,3 +29,13 @@ def test_the_readme_quick_start_runs_as_printed():
     assert scope["obs"].shape == (84, 84, 3)
     assert len(scope["env"].unwrapped.get_action_meanings()) == 9
     assert scope["top"].ndim == 3
+
+
+def test_the_readme_widget_block_runs_as_printed():
+    """The notebook widget's lines (no page shows it here: nothing comes back, nothing fails)."""
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    blocks = [b for b in re.findall(r"```python\n(.*?)```", readme, flags=re.S) if "sec_playground.widget(" in b]
+    assert len(blocks) == 1
+    scope: dict = {}
+    exec(compile(blocks[0], "README.md (the widget)", "exec"), scope)
+    assert (scope["w"].task, scope["w"].alpha, scope["w"].episodes) == ("detour", 0.1, [])

@@ -40,7 +40,7 @@ except _NotFound:  # imported from a source tree without installing
 
 __all__ = [
     "ArenaEnv", "ArenaVectorEnv", "Encoder", "Run", "TASKS", "ENV_IDS", "MAX_SEED", "ACTION_MEANINGS",
-    "agents", "parameters", "tasks", "fingerprint", "__version__",
+    "agents", "parameters", "tasks", "fingerprint", "widget", "__version__",
 ]
 
 
@@ -90,6 +90,15 @@ def parameters(agent: Optional[str] = None) -> list:
     if agent is not None and not isinstance(agent, str):
         raise ValueError(f"agent: {agent!r} is not a string (a key of sec_playground.agents())")
     return _json.loads(_core.parameters_json(agent))
+
+
+def widget(task: str = "double-t-maze", **settings):
+    """The playground in a notebook cell (an anywidget: `pip install sec-playground[widget]`):
+    the page's element, run from the wheel's wasm with no network, its settings traits synced
+    both ways. See `sec_playground.notebook`."""
+    from .notebook import widget as _widget
+
+    return _widget(task, **settings)
 
 
 def _register():
