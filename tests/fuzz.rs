@@ -15,6 +15,7 @@ use proptest::prelude::*;
 use proptest::test_runner::Config;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
+use sec_playground::arena::survey::features;
 use sec_playground::arena::yaml::load_task;
 use sec_playground::arena::World;
 use sec_playground::encoder::{bundled, Autoencoder, DType, Weights};
@@ -145,11 +146,23 @@ fn cases() -> Config {
     Config { cases, failure_persistence: None, ..Config::default() }
 }
 
-fn arena_files() -> Vec<String> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/arenas");
-    let mut files: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
-    files.sort();
-    files.iter().map(|p| std::fs::read_to_string(p).unwrap()).collect()
+/// The arena files the mutations start from: the tasks' and the 900 Olympics arenas (read once).
+fn arena_files() -> &'static [String] {
+    static FILES: std::sync::OnceLock<Vec<String>> = std::sync::OnceLock::new();
+    FILES.get_or_init(|| {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/arenas");
+        let mut files = Vec::new();
+        for dir in [root.clone(), root.join("competition")] {
+            files.extend(
+                std::fs::read_dir(dir)
+                    .unwrap()
+                    .map(|e| e.unwrap().path())
+                    .filter(|p| p.extension().is_some_and(|e| e == "yml" || e == "yaml")),
+            );
+        }
+        files.sort();
+        files.iter().map(|p| std::fs::read_to_string(p).unwrap()).collect()
+    })
 }
 
 /// What a fuzzed memory file is loaded into, and the file it was made from.
@@ -173,10 +186,12 @@ proptest! {
     #![proptest_config(cases())]
 
     #[test]
-    fn yaml_arenas(file in 0usize..5, edits in edits()) {
+    fn yaml_arenas(file in 0usize..1000, edits in edits()) {
         let files = arena_files();
         let src = mutate(files[file % files.len()].as_bytes(), &edits);
         let text = String::from_utf8_lossy(&src);
+        // What the arenas report reads of a file, leniently: never a panic either.
+        let _ = features(&text);
         if let Ok(task) = load_task("fuzzed", &text) {
             for layout in &task.layouts {
                 World::spawn(layout, &mut ChaCha8Rng::seed_from_u64(1));

@@ -6,6 +6,7 @@
 
 mod action;
 pub mod physics;
+pub mod survey;
 mod tasks;
 mod world;
 pub mod yaml;

@@ -10,14 +10,14 @@ use yaml_rust2::scanner::Marker;
 
 /// A parsed YAML node with the line it starts on.
 #[derive(Debug, Clone)]
-enum Node {
+pub(super) enum Node {
     Scalar(String, usize),
     Seq(Vec<Node>, usize),
     Map(Vec<(Node, Node)>, usize),
 }
 
 impl Node {
-    fn line(&self) -> usize {
+    pub(super) fn line(&self) -> usize {
         match self {
             Node::Scalar(_, l) | Node::Seq(_, l) | Node::Map(_, l) => *l,
         }
@@ -79,7 +79,7 @@ pub const MAX_DEPTH: usize = 32;
 /// tries every random object against every placed one, would take seconds per reset.
 pub const MAX_OBJECTS: usize = 200;
 
-fn parse(src: &str) -> Result<Node, ConfigError> {
+pub(super) fn parse(src: &str) -> Result<Node, ConfigError> {
     let mut b = Builder::default();
     let mut parser = Parser::new_from_str(src);
     loop {

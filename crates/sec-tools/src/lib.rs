@@ -30,6 +30,7 @@ pub fn upscale(rgba: &[u8], width: usize, height: usize, k: usize) -> Vec<u8> {
     out
 }
 
+pub mod arenas;
 pub mod authors;
 pub mod frame_match;
 // The runner lives in its own light crate (the Python package's Ray driver uses it too).

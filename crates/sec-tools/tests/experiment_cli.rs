@@ -583,6 +583,33 @@ fn the_frame_match_table_arenas_quotes_is_regenerated_from_the_reference_frames(
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The arenas table docs/ARENAS.md quotes is what `sec-experiment arenas` makes of the committed
+/// Olympics corpus, results/ holds it and its per-file CSV, and the counts add up.
+#[test]
+fn the_arenas_table_arenas_quotes_is_regenerated_from_the_corpus() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let dir = temp("arenas");
+    let corpus = root.join("assets/arenas/competition");
+    let (ok, md, err) = cli(&["arenas", corpus.to_str().unwrap(), "--to", dir.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    let committed = std::fs::read_to_string(root.join("results/arenas.md")).unwrap();
+    // The command line names the folder as given.
+    assert_eq!(md.replace(corpus.to_str().unwrap(), "assets/arenas/competition"), committed);
+    assert_eq!(
+        std::fs::read_to_string(dir.join("arenas.csv")).unwrap(),
+        std::fs::read_to_string(root.join("results/arenas.csv")).unwrap()
+    );
+    let page = std::fs::read_to_string(root.join("docs/ARENAS.md")).unwrap();
+    let quoted = sec_tools::quote::quoted(&page, "arenas").expect("docs/ARENAS.md quotes it");
+    assert!(md.contains(quoted.trim_end()), "docs/ARENAS.md's arenas table is not the report's");
+    // Ten categories of 90, and each row's loads plus refused make its files.
+    let all = quoted.lines().find(|l| l.starts_with("| all |")).unwrap();
+    let cells: Vec<usize> = all.split('|').skip(2).take(4).map(|c| c.trim().parse().unwrap()).collect();
+    assert_eq!((cells[0], cells[1] + cells[3]), (900, 900), "{all}");
+    assert_eq!(quoted.lines().filter(|l| l.contains(" | 90 | ")).count(), 10, "{quoted}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The aliasing table docs/ARENAS.md quotes is what `sec-experiment aliasing` measures.
 #[test]
 fn the_aliasing_table_arenas_quotes_is_regenerated() {

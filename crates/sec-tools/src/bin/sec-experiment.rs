@@ -14,6 +14,7 @@
 //!   sec-experiment frame-match [--frames tests/reference-frames] [--to results] [--near-quoted]
 //!                              [--quote docs/ARENAS.md]
 //!   sec-experiment aliasing [--frames 2000] [--seeds 3] [--to results] [--quote docs/ARENAS.md]
+//!   sec-experiment arenas [assets/arenas/competition] [--steps 2500] [--to results] [--quote docs/ARENAS.md]
 //!   sec-experiment reference [--out results/experiments] [--to assets/reference]
 //!   sec-experiment versus-authors [--out results/experiments] [--authors results/authors] [--to results]
 //!                                 [--quote REPRODUCTION.md]
@@ -61,6 +62,11 @@ const USAGE: &str = "usage:
   sec-experiment aliasing [--frames N] [--seeds N|A..B|A,B,C] [--to DIR] [--quote PAGE.md]
                           (how often views repeat with each surface: the identical-view share,
                            matching breadth and distance, distinct frames per decision)
+  sec-experiment arenas [DIR] [--steps N] [--to DIR] [--quote PAGE.md]
+                        (every Animal-AI arena file of DIR, default the Olympics corpus
+                         assets/arenas/competition: which load, run N random env steps (2500)
+                         cleanly and behave as in v1, and what the refused ones need, per category;
+                         DIR/arenas.md and arenas.csv under --to, default results)
   sec-experiment reference [--out DIR] [--to DIR] [--partial]   (the page's reference curves)
   sec-experiment versus-authors [--out DIR] [--authors DIR] [--to DIR] [--quote PAGE.md]
                                 (our runs against the authors' per-run results, results/authors/)
@@ -346,6 +352,30 @@ fn dispatch(args: &[String]) -> Result<(), String> {
                 .map_err(|e| format!("{}: {e}", rows.display()))?;
             if let Some(page) = o.get("quote") {
                 sec_tools::quote::quote_required(Path::new(page), "frame-match", &table)?;
+            }
+            print!("{md}");
+            Ok(())
+        }
+        "arenas" => {
+            let (pos, o) = options(rest, &["steps", "to", "quote"])?;
+            if pos.len() > 1 {
+                return Err(format!("arenas takes one folder, not {}\n{USAGE}", pos.len()));
+            }
+            let dir = PathBuf::from(pos.first().copied().unwrap_or(sec_tools::arenas::CORPUS));
+            let steps = number("steps", o.get("steps").copied().unwrap_or("2500"), 0u64, 1_000_000)?;
+            let results = sec_tools::arenas::survey_dir(&dir, steps)?;
+            let table = sec_tools::arenas::table(&results, steps);
+            let to = PathBuf::from(o.get("to").copied().unwrap_or("results"));
+            std::fs::create_dir_all(&to).map_err(|e| format!("{}: {e}", to.display()))?;
+            let md = format!(
+                "# The Animal-AI Olympics arenas, loaded and run\n\n`sec-experiment arenas {}`\n\n{table}",
+                dir.display()
+            );
+            std::fs::write(to.join("arenas.md"), &md).map_err(|e| format!("{}: {e}", to.display()))?;
+            std::fs::write(to.join("arenas.csv"), sec_tools::arenas::rows_csv(&results))
+                .map_err(|e| format!("{}: {e}", to.display()))?;
+            if let Some(page) = o.get("quote") {
+                sec_tools::quote::quote_required(Path::new(page), "arenas", &table)?;
             }
             print!("{md}");
             Ok(())
