@@ -32,6 +32,8 @@ mkdir -p dist/sec-playground/assets
 cp index.html embed.html arena.html dist/sec-playground/
 cp -r www dist/sec-playground/www
 cp -r assets/encoders dist/sec-playground/assets/encoders
+# The arena page's arenas: the tasks' files and the Olympics corpus with its menu.
+cp -r assets/arenas dist/sec-playground/assets/arenas
 cp -r assets/reference dist/sec-playground/assets/reference
 cp -r assets/warm-up dist/sec-playground/assets/warm-up
 for d in pkg pkg/scalar pkg/arena; do

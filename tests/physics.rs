@@ -12,8 +12,9 @@ fn open_env(objects: Vec<ObjectSpec>, x: f32, z: f32, heading: f32) -> Env {
         t: 1000,
         objects,
         agent: AgentSpec { position: [Some(x), Some(z)], rotation: Some(heading) },
+        blackouts: Default::default(),
     };
-    let task = Task { name: "test".into(), description: String::new(), layouts: vec![layout] };
+    let task = Task { name: "test".into(), description: String::new(), layouts: vec![layout], warnings: Vec::new() };
     Env::new(EnvConfig::new(task), 1).unwrap()
 }
 
@@ -245,6 +246,62 @@ fn the_dropped_goal_falls_bounces_once_and_rests() {
     assert!((23..=25).contains(&landed), "landed after {landed} env steps (docs/ARENAS.md: about 24)");
 }
 
+/// v1's `IsSpotFree` counts goals as colliders (`ArenaBuilders.SamplePositionRotation`): a random
+/// goal drawn onto another is drawn again, and a wall is not spawned onto a goal.
+#[test]
+fn a_random_goal_is_drawn_again_where_it_would_overlap_another() {
+    let fixed = ObjectSpec::new(ObjectKind::GoodGoal, 20.0, 0.0, 20.0).size(5.0, 5.0, 5.0);
+    let random =
+        ObjectSpec { position: [None, Some(0.0), Some(20.0)], ..ObjectSpec::new(ObjectKind::BadGoal, 0.0, 0.0, 0.0) };
+    let mut env = open_env(vec![fixed, random], 5.0, 5.0, 0.0);
+    let mut near = 0;
+    for seed in 0..200 {
+        env.reset(Some(seed));
+        let g = &env.world().goals;
+        assert_eq!(g.len(), 2);
+        let gap = (g[0].centre - g[1].centre).length() - g[0].radius - g[1].radius;
+        assert!(gap > -1e-4, "seed {seed}: goals overlap by {}", -gap);
+        near += (gap < 2.0) as u32;
+    }
+    assert!(near > 0, "some draws land next to the fixed goal (the test reaches the case)");
+    // A wall written onto a goal is not spawned: the layout is refused, naming it.
+    let wall = ObjectSpec::new(ObjectKind::Wall, 20.0, 0.0, 20.0).size(4.0, 2.0, 1.0);
+    let layout = Layout {
+        name: "onto".into(),
+        t: 100,
+        objects: vec![ObjectSpec::new(ObjectKind::GoodGoal, 20.0, 0.0, 20.0), wall],
+        agent: AgentSpec { position: [Some(5.0), Some(5.0)], rotation: Some(0.0) },
+        blackouts: Default::default(),
+    };
+    let task = Task { name: "onto".into(), description: String::new(), layouts: vec![layout], warnings: Vec::new() };
+    let err = Env::new(EnvConfig::new(task), 1).unwrap_err().to_string();
+    assert!(err.contains("object 1 (a Wall) finds no free spot"), "{err}");
+}
+
+/// v1 counts every good goal spawned, the GoodGoal too, and ends when the multi-goals collected
+/// reach that count (beyretb/AnimalAI-Environment, `TrainEnv/Scripts/ArenaBuilders.cs`
+/// `updateGoodGoalsMulti`, `TrainEnv/Prefab/Rewards/Scripts/Goal.cs` `OnCollisionEnter`): beside
+/// a GoodGoal the last multi-goal pays and the episode goes on, until the GoodGoal ends it.
+#[test]
+fn beside_a_good_goal_the_last_multi_goal_does_not_end_the_episode() {
+    let multi = |z| ObjectSpec::new(ObjectKind::GoodGoalMulti, 20.0, 0.0, z);
+    let mut env =
+        open_env(vec![multi(8.0), multi(11.0), ObjectSpec::new(ObjectKind::GoodGoal, 20.0, 0.0, 14.0)], 20.0, 5.0, 0.0);
+    let mut rewards = Vec::new();
+    for _ in 0..200 {
+        let s = env.step(Action::FORWARD).unwrap().info;
+        if s.good_goal {
+            rewards.push((s.reward, s.terminated));
+        }
+        if s.terminated {
+            break;
+        }
+    }
+    let paid: Vec<(bool, bool)> = rewards.iter().map(|(r, t)| (*r > 0.9, *t)).collect();
+    assert_eq!(paid, [(true, false), (true, false), (true, true)], "{rewards:?}");
+    assert!(env.world().goals.iter().filter(|g| g.kind == ObjectKind::GoodGoalMulti).all(|g| g.collected));
+}
+
 #[test]
 fn good_goal_multi_ends_after_the_last_and_death_zones_cost_one() {
     let multi = |x| ObjectSpec::new(ObjectKind::GoodGoalMulti, x, 0.0, 10.0);
@@ -341,4 +398,40 @@ fn a_hot_zone_costs_ten_times_the_time_penalty_and_does_not_end_the_episode() {
     let want = -0.001 + 3.0 * (-10.0 / 3000.0);
     assert!((s.reward - want).abs() < 1e-12, "{} vs {want}", s.reward);
     assert!(!s.terminated && !s.truncated);
+}
+
+/// v1's lights (beyretb/AnimalAI-Environment, `TrainEnv/Scripts/Lights.cs` `LightsSwitch`, read by
+/// `Scripts/Agent.cs` `SendInfoToBrain` at each decision, every 3 frames: one env step): the list's
+/// entries are env steps where the light switches, off first; a lone negative -n switches every n
+/// steps; only the list's strictly increasing head switches (the enumerator waits for equality).
+#[test]
+fn blackouts_switch_the_light_at_v1s_steps() {
+    use sec_playground::arena::Blackouts;
+    let dark = |b: &[i32], upto: u32| -> Vec<u32> { (0..upto).filter(|&s| !Blackouts(b.to_vec()).lit(s)).collect() };
+    assert_eq!(dark(&[5, 10], 20), (5..10).collect::<Vec<_>>());
+    assert_eq!(dark(&[5, 10, 15, 20, 25], 30), [5, 6, 7, 8, 9, 15, 16, 17, 18, 19, 25, 26, 27, 28, 29]);
+    assert_eq!(dark(&[-20], 90), (20..40).chain(60..80).collect::<Vec<_>>());
+    assert_eq!(dark(&[0, 50], 60), (0..50).collect::<Vec<_>>());
+    assert_eq!(dark(&[15, 10, 60], 80), (15..80).collect::<Vec<_>>(), "10 is never reached after 15");
+    assert!(dark(&[], 100).is_empty());
+}
+
+#[test]
+fn the_camera_is_black_while_the_light_is_off() {
+    let src = "!ArenaConfig\narenas:\n  0: !Arena\n    t: 100\n    blackouts: [3, 6]\n    items:\n\
+        \x20   - !Item\n      name: GoodGoal\n      positions:\n      - !Vector3 {x: 20, y: 0, z: 35}\n\
+        \x20   - !Item\n      name: Agent\n      positions:\n      - !Vector3 {x: 20, y: 0, z: 5}\n      rotations: [0]\n";
+    let task = sec_playground::arena::yaml::load_task("lights", src).unwrap();
+    let mut env = Env::new(EnvConfig::new(task), 1).unwrap();
+    let black = |env: &mut Env| env.observation().rgba.chunks_exact(4).all(|p| p == [0, 0, 0, 255]);
+    let mut seen = vec![black(&mut env)];
+    let mut serials = vec![env.view_serial()];
+    for _ in 0..8 {
+        env.step(Action::new(0).unwrap()).unwrap();
+        seen.push(black(&mut env));
+        serials.push(env.view_serial());
+    }
+    assert_eq!(seen, [false, false, false, true, true, true, false, false, false], "black at env steps 3, 4, 5");
+    // Standing still, the view changes only where the light switches.
+    assert!(serials[3] != serials[2] && serials[6] != serials[5] && serials[2] == serials[1], "{serials:?}");
 }

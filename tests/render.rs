@@ -201,13 +201,14 @@ fn a_transparent_arch_shows_the_goal_inside_tinted() {
             ObjectSpec::new(ObjectKind::GoodGoal, 20.0, 0.0, 20.0).size(2.0, 2.0, 2.0),
         ],
         agent: AgentSpec { position: [Some(20.0), Some(5.0)], rotation: Some(0.0) },
+        blackouts: Default::default(),
     };
     let frame = |kind, with_goal: bool| {
         let mut l = layout(kind);
         if !with_goal {
             l.objects.pop();
         }
-        let task = Task { name: "t".into(), description: String::new(), layouts: vec![l] };
+        let task = Task { name: "t".into(), description: String::new(), layouts: vec![l], warnings: Vec::new() };
         Env::new(EnvConfig::new(task), 1).unwrap().observation().clone()
     };
     // Side-on, the opaque arch hides the goal; the transparent one shows it through two layers,

@@ -68,11 +68,27 @@ fn bad_files_name_the_line_and_the_field() {
     assert_eq!(e.field, "arenas.0.items[1].name");
     assert!(e.message.contains("unknown item 'Ramp'"), "{e}");
 
-    let too_big = DETOUR.replace("{x: 35, y: .5, z: 1}", "{x: 35, y: 12, z: 1}");
-    let e = err(&too_big);
-    assert_eq!(e.line, Some(14), "{e}");
-    assert_eq!(e.field, "arenas.0.items[0].sizes[0].y");
-    assert!(e.message.contains("0.1..=10"), "{e}");
+    // A size outside its object's range is clamped, as v1 does (beyretb/AnimalAI-Environment,
+    // `TrainEnv/Prefab/Scripts/Prefab.cs` `SetSize`), and the task says so; one that is not a
+    // number is still refused.
+    let too_big = DETOUR.replace("{x: 35, y: .5, z: 1}", "{x: 45, y: 12, z: 1}");
+    let t = load_task("big", &too_big).unwrap();
+    assert_eq!(t.layouts[0].objects[0].size, [Some(40.0), Some(10.0), Some(1.0)]);
+    assert_eq!(t.warnings.len(), 2, "{:?}", t.warnings);
+    assert!(
+        t.warnings[1]
+            .starts_with("line 14: arenas.0.items[0].sizes[0].y: 12 is outside 0.1..=10 for a Wall; clamped to 10"),
+        "{:?}",
+        t.warnings
+    );
+    assert!(load_task("detour", DETOUR).unwrap().warnings.is_empty());
+    // A goal's size is its x: y and z are clamped too, without a word (v1 ignores them).
+    let ball = load_task("ball", &DETOUR.replace("{x: 1, y: 1, z: 1}", "{x: 1, y: 8, z: 8}")).unwrap();
+    assert!(ball.warnings.is_empty(), "{:?}", ball.warnings);
+    assert_eq!(ball.layouts[0].objects[2].size, [Some(1.0), Some(5.0), Some(5.0)]);
+    let e = err(&DETOUR.replace("{x: 35, y: .5, z: 1}", "{x: 35, y: tall, z: 1}"));
+    assert_eq!((e.line, e.field.as_str()), (Some(14), "arenas.0.items[0].sizes[0].y"), "{e}");
+    assert!(e.message.contains("'tall' is not a number"), "{e}");
 
     let e = err(&DETOUR.replace("      rotations: [0,0]\n", "      rotations: [0,0]\n      colour: 3\n"));
     assert_eq!(e.field, "arenas.0.items[0].colour");
@@ -91,6 +107,14 @@ fn bad_files_name_the_line_and_the_field() {
 
     let e = err(&DETOUR.replace("{x: 5, y: 0, z: 38}", "{x: 5, y: 0}"));
     assert_eq!(e.field, "arenas.0.items[1].positions[0].z");
+
+    let e = err(&DETOUR.replace("t: 250", "t: 250\n    blackouts: [5, -20]"));
+    assert_eq!(e.field, "arenas.0.blackouts[1]");
+    assert!(e.message.contains("must be the list's only entry"), "{e}");
+    let e = err(&DETOUR.replace("t: 250", "t: 250\n    blackouts: [5.5]"));
+    assert!(e.message.contains("whole number"), "{e}");
+    let lit = load_task("lit", &DETOUR.replace("t: 250", "t: 250\n    blackouts: [-20]")).unwrap();
+    assert_eq!(lit.layouts[0].blackouts.0, [-20]);
 
     assert_eq!(err("").field, "yaml");
     assert_eq!(err("arenas: 3").field, "arenas");

@@ -45,7 +45,9 @@ function rebuild(make, description) {
     env = next;
     episodeReward = 0;
     showError(null);
-    $('description').textContent = description;
+    // What the loader changed to read a file as v1 does (a size clamped) follows its description.
+    const warnings = env.warnings();
+    $('description').textContent = warnings.length ? `${description}. As v1 does: ${warnings.join('; ')}` : description;
     return true;
   } catch (e) {
     showError(e);
@@ -65,6 +67,7 @@ function fromTask() {
   if (rebuild(({ seed, t }) => new ArenaEnv(task, seed, t), taskDescription(task))) {
     source = { kind: 'task' };
     $('task').querySelector(`option[value="${CUSTOM}"]`)?.remove();
+    $('olympics').value = '';
   } else if (source.kind === 'yaml') {
     // The file's arena goes on: the menu and the limit say so.
     $('limit').value = limit;
@@ -77,7 +80,7 @@ function again() {
   if (source.kind === 'task') return fromTask();
   const { name, text } = source;
   // The file's own t until the limit field is edited.
-  rebuild(({ seed, t }) => ArenaEnv.fromYaml(name, text, seed, source.ownT ? undefined : t), `Custom arena ${name}`);
+  rebuild(({ seed, t }) => ArenaEnv.fromYaml(name, text, seed, source.ownT ? undefined : t), `${source.label} ${name}`);
 }
 
 function draw() {
@@ -114,6 +117,71 @@ $('limit').addEventListener('change', () => {
   if (source.kind === 'yaml') source.ownT = false;
   again();
 });
+/**
+ * Loads an arena file's text as the arena (kept across seed changes); `label` describes it
+ * ("Custom arena") and `menu` names it in the task menu ("custom"). Returns whether it built.
+ */
+function fromText(name, text, label, menu) {
+  if (!rebuild(({ seed }) => ArenaEnv.fromYaml(name, text, seed, undefined), `${label} ${name}`)) return false;
+  source = { kind: 'yaml', name, text, ownT: true, label };
+  $('limit').value = String(env.agent().t); // the file's t
+  let custom = $('task').querySelector(`option[value="${CUSTOM}"]`);
+  if (!custom) {
+    custom = new Option('', CUSTOM);
+    custom.disabled = true;
+    $('task').prepend(custom);
+  }
+  custom.textContent = `${menu}: ${name}`;
+  $('task').value = CUSTOM;
+  if (menu !== 'olympics') $('olympics').value = '';
+  return true;
+}
+
+/** The Olympics corpus's menu (assets/arenas/olympics.json, made by `sec-experiment arenas`): by
+ * category, each file that cannot run here yet disabled with what it needs. */
+async function olympicsMenu() {
+  const menu = $('olympics');
+  let index;
+  try {
+    const r = await fetch(new URL('../assets/arenas/olympics.json', import.meta.url));
+    if (!r.ok) throw new Error(`HTTP ${r.status}`);
+    index = await r.json();
+  } catch (e) {
+    menu.disabled = true;
+    menu.title = `The Olympics arenas could not be listed (assets/arenas/olympics.json: ${e.message ?? e})`;
+    return;
+  }
+  const runs = index.files.filter((f) => f.loads).length;
+  menu.options[0].textContent = `(choose one: ${runs} of ${index.files.length} run here)`;
+  index.categories.forEach((name, i) => {
+    const group = document.createElement('optgroup');
+    group.label = `${String(i + 1).padStart(2, '0')} ${name}`;
+    for (const f of index.files.filter((x) => x.category === i + 1)) {
+      const o = new Option(f.file.replace(/\.ya?ml$/, ''), f.file);
+      if (!f.loads) {
+        o.disabled = true;
+        o.textContent += ` (needs ${f.needs.join(', ')})`;
+      } else if (!f.asV1) {
+        o.textContent += ` (flat: ${f.needs.join(', ')} left out)`;
+      }
+      group.append(o);
+    }
+    menu.append(group);
+  });
+}
+
+$('olympics').addEventListener('change', async (e) => {
+  const file = e.target.value;
+  if (!file) return;
+  try {
+    const r = await fetch(new URL(`../assets/arenas/competition/${file}`, import.meta.url));
+    if (!r.ok) throw new Error(`HTTP ${r.status}`);
+    fromText(file, await r.text(), 'Olympics arena', 'olympics');
+  } catch (err) {
+    showError(`${file} could not be loaded: ${err.message ?? err}`);
+  }
+});
+
 $('yaml').addEventListener('change', async (e) => {
   const file = e.target.files?.[0];
   if (!file) return;
@@ -131,19 +199,9 @@ $('yaml').addEventListener('change', async (e) => {
     showError(`yaml: ${file.name} is not UTF-8 text: not an Animal-AI YAML file`);
     return;
   }
-  if (rebuild(({ seed }) => ArenaEnv.fromYaml(file.name, text, seed, undefined), `Custom arena ${file.name}`)) {
-    source = { kind: 'yaml', name: file.name, text, ownT: true };
-    $('limit').value = String(env.agent().t); // the file's t
-    let custom = $('task').querySelector(`option[value="${CUSTOM}"]`);
-    if (!custom) {
-      custom = new Option('', CUSTOM);
-      custom.disabled = true;
-      $('task').prepend(custom);
-    }
-    custom.textContent = `custom: ${file.name}`;
-    $('task').value = CUSTOM;
-  }
+  fromText(file.name, text, 'Custom arena', 'custom');
 });
+olympicsMenu();
 
 let last = performance.now();
 let pending = 0;

@@ -182,6 +182,41 @@ pub struct Layout {
     pub objects: Vec<ObjectSpec>,
     /// Where the agent starts.
     pub agent: AgentSpec,
+    /// Lights-off switches, in env steps (`blackouts`; empty: always lit).
+    pub blackouts: Blackouts,
+}
+
+/// v1's lights (`TrainEnv/Scripts/Lights.cs`, `LightsSwitch`): a list of env steps at which the
+/// light switches, off first, or one negative number -n, a switch every n steps. The camera sees
+/// black while the light is off (`Agent.SendInfoToBrain` sends a black texture); nothing else
+/// changes.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Blackouts(pub Vec<i32>);
+
+impl Blackouts {
+    /// Whether the light is on at env step `step` of an episode (0 at reset). v1 waits for the
+    /// list's next entry with each step, so only its strictly increasing head ever switches.
+    pub fn lit(&self, step: u32) -> bool {
+        let step = step as i64;
+        let switches = match self.0.first() {
+            None => 0,
+            Some(&first) if first < 0 => step / -(first as i64),
+            Some(_) => {
+                let mut last = i64::MIN;
+                let mut n = 0;
+                for &e in &self.0 {
+                    let e = e as i64;
+                    if e <= last || e > step {
+                        break;
+                    }
+                    last = e;
+                    n += 1;
+                }
+                n
+            }
+        };
+        switches % 2 == 0
+    }
 }
 
 impl Layout {

@@ -33,7 +33,8 @@ const COLLISION_PASSES: usize = 4;
 pub struct FrameEvents {
     /// Goal, death-zone and hot-zone rewards this frame (not the time penalty).
     pub reward: f64,
-    /// A GoodGoal, BadGoal, DeathZone or the last GoodGoalMulti ended the episode.
+    /// A GoodGoal, BadGoal or DeathZone ended the episode, or the GoodGoalMulti that brought the
+    /// multi-goals collected to the number of good goals spawned.
     pub terminal: bool,
     /// A good goal (GoodGoal or GoodGoalMulti) was touched this frame.
     pub good_goal: bool,
@@ -175,9 +176,12 @@ fn touches(w: &mut World, hot_penalty: f64) -> FrameEvents {
             _ => ev.terminal = true,
         }
     }
-    let multi_left = w.goals.iter().any(|g| g.kind == ObjectKind::GoodGoalMulti && !g.collected);
-    let had_multi = w.goals.iter().any(|g| g.kind == ObjectKind::GoodGoalMulti);
-    if had_multi && !multi_left && ev.good_goal {
+    // v1 counts every good goal spawned, GoodGoals too (`ArenaBuilders.updateGoodGoalsMulti`), and
+    // ends when the multi-goals collected reach that count (`Goal.OnCollisionEnter`): beside a
+    // GoodGoal, the last multi-goal does not end the episode.
+    let good = w.goals.iter().filter(|g| matches!(g.kind, ObjectKind::GoodGoal | ObjectKind::GoodGoalMulti)).count();
+    let collected = w.goals.iter().filter(|g| g.kind == ObjectKind::GoodGoalMulti && g.collected).count();
+    if ev.good_goal && collected == good {
         ev.terminal = true;
     }
     for z in &w.zones {

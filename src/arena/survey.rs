@@ -22,12 +22,6 @@ pub enum Feature {
     BouncingGoals,
     /// `Cardbox1`, `Cardbox2`, `UObject`, `LObject`, `LObject2`: objects the agent pushes.
     Pushable,
-    /// A size outside an object's range, which v1 clamps and the loader refuses.
-    SizeClamp,
-    /// Lights-off frames (`blackouts`), which the loader reads and ignores.
-    Blackouts,
-    /// `GoodGoalMulti` beside a `GoodGoal`: v1 counts the `GoodGoal` toward the total.
-    GoalCount,
     /// Any other item the simulator does not know.
     Item(String),
 }
@@ -40,9 +34,6 @@ impl Feature {
             Feature::Ramp => "ramps".into(),
             Feature::BouncingGoals => "bouncing goals".into(),
             Feature::Pushable => "pushable objects".into(),
-            Feature::SizeClamp => "size clamping".into(),
-            Feature::Blackouts => "blackouts".into(),
-            Feature::GoalCount => "goal counting".into(),
             Feature::Item(name) => format!("item {name}"),
         }
     }
@@ -50,7 +41,7 @@ impl Feature {
     /// Whether a file with it can load, with the feature ignored (it then does not behave as
     /// in v1), as opposed to being refused.
     pub fn ignored_on_load(&self) -> bool {
-        matches!(self, Feature::World3d | Feature::Blackouts | Feature::GoalCount)
+        matches!(self, Feature::World3d)
     }
 
     /// The feature an item's name asks for, if it is not one the simulator has.
@@ -76,19 +67,12 @@ pub fn features(src: &str) -> Result<BTreeSet<Feature>, ConfigError> {
     };
     let mut out = BTreeSet::new();
     for (_, arena) in arenas {
-        if let Some(Node::Seq(b, _)) = entry(arena, "blackouts") {
-            if !b.is_empty() {
-                out.insert(Feature::Blackouts);
-            }
-        }
         let Some(Node::Seq(items, _)) = entry(arena, "items") else { continue };
-        let mut names = BTreeSet::new();
         // Footprints of the boxes placed where the file says, and the goals' spots.
         let mut boxes = Vec::new();
         let mut goals = Vec::new();
         for item in items {
             let Some(Node::Scalar(name, _)) = entry(item, "name") else { continue };
-            names.insert(name.clone());
             out.extend(Feature::of_item(name));
             let kind = ObjectKind::from_name(name);
             let goal = kind.is_some_and(ObjectKind::is_goal) || name.contains("Goal");
@@ -124,23 +108,9 @@ pub fn features(src: &str) -> Result<BTreeSet<Feature>, ConfigError> {
                     }
                 }
             }
-            if let (Some(kind), Some(Node::Seq(sizes, _))) = (ObjectKind::from_name(name), entry(item, "sizes")) {
-                let (lo, hi) = kind.size_range();
-                let outside = sizes.iter().any(|s| {
-                    ["x", "y", "z"].iter().enumerate().any(|(axis, k)| {
-                        component(s, k).is_some_and(|v| v != -1.0 && !(lo[axis]..=hi[axis]).contains(&v))
-                    })
-                });
-                if outside {
-                    out.insert(Feature::SizeClamp);
-                }
-            }
         }
         if goals.iter().any(|g| boxes.iter().any(|b| b.contains(*g, 0.0))) {
             out.insert(Feature::World3d);
-        }
-        if names.contains("GoodGoalMulti") && names.contains("GoodGoal") {
-            out.insert(Feature::GoalCount);
         }
     }
     Ok(out)
@@ -173,10 +143,7 @@ mod tests {
             \x20   - !Item\n      name: GoodGoal\n    - !Item\n      name: GoodGoalMulti\n\
             \x20   - !Item\n      name: Cardbox1\n    - !Item\n      name: Pillar\n";
         let names: Vec<String> = features(src).unwrap().iter().map(Feature::name).collect();
-        assert_eq!(
-            names,
-            ["3-D world", "ramps", "pushable objects", "size clamping", "blackouts", "goal counting", "item Pillar"]
-        );
+        assert_eq!(names, ["3-D world", "ramps", "pushable objects", "item Pillar"]);
     }
 
     #[test]

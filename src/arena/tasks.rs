@@ -11,6 +11,9 @@ pub struct Task {
     pub description: String,
     /// The start layouts.
     pub layouts: Vec<Layout>,
+    /// What loading it changed to read it as v1 does, one line each (a size clamped into its
+    /// object's range, with the file's value and the value used); empty for the presets.
+    pub warnings: Vec<String>,
 }
 
 /// How a layout that leaves the agent's heading open starts its episodes.
@@ -46,7 +49,7 @@ fn agent(x: f32, z: f32, rotation: Option<f32>) -> AgentSpec {
 }
 
 fn layout(name: &str, objects: Vec<ObjectSpec>, agent: AgentSpec) -> Layout {
-    Layout { name: name.to_string(), t: DEFAULT_T, objects, agent }
+    Layout { name: name.to_string(), t: DEFAULT_T, objects, agent, blackouts: Default::default() }
 }
 
 impl Task {
@@ -67,7 +70,12 @@ impl Task {
     /// limit).
     pub fn preset(name: &str) -> Result<Task, ConfigError> {
         let info = TaskInfo::find(name)?;
-        Ok(Task { name: name.to_string(), description: info.description.to_string(), layouts: (info.layouts)() })
+        Ok(Task {
+            name: name.to_string(),
+            description: info.description.to_string(),
+            layouts: (info.layouts)(),
+            warnings: Vec::new(),
+        })
     }
 }
 

@@ -312,14 +312,24 @@ impl World {
             }
             _ => Rgb(255, 255, 255),
         });
-        let free = |solid: &[Footprint], agent: Option<Vec2>| {
+        // v1's `IsSpotFree`: nothing solid in the object's box, goals included (they are
+        // colliders too), so a random goal drawn onto another is drawn again. `rise` is the
+        // height the object spans from the floor; a goal counts where its sphere spans it.
+        let free = |solid: &[Footprint], agent: Option<Vec2>, rise: (f32, f32)| {
             !solid.iter().any(|s| self.colliders.iter().any(|c| c.overlaps(s)))
                 && !solid.iter().any(|s| agent.is_some_and(|a| s.overlaps_disc(a, AGENT_RADIUS)))
+                && !solid.iter().any(|s| {
+                    self.goals.iter().any(|g| {
+                        g.centre.y - g.radius < rise.1
+                            && g.centre.y + g.radius > rise.0
+                            && s.overlaps_disc(Vec2::new(g.centre.x, g.centre.z), g.radius)
+                    })
+                })
         };
         match kind {
             ObjectKind::Wall | ObjectKind::WallTransparent => {
                 let foot = Footprint::new(centre, footprint_half, rotation);
-                if !free(&[foot], agent) {
+                if !free(&[foot], agent, (0.0, size[1])) {
                     return false;
                 }
                 let transparent = kind == ObjectKind::WallTransparent;
@@ -346,7 +356,7 @@ impl World {
                     transparent: kind == ObjectKind::CylinderTunnelTransparent,
                 };
                 let legs = t.legs();
-                if !free(&legs, agent) {
+                if !free(&legs, agent, (0.0, size[1] / 2.0)) {
                     return false;
                 }
                 self.colliders.extend(legs);
@@ -359,7 +369,7 @@ impl World {
                 let cy = y + radius + 0.01;
                 // Only an object at the agent's height can collide with it at spawn.
                 let agent_here = if cy - radius < 1.0 { agent } else { None };
-                if !free(&[foot], agent_here) {
+                if !free(&[foot], agent_here, (cy - radius, cy + radius)) {
                     return false;
                 }
                 let sign = if kind == ObjectKind::BadGoal { -1.0 } else { 1.0 };

@@ -2,7 +2,7 @@
 //! own arenas. Tags (`!ArenaConfig`, `!Item`, `!Vector3`, `!RGB`) are accepted and ignored.
 //! Every problem is a [`FileError`] (of file `arena`) naming the line and the field.
 
-use super::{AgentSpec, ConfigError, Layout, ObjectKind, ObjectSpec, Rgb, Task, ARENA_SIZE, AXES, MAX_T};
+use super::{AgentSpec, Blackouts, ConfigError, Layout, ObjectKind, ObjectSpec, Rgb, Task, ARENA_SIZE, AXES, MAX_T};
 use crate::error::FileError;
 use crate::util::shown;
 use yaml_rust2::parser::{Event, MarkedEventReceiver, Parser};
@@ -101,19 +101,21 @@ pub(super) fn parse(src: &str) -> Result<Node, ConfigError> {
     b.root.ok_or_else(|| ConfigError::at(1, "yaml", "the file is empty"))
 }
 
-/// Loads one Animal-AI arena file as a task; each `!Arena` in it becomes one layout.
+/// Loads one Animal-AI arena file as a task; each `!Arena` in it becomes one layout. What the
+/// loader changed to read it as v1 does (a size clamped) is in the task's `warnings`.
 pub fn load_task(name: &str, src: &str) -> Result<Task, FileError> {
-    let layouts = load_layouts(name, src)?;
-    Ok(Task { name: name.to_string(), description: format!("Loaded from {name}"), layouts })
+    crate::util::check_text_size(src, "yaml").map_err(|e| FileError::new("arena", e))?;
+    let mut warnings = Vec::new();
+    let layouts = layouts(name, src, &mut warnings).map_err(|e| FileError::value("arena", e))?;
+    Ok(Task { name: name.to_string(), description: format!("Loaded from {name}"), layouts, warnings })
 }
 
 /// Parses every `!Arena` of a file into layouts named `name` (or `name#k` when there are several).
 pub fn load_layouts(name: &str, src: &str) -> Result<Vec<Layout>, FileError> {
-    crate::util::check_text_size(src, "yaml").map_err(|e| FileError::new("arena", e))?;
-    layouts(name, src).map_err(|e| FileError::value("arena", e))
+    load_task(name, src).map(|t| t.layouts)
 }
 
-fn layouts(name: &str, src: &str) -> Result<Vec<Layout>, ConfigError> {
+fn layouts(name: &str, src: &str, warnings: &mut Vec<String>) -> Result<Vec<Layout>, ConfigError> {
     let root = parse(src)?;
     let arenas = map_get(&root, "", &["arenas"])?
         .into_iter()
@@ -132,7 +134,7 @@ fn layouts(name: &str, src: &str) -> Result<Vec<Layout>, ConfigError> {
         .map(|(k, v)| {
             let key = scalar(k, "arenas")?;
             let lname = if several { format!("{name}#{key}") } else { name.to_string() };
-            layout(&lname, v, &format!("arenas.{key}"))
+            layout(&lname, v, &format!("arenas.{key}"), warnings)
         })
         .collect()
 }
@@ -200,10 +202,15 @@ fn seq<'a>(node: &'a Node, field: &str) -> Result<&'a [Node], ConfigError> {
     }
 }
 
-fn layout(name: &str, node: &Node, field: &str) -> Result<Layout, ConfigError> {
+fn layout(name: &str, node: &Node, field: &str, warnings: &mut Vec<String>) -> Result<Layout, ConfigError> {
     // A missing t is the project default (1000), which is also Animal-AI's `Arena` default.
-    let mut out =
-        Layout { name: name.to_string(), t: super::DEFAULT_T, objects: Vec::new(), agent: AgentSpec::default() };
+    let mut out = Layout {
+        name: name.to_string(),
+        t: super::DEFAULT_T,
+        objects: Vec::new(),
+        agent: AgentSpec::default(),
+        blackouts: Blackouts::default(),
+    };
     let mut agent_seen = false;
     for (key, v) in map_get(node, field, &["t", "pass_mark", "blackouts", "items"])? {
         let f = join(field, &key);
@@ -218,16 +225,36 @@ fn layout(name: &str, node: &Node, field: &str) -> Result<Layout, ConfigError> {
             "pass_mark" => {
                 number(v, &f)?;
             }
-            // Lights-off frames: accepted for compatibility, not simulated.
+            // Lights-off switches in env steps (`Blackouts`): whole numbers, a negative one (a
+            // period) only alone, as v1 reads it.
             "blackouts" => {
-                for (i, b) in seq(v, &f)?.iter().enumerate() {
-                    number(b, &format!("{f}[{i}]"))?;
+                let list = seq(v, &f)?;
+                let mut steps = Vec::new();
+                for (i, b) in list.iter().enumerate() {
+                    let fi = format!("{f}[{i}]");
+                    let x = number(b, &fi)?;
+                    if x.fract() != 0.0 || x.abs() > MAX_T as f32 {
+                        return Err(ConfigError::at(
+                            b.line(),
+                            fi,
+                            format!("{x} must be a whole number in -{MAX_T}..={MAX_T}"),
+                        ));
+                    }
+                    if x < 0.0 && list.len() > 1 {
+                        let message = format!(
+                            "{x} is a period (lights switch every {} steps) and must be the list's only entry",
+                            -x
+                        );
+                        return Err(ConfigError::at(b.line(), fi, message));
+                    }
+                    steps.push(x as i32);
                 }
+                out.blackouts = Blackouts(steps);
             }
             "items" => {
                 for (i, item) in seq(v, &f)?.iter().enumerate() {
                     let ifield = format!("{f}[{i}]");
-                    match parse_item(item, &ifield)? {
+                    match parse_item(item, &ifield, warnings)? {
                         Item::Objects(objs) => {
                             out.objects.extend(objs);
                             if out.objects.len() > MAX_OBJECTS {
@@ -290,7 +317,7 @@ fn in_range(v: Option<f32>, lo: f32, hi: f32, line: usize, field: &str) -> Resul
     }
 }
 
-fn parse_item(node: &Node, field: &str) -> Result<Item, ConfigError> {
+fn parse_item(node: &Node, field: &str, warnings: &mut Vec<String>) -> Result<Item, ConfigError> {
     let entries = map_get(node, field, &["name", "positions", "rotations", "sizes", "colors"])?;
     let name_node = entries
         .iter()
@@ -348,9 +375,24 @@ fn parse_item(node: &Node, field: &str) -> Result<Item, ConfigError> {
     let mut sizes = Vec::new();
     for (j, s) in list("sizes")?.iter().enumerate() {
         let f = format!("{field}.sizes[{j}]");
-        let v = vector(s, &f, ["x", "y", "z"])?;
+        let mut v = vector(s, &f, ["x", "y", "z"])?;
+        // v1 clamps a size into its object's range (`Prefab.SetSize`: max(sizeMin, min(sizeMax,
+        // size))); the loader does the same and says so.
         for axis in 0..3 {
-            in_range(v[axis], lo[axis], hi[axis], s.line(), &format!("{f}.{}", AXES[axis]))?;
+            if let Some(x) = v[axis] {
+                let clamped = x.clamp(lo[axis], hi[axis]);
+                // A sphere's size is its x alone (y and z are ignored): only x is worth a warning.
+                if clamped != x && (axis == 0 || !kind.is_goal()) {
+                    warnings.push(format!(
+                        "line {}: {f}.{}: {x} is outside {}..={} for a {name}; clamped to {clamped}, as v1 does",
+                        s.line(),
+                        AXES[axis],
+                        lo[axis],
+                        hi[axis]
+                    ));
+                }
+                v[axis] = Some(clamped);
+            }
         }
         sizes.push(v);
     }

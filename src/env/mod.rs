@@ -195,6 +195,7 @@ impl Env {
         let hot = if t > 0 { (-10.0 / (3.0 * t as f64)).min(-1e-5) } else { -1e-5 };
         let mut out = StepOutcome::default();
         self.world.view_key(&mut self.view_before);
+        let lit_before = self.lit();
         for _ in 0..k {
             out.reward += penalty;
             for _ in 0..FRAMES_PER_STEP {
@@ -216,9 +217,10 @@ impl Env {
                 break;
             }
         }
-        // Pressed against a wall or stopped, the agent sees what it saw: the frame stays.
+        // Pressed against a wall or stopped, the agent sees what it saw: the frame stays, unless
+        // the light switched.
         self.world.view_key(&mut self.view_after);
-        if self.view_after != self.view_before {
+        if self.view_after != self.view_before || self.lit() != lit_before {
             self.view_changed();
         }
         Ok(out)
@@ -231,7 +233,7 @@ impl Env {
     }
 
     /// Which view `observation` shows: it changes whenever the image may (a reset, a step that
-    /// moved the agent or a goal, `world_mut`), and never otherwise.
+    /// moved the agent or a goal or switched the light, `world_mut`), and never otherwise.
     pub fn view_serial(&self) -> u64 {
         self.view_serial
     }
@@ -239,10 +241,20 @@ impl Env {
     /// The agent's current view, rendered on demand and cached until the world changes.
     pub fn observation(&mut self) -> &Frame {
         if !self.frame_fresh {
-            self.camera.render(&self.world, &mut self.frame);
+            if self.lit() {
+                self.camera.render(&self.world, &mut self.frame);
+            } else {
+                // v1 sends a black texture while the light is off (docs/ARENAS.md section 6).
+                self.frame.rgba.chunks_exact_mut(4).for_each(|p| p.copy_from_slice(&[0, 0, 0, 255]));
+            }
             self.frame_fresh = true;
         }
         &self.frame
+    }
+
+    /// Whether the arena's light is on now (its layout's `blackouts` at this env step).
+    pub fn lit(&self) -> bool {
+        self.config.task.layouts[self.layout].blackouts.lit(self.steps)
     }
 
     /// The episode limit in force: the override, else the layout's own.

@@ -182,6 +182,11 @@ impl ArenaEnv {
     pub fn task_name(&self) -> String {
         self.env.config().task.name.clone()
     }
+
+    /// What loading the arena file changed to read it as v1 does (a size clamped), one line each.
+    pub fn warnings(&self) -> Vec<String> {
+        self.env.config().task.warnings.clone()
+    }
 }
 
 /// The built-in task names.

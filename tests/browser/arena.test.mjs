@@ -104,3 +104,37 @@ test('an arena file that is too large or not text is refused by name before it i
   await page.waitForFunction((s) => window.secPlayground.env.agent().steps !== s, steps, { timeout: 60000 });
   assert.deepEqual(problems, []);
 });
+
+test('the Olympics menu lists the 900 arenas by category; a category-7 arena goes dark at its blackouts', async () => {
+  await page.waitForFunction(() => document.querySelectorAll('#olympics optgroup').length === 10);
+  const options = await page.$$eval('#olympics option[value$=".yaml"]', (os) => os.map((o) => ({ v: o.value, off: o.disabled, t: o.textContent })));
+  assert.equal(options.length, 900);
+  // A file this simulator cannot run says what it needs and cannot be chosen.
+  const refused = options.filter((o) => o.off);
+  assert.ok(refused.length > 0 && refused.every((o) => /\(needs .+\)/.test(o.t)), refused[0]?.t);
+  // 07-01-01: the light switches every 20 env steps (blackouts [-20]); one env step is 60 ms here.
+  await page.selectOption('#olympics', '07-01-01.yaml');
+  await page.waitForFunction(() => window.secPlayground.env.taskName() === '07-01-01.yaml');
+  assert.equal(await page.textContent('#task option[value="(custom)"]'), 'olympics: 07-01-01.yaml');
+  const black = () => page.evaluate(() => {
+    const d = document.getElementById('camera').getContext('2d').getImageData(0, 0, 84, 84).data;
+    for (let i = 0; i < d.length; i += 4) if (d[i] || d[i + 1] || d[i + 2]) return false;
+    return true;
+  });
+  const step = () => page.evaluate(() => window.secPlayground.env.agent().steps);
+  assert.equal(await black(), false, 'lit at the start');
+  await page.waitForFunction(() => {
+    const d = document.getElementById('camera').getContext('2d').getImageData(0, 0, 84, 84).data;
+    for (let i = 0; i < d.length; i += 4) if (d[i] || d[i + 1] || d[i + 2]) return false;
+    return true;
+  }, null, { timeout: 60000 });
+  const dark = await step();
+  assert.ok(dark >= 20 && dark < 40, `dark at env step ${dark}`);
+  await page.waitForFunction(() => window.secPlayground.env.agent().steps >= 40 || window.secPlayground.env.agent().steps < 20, null, { timeout: 60000 });
+  await page.waitForFunction(() => {
+    const d = document.getElementById('camera').getContext('2d').getImageData(0, 0, 84, 84).data;
+    for (let i = 0; i < d.length; i += 4) if (d[i] || d[i + 1] || d[i + 2]) return true;
+    return false;
+  }, null, { timeout: 60000 });
+  assert.deepEqual(problems, []);
+});

@@ -242,6 +242,12 @@ impl PyEnv {
     fn task(&self) -> String {
         self.arena.env.config().task.name.clone()
     }
+
+    /// What loading the arena file changed to read it as v1 does (a size clamped), one line each.
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.arena.env.config().task.warnings.clone()
+    }
 }
 
 pub(crate) fn step_seconds(frame_skip: u32) -> f64 {

@@ -43,6 +43,23 @@ def test_the_six_tasks_are_registered_and_an_animal_ai_file_loads(tmp_path):
     assert terminated and reward > 0
 
 
+def test_a_size_v1_clamps_is_clamped_with_a_warning(tmp_path):
+    yaml = tmp_path / "big.yaml"
+    yaml.write_text(
+        "!ArenaConfig\narenas:\n  0: !Arena\n    t: 250\n    items:\n"
+        "    - !Item\n      name: GoodGoal\n      positions:\n      - !Vector3 {x: 20, y: 0, z: 30}\n"
+        "      sizes:\n      - !Vector3 {x: 8, y: 8, z: 8}\n"
+    )
+    with pytest.warns(UserWarning) as caught:
+        env = gym.make("SecPlayground/AnimalAI-v0", yaml_path=str(yaml))
+    # A sphere's size is its x: the one warning, naming the line, the field and both values.
+    assert [str(w.message).split(": ", 1)[1] for w in caught] == [
+        "line 11: arenas.0.items[0].sizes[0].x: 8 is outside 0.5..=5 for a GoodGoal; clamped to 5, as v1 does"
+    ]
+    env.reset(seed=1)
+    assert env.unwrapped._env.warnings == [str(caught[0].message).split(": ", 1)[1]]
+
+
 def _bits(fmt, value):
     """The IEEE bits of a double ('d') or of a float ('f', exact: positions are f32s)."""
     return struct.unpack(">Q" if fmt == "d" else ">I", struct.pack(">" + fmt, value))[0]

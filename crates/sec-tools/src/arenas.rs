@@ -38,6 +38,8 @@ pub struct FileResult {
     pub needs: BTreeSet<Feature>,
     /// Why it was refused (by the loader or the env), if it was.
     pub refused: Option<String>,
+    /// What the loader changed to read it as v1 does (a size clamped).
+    pub warnings: Vec<String>,
     /// What went wrong in its random run (a panic, a non-finite number), if anything.
     pub run_error: Option<String>,
     /// Env steps its random run took.
@@ -86,12 +88,14 @@ pub fn survey_file(name: &str, src: &str, steps: u64, seed: u64) -> FileResult {
         category,
         needs: features(src).unwrap_or_default(),
         refused: None,
+        warnings: Vec::new(),
         run_error: None,
         steps: 0,
     };
-    let env = yaml::load_task(name, src)
-        .map_err(|e| e.to_string())
-        .and_then(|task: Task| Env::new(EnvConfig::new(task), seed).map_err(|e| e.to_string()));
+    let env = yaml::load_task(name, src).map_err(|e| e.to_string()).and_then(|task: Task| {
+        out.warnings = task.warnings.clone();
+        Env::new(EnvConfig::new(task), seed).map_err(|e| e.to_string())
+    });
     let mut env = match env {
         Ok(env) => env,
         Err(e) => {
@@ -147,16 +151,17 @@ pub fn table(results: &[FileResult], steps: u64) -> String {
     md.push_str(&format!(
         "{} files; each loaded one run for {steps} env steps of random actions. *Loads*: the loader and \
          the env take it; *as v1*: loaded, its run free of panics and non-finite numbers, and none of \
-         its features ignored (3-D world, blackouts, goal counting). Refused files by what they need \
+         its features ignored (a 3-D world); *clamped*: loaded with a size clamped into its \
+         object's range, as v1 does. Refused files by what they need \
          (*alone*: the only feature they need); *other*: refused files needing none of them \
          (refused for something else: its error in the CSV).\n\n",
         results.len()
     ));
-    md.push_str("| category | files | loads | as v1 | refused |");
+    md.push_str("| category | files | loads | as v1 | clamped | refused |");
     for f in &refused_features {
         md.push_str(&format!(" {} (alone) |", f.name()));
     }
-    md.push_str(" other |\n|---|---:|---:|---:|---:|");
+    md.push_str(" other |\n|---|---:|---:|---:|---:|---:|");
     for _ in &refused_features {
         md.push_str("---:|");
     }
@@ -171,10 +176,11 @@ pub fn table(results: &[FileResult], steps: u64) -> String {
     for (name, rs) in rows {
         let refused: Vec<&&FileResult> = rs.iter().filter(|r| !r.loaded()).collect();
         md.push_str(&format!(
-            "| {name} | {} | {} | {} | {} |",
+            "| {name} | {} | {} | {} | {} | {} |",
             rs.len(),
             rs.iter().filter(|r| r.loaded()).count(),
             rs.iter().filter(|r| r.behaves_as_v1()).count(),
+            rs.iter().filter(|r| r.loaded() && !r.warnings.is_empty()).count(),
             refused.len()
         ));
         for f in &refused_features {
@@ -197,21 +203,42 @@ fn category_name(c: usize) -> String {
 
 /// One line per file: name, category, loads, as v1, steps run, needs, the refusal or run error.
 pub fn rows_csv(results: &[FileResult]) -> String {
-    let mut csv = String::from("file,category,loads,as_v1,steps,needs,error\n");
+    let mut csv = String::from("file,category,loads,as_v1,steps,needs,error,warnings\n");
     let quote = |s: &str| format!("\"{}\"", s.replace('"', "\"\""));
     for r in results {
         let needs: Vec<String> = r.needs.iter().map(Feature::name).collect();
         let error = r.refused.as_deref().or(r.run_error.as_deref()).unwrap_or("");
         csv.push_str(&format!(
-            "{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{}\n",
             r.name,
             r.category,
             r.loaded(),
             r.behaves_as_v1(),
             r.steps,
             quote(&needs.join("; ")),
-            quote(error)
+            quote(error),
+            quote(&r.warnings.join("; "))
         ));
     }
     csv
+}
+
+/// The arena page's menu of the corpus (`assets/arenas/olympics.json`): the categories, and per
+/// file its category, whether it loads and behaves as in v1, and what it needs.
+pub fn index_json(results: &[FileResult]) -> String {
+    let files: Vec<serde_json::Value> = results
+        .iter()
+        .map(|r| {
+            serde_json::json!({
+                "file": r.name,
+                "category": r.category,
+                "loads": r.loaded(),
+                "asV1": r.behaves_as_v1(),
+                "needs": r.needs.iter().map(Feature::name).collect::<Vec<_>>(),
+                "warnings": r.warnings.len(),
+            })
+        })
+        .collect();
+    let index = serde_json::json!({ "categories": CATEGORIES, "files": files });
+    format!("{}\n", serde_json::to_string(&index).expect("plain JSON"))
 }

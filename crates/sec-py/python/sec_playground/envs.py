@@ -17,6 +17,7 @@ Two limits, each with one meaning in every constructor (`gym.make`, `gym.make_ve
 import json
 import os
 import operator
+import warnings
 from typing import Any, Optional
 
 import gymnasium as gym
@@ -193,6 +194,10 @@ class ArenaEnv(_Pickled, gym.Env):
         name, text = _arena(task, yaml_path)
         self._args = (name, t, text, frame_skip, _surface(surface))
         self._env = self._make_core()
+        # A file v1 reads by changing it (a size clamped into its range) loads the same way here,
+        # and says so.
+        for message in self._env.warnings:
+            warnings.warn(f"{name}: {message}", UserWarning, stacklevel=2)
         self.observation_space = OBSERVATION_SPACE
         self.action_space = ACTION_SPACE
         self.render_mode = render_mode

@@ -15,6 +15,7 @@
 //!                              [--quote docs/ARENAS.md]
 //!   sec-experiment aliasing [--frames 2000] [--seeds 3] [--to results] [--quote docs/ARENAS.md]
 //!   sec-experiment arenas [assets/arenas/competition] [--steps 2500] [--to results] [--quote docs/ARENAS.md]
+//!                         [--index assets/arenas/olympics.json]
 //!   sec-experiment reference [--out results/experiments] [--to assets/reference]
 //!   sec-experiment versus-authors [--out results/experiments] [--authors results/authors] [--to results]
 //!                                 [--quote REPRODUCTION.md]
@@ -62,11 +63,12 @@ const USAGE: &str = "usage:
   sec-experiment aliasing [--frames N] [--seeds N|A..B|A,B,C] [--to DIR] [--quote PAGE.md]
                           (how often views repeat with each surface: the identical-view share,
                            matching breadth and distance, distinct frames per decision)
-  sec-experiment arenas [DIR] [--steps N] [--to DIR] [--quote PAGE.md]
+  sec-experiment arenas [DIR] [--steps N] [--to DIR] [--quote PAGE.md] [--index FILE.json]
                         (every Animal-AI arena file of DIR, default the Olympics corpus
                          assets/arenas/competition: which load, run N random env steps (2500)
                          cleanly and behave as in v1, and what the refused ones need, per category;
-                         DIR/arenas.md and arenas.csv under --to, default results)
+                         DIR/arenas.md and arenas.csv under --to, default results; --index the
+                         arena page's menu, assets/arenas/olympics.json)
   sec-experiment reference [--out DIR] [--to DIR] [--partial]   (the page's reference curves)
   sec-experiment versus-authors [--out DIR] [--authors DIR] [--to DIR] [--quote PAGE.md]
                                 (our runs against the authors' per-run results, results/authors/)
@@ -357,7 +359,7 @@ fn dispatch(args: &[String]) -> Result<(), String> {
             Ok(())
         }
         "arenas" => {
-            let (pos, o) = options(rest, &["steps", "to", "quote"])?;
+            let (pos, o) = options(rest, &["steps", "to", "quote", "index"])?;
             if pos.len() > 1 {
                 return Err(format!("arenas takes one folder, not {}\n{USAGE}", pos.len()));
             }
@@ -376,6 +378,9 @@ fn dispatch(args: &[String]) -> Result<(), String> {
                 .map_err(|e| format!("{}: {e}", to.display()))?;
             if let Some(page) = o.get("quote") {
                 sec_tools::quote::quote_required(Path::new(page), "arenas", &table)?;
+            }
+            if let Some(index) = o.get("index") {
+                std::fs::write(index, sec_tools::arenas::index_json(&results)).map_err(|e| format!("{index}: {e}"))?;
             }
             print!("{md}");
             Ok(())
