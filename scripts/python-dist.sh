@@ -5,10 +5,15 @@
 # carries what the build reads and installs into a working package; the aarch64 wheel's tag, its
 # extension's machine (AArch64) and the newest glibc symbol it needs (<= 2.17). Both land in
 # target/wheels/. The sdist compiles the crates from scratch: several minutes. Not part of the test
-# command (scripts/test.sh builds and tests the x86_64 wheel); run it before a release.
+# command (scripts/test.sh builds and tests the x86_64 wheel); run it before a release, after
+# scripts/build.sh (which makes the notebook widget's module and files both packages carry).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
+if [ ! -f crates/sec-py/python/sec_playground/_widget/widget.js ]; then
+    echo "[python-dist] the notebook widget's module is missing: run scripts/build.sh first" >&2
+    exit 1
+fi
 build="$PWD/target/py-build"
 [ -x "$build/bin/python" ] || python3 -m venv "$build"
 "$build/bin/pip" install -q --disable-pip-version-check -r crates/sec-py/requirements-build.txt
