@@ -14,13 +14,14 @@ const root = resolve(dirname(fileURLToPath(import.meta.url)), '..');
 const out = resolve(process.argv[2] ?? `${root}/dist/sec-playground`);
 
 /**
- * Two rewrites of the page's modules, for this build only:
+ * Three rewrites of the page's modules, for this build only:
  * - each `new URL('<file>', import.meta.url)` that names one of the provided files is marked as
  *   one Vite must leave alone (in library mode it would inline the file as base64: megabytes of
  *   models in the module); those addresses are used only where no one provides the files;
  * - each `new Worker(new URL('./x.js', import.meta.url), {type: 'module'})` becomes Vite's inline
  *   worker (`./x.js?worker&inline`: the worker's bundle in the module, started from a blob), as
- *   the page's form would emit the worker as a file beside the module.
+ *   the page's form would emit the worker as a file beside the module, and the check of the
+ *   module's origin that chooses between the two forms is dropped.
  */
 const forOneModule = {
   name: 'sec-playground:one-module',
@@ -28,7 +29,10 @@ const forOneModule = {
   transform(code, id) {
     if (!/\/(www|pkg)\/.*\.js$/.test(id)) return null;
     const imports = [];
-    let next = code.replace(/new Worker\(new URL\('(\.\/[\w-]+\.js)', import\.meta\.url\), \{ type: 'module' \}\)/g, (_, file) => {
+    // The inlined workers start from the page's own blob, wherever the module came from (a
+    // blob: or a data: address, as notebooks load it): the origin check is for the page's build.
+    let next = code.replaceAll('sameOrigin(import.meta.url)', 'true');
+    next = next.replace(/new Worker\(new URL\('(\.\/[\w-]+\.js)', import\.meta\.url\), \{ type: 'module' \}\)/g, (_, file) => {
       imports.push(`import SecInlineWorker${imports.length} from '${file}?worker&inline';`);
       return `new SecInlineWorker${imports.length - 1}()`;
     });

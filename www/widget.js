@@ -99,7 +99,13 @@ function render({ model, el }) {
   const offs = [];
   const on = (name, f) => {
     model.on(name, f);
-    offs.push(() => model.off?.(name, f));
+    offs.push(() => {
+      try {
+        model.off(name, f);
+      } catch {
+        // A static page's model (MyST) cannot unsubscribe; it goes with the page.
+      }
+    });
   };
   for (const key of KEYS) {
     on(`change:${key}`, () => {

@@ -96,3 +96,27 @@ test('a MyST page renders the widget with no kernel: it learns with the directiv
     await page.close();
   }
 });
+
+test('the widget module runs when a host imports it from a data: address (no address to resolve files by)', async () => {
+  const page = await browser.newPage();
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(e.message));
+  try {
+    await page.goto(`http://127.0.0.1:${site.address().port}/`);
+    await page.evaluate(async (files) => {
+      const source = await (await fetch(`${files}widget.js`)).text();
+      const mod = await import(`data:text/javascript;base64,${btoa(unescape(encodeURIComponent(source)))}`);
+      // The smallest model a host gives: values, change events, no kernel.
+      const values = { files, task: 'cylinder', seed: 2, hide: 'compare' };
+      const model = { get: (k) => values[k], set() {}, on() {}, off() {}, save_changes() {}, send() { throw new Error('no kernel'); } };
+      const el = document.createElement('div');
+      document.body.replaceChildren(el); // on screen (an element scrolled off it pauses)
+      await mod.default.render({ model, el });
+    }, `${base}dist/sec-playground/`);
+    await page.waitForFunction(() => [...document.querySelectorAll('body > div > sec-playground')]
+      .some((p) => p.getState().episode >= 1 && p.getState().settings.task === 'cylinder'), null, { timeout: 180000 });
+    assert.deepEqual(errors, []);
+  } finally {
+    await page.close();
+  }
+});
