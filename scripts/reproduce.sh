@@ -64,4 +64,10 @@ if [ "$BLOCK" = all ] || [ "$BLOCK" = textured ]; then
     run textured 10 5000 --only "$(dtm SEC NSEC MFEC-ae MFEC-rp reactive)"
     run textured 20 5000 --only "$(dtm SEC NSEC)"
 fi
-OUT="$OUT" ./scripts/results.sh
+# The reports quote into REPRODUCTION.md and write results/ and assets/reference/: only from the
+# repository's own runs. Runs made elsewhere (OUT=...) are copied in first, then reported.
+if [ "$(realpath -m "$OUT")" = "$(realpath -m results/experiments)" ]; then
+    ./scripts/results.sh
+else
+    echo "reproduce.sh: runs are in $OUT; copy the finished ones into results/experiments, then run ./scripts/results.sh"
+fi
