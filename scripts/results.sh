@@ -24,4 +24,5 @@ done
 "$bin" orderings --out "$OUT" --quote REPRODUCTION.md $partial > /dev/null
 "$bin" matching --out "$OUT" --quote REPRODUCTION.md > /dev/null
 "$bin" versus-authors --out "$OUT" --quote REPRODUCTION.md > /dev/null
+"$bin" surfaces --out "$OUT" --quote REPRODUCTION.md > /dev/null
 "$bin" reference --out "$OUT" $partial

@@ -136,9 +136,14 @@ pub struct LearnedBar {
 }
 
 impl LearnedBar {
-    /// From the reactive walk's runs of `task` in `results/exp1`, if there are any.
-    pub fn of(results: &Path, task: &str) -> Option<LearnedBar> {
-        let (_, conds) = load(&results.join("exp1")).ok()?;
+    /// From the reactive walk's runs of `task` in `results/EXPERIMENT`, if there are any.
+    pub fn of(results: &Path, experiment: &str, task: &str) -> Option<LearnedBar> {
+        let (_, conds) = load(&results.join(experiment)).ok()?;
+        LearnedBar::among(&conds, task)
+    }
+
+    /// From the reactive walk's runs of `task` among `conds`, if there are any.
+    pub fn among(conds: &[ConditionRuns], task: &str) -> Option<LearnedBar> {
         let walk = conds.iter().find(|c| c.condition.name == format!("{task}/reactive"))?;
         let episodes = walk.runs[0].len();
         Some(LearnedBar {
@@ -174,15 +179,20 @@ fn quartiles(x: &[f64]) -> String {
     format!("{:.3} / {:.3} / {:.3}", quantile(x, 0.25), quantile(x, 0.5), quantile(x, 0.75))
 }
 
-/// Our runs of each experiment, by condition.
+/// Our runs of each experiment, by condition, and the textured renderer's runs of experiment 1
+/// (`textured`, whose conditions carry experiment 1's names; PROTOCOL.md, 2026-12-06).
 struct Ours {
     experiments: Vec<(String, Vec<ConditionRuns>)>,
 }
+
+/// The folder of the textured renderer's runs of experiment 1.
+pub const TEXTURED: &str = "textured";
 
 impl Ours {
     fn load(results: &Path) -> Ours {
         let experiments = EXPERIMENTS
             .iter()
+            .chain(&[TEXTURED])
             .map(|e| (e.to_string(), load(&results.join(e)).map(|(_, c)| c).unwrap_or_default()))
             .collect();
         Ours { experiments }
@@ -194,15 +204,55 @@ impl Ours {
     }
 }
 
+/// One of our conditions held against the authors' runs of it, as versus-authors tests it.
+#[derive(Clone, Debug)]
+pub struct Versus {
+    /// Our runs' reward per episode.
+    pub ours: Vec<f64>,
+    /// Theirs.
+    pub theirs: Vec<f64>,
+    /// How many of ours and of theirs learned, when there is a bar.
+    pub learned: Option<(usize, usize)>,
+    /// The Mann-Whitney U test's p, corrected over the table's tests.
+    pub p_mann_whitney: f64,
+    /// Fisher's exact test's p of the learned counts, corrected likewise (NaN without a bar).
+    pub p_fisher: f64,
+}
+
+/// `ours` against `theirs` as a table of `rows` rows tests them: two tests per row (a Mann-Whitney
+/// and a Fisher test), Bonferroni-corrected over all of them.
+pub fn versus(
+    ours: &ConditionRuns,
+    theirs: &AuthorsRuns,
+    episodes: usize,
+    bar: Option<LearnedBar>,
+    rows: usize,
+) -> Versus {
+    let tests = 2.0 * rows as f64;
+    let theirs_pe: Vec<f64> = theirs.totals.iter().map(|x| x / episodes as f64).collect();
+    let ours_pe = per_episode(ours);
+    let learned = bar.map(|b| (b.count(&ours_pe), b.count(&theirs_pe)));
+    let (_, p) = mann_whitney(&ours_pe, &theirs_pe);
+    let p_fisher = learned.map_or(f64::NAN, |(a, b)| fisher_exact(a, ours_pe.len() - a, b, theirs_pe.len() - b));
+    Versus {
+        p_mann_whitney: (p * tests).min(1.0),
+        p_fisher: (p_fisher * tests).min(1.0),
+        ours: ours_pe,
+        theirs: theirs_pe,
+        learned,
+    }
+}
+
 /// Writes `versus-authors.md` and a figure per experiment with per-run totals
 /// (`versus-authors/EXPERIMENT.svg|png`) into `to`, from our runs under `results` and the authors'
-/// numbers under `authors`; returns the markdown.
+/// numbers under `authors`; returns the markdown. Experiment 1 gets a second table and figure for
+/// the textured renderer's runs when there are any.
 pub fn versus_authors(results: &Path, authors: &Path, to: &Path) -> Result<String, String> {
     let theirs = load_authors(authors)?;
     let ours = Ours::load(results);
     let figures = to.join("versus-authors");
     fs::create_dir_all(&figures).map_err(|e| format!("{}: {e}", figures.display()))?;
-    let bar = LearnedBar::of(results, "double-t-maze");
+    let bar = LearnedBar::of(results, "exp1", "double-t-maze");
     let mut md = String::new();
     match bar {
         Some(b) => writeln!(
@@ -217,75 +267,25 @@ pub fn versus_authors(results: &Path, authors: &Path, to: &Path) -> Result<Strin
     }
     .unwrap();
     for t in theirs.iter().filter(|t| !t.runs.is_empty()) {
-        writeln!(
-            md,
-            "**{}**, per-run totals from `{}` (cells {}) at {}@{}:\n",
-            t.experiment,
-            t.source.notebook,
-            cells(t.runs.iter().map(|r| r.cell)),
-            t.source.repository,
-            &t.source.commit[..7]
-        )
-        .unwrap();
-        md += "| condition | runs: ours / theirs | episodes: ours / theirs | learned: ours / theirs | \
-               ours per episode: Q1 / median / Q3 | theirs per episode: Q1 / median / Q3 | \
-               Mann-Whitney p | Fisher p |\n|---|---|---|---|---|---|---|---|\n";
-        // Every test the table runs: a Mann-Whitney and a Fisher test per row.
-        let tests = 2.0 * t.runs.len() as f64;
-        let mut groups = Vec::new();
-        for r in &t.runs {
-            let theirs_pe: Vec<f64> = r.totals.iter().map(|x| x / t.episodes as f64).collect();
-            let learned = |v: &[f64]| bar.map(|b| b.count(v));
-            let share = |n: Option<usize>, of: usize| n.map_or("-".to_string(), |n| format!("{n}/{of}"));
-            let Some(c) = ours.find(&t.experiment, &r.condition) else {
-                writeln!(
-                    md,
-                    "| {} | not run / {} | - / {} | - / {} | - | {} | - | - |",
-                    r.condition,
-                    r.totals.len(),
-                    t.episodes,
-                    share(learned(&theirs_pe), r.totals.len()),
-                    quartiles(&theirs_pe)
-                )
-                .unwrap();
-                continue;
+        let mut trees = vec![(t.experiment.as_str(), bar, t.experiment.clone(), t.experiment.clone(), String::new())];
+        let textured = ours.experiments.iter().any(|(e, c)| e == TEXTURED && !c.is_empty());
+        if t.experiment == "exp1" && textured {
+            let bar = LearnedBar::of(results, TEXTURED, "double-t-maze");
+            let note = match bar {
+                Some(b) => format!(
+                    " (our runs in `{TEXTURED}`, results/PROTOCOL.md 2026-12-06; R = {:.4}, the textured reactive \
+                     walk's 95th percentile, {} runs x {} episodes)",
+                    b.per_episode, b.runs, b.episodes
+                ),
+                None => format!(" (our runs in `{TEXTURED}`; no textured reactive walk: \"learned\" is not computed)"),
             };
-            let ours_pe = per_episode(c);
-            let (_, p_mw) = mann_whitney(&ours_pe, &theirs_pe);
-            let p_fisher = match (learned(&ours_pe), learned(&theirs_pe)) {
-                (Some(a), Some(b)) => fisher_exact(a, ours_pe.len() - a, b, theirs_pe.len() - b),
-                _ => f64::NAN,
-            };
-            writeln!(
-                md,
-                "| {} | {} / {} | {} / {} | {} / {} | {} | {} | {} | {} |",
-                r.condition,
-                ours_pe.len(),
-                theirs_pe.len(),
-                c.runs[0].len(),
-                t.episodes,
-                share(learned(&ours_pe), ours_pe.len()),
-                share(learned(&theirs_pe), theirs_pe.len()),
-                quartiles(&ours_pe),
-                quartiles(&theirs_pe),
-                fmt_p((p_mw * tests).min(1.0)),
-                fmt_p((p_fisher * tests).min(1.0)),
-            )
-            .unwrap();
-            let model = r.condition.split_once('/').map_or(r.condition.as_str(), |(_, m)| m);
-            groups.push((model.to_string(), [ours_pe, theirs_pe]));
+            let title = format!("{} with the textured renderer", t.experiment);
+            trees.push((TEXTURED, bar, format!("{}-{TEXTURED}", t.experiment), title, note));
         }
-        let stem = figures.join(&t.experiment);
-        let mark = bar.map_or((0.0, String::new()), |b| (b.per_episode, format!("R {:.3}", b.per_episode)));
-        crate::plot::dots(
-            &stem,
-            &format!("{}: reward per episode, run by run", t.experiment),
-            "reward per episode",
-            &groups,
-            ["ours", "the authors'"],
-            (mark.0, &mark.1),
-        )?;
-        writeln!(md, "\n![{} run by run]({FIGURES}/{}.svg)\n", t.experiment, t.experiment).unwrap();
+        for (experiment, bar, figure, title, note) in trees {
+            table(&mut md, t, |c| ours.find(experiment, c), bar, &figures.join(&figure), (&title, &note))?;
+            writeln!(md, "\n![{figure} run by run]({FIGURES}/{figure}.svg)\n").unwrap();
+        }
     }
     md += "Where the notebooks keep only means (no per-run totals), ours beside theirs, per episode:\n\n\
            | experiment | condition | ours (runs x episodes) | theirs | ours / theirs |\n|---|---|---|---|---|\n";
@@ -307,6 +307,77 @@ pub fn versus_authors(results: &Path, authors: &Path, to: &Path) -> Result<Strin
     let file = md.replace(&format!("]({FIGURES}/"), "](versus-authors/");
     fs::write(to.join("versus-authors.md"), file).map_err(|e| format!("{}: {e}", to.display()))?;
     Ok(md)
+}
+
+/// One experiment's table of our runs (found by `ours`) against the authors' per-run totals, and
+/// its figure at `stem`.
+fn table<'a>(
+    md: &mut String,
+    t: &AuthorsResults,
+    ours: impl Fn(&str) -> Option<&'a ConditionRuns>,
+    bar: Option<LearnedBar>,
+    stem: &Path,
+    (title, note): (&str, &str),
+) -> Result<(), String> {
+    writeln!(
+        md,
+        "**{title}**{note}, per-run totals from `{}` (cells {}) at {}@{}:\n",
+        t.source.notebook,
+        cells(t.runs.iter().map(|r| r.cell)),
+        t.source.repository,
+        &t.source.commit[..7]
+    )
+    .unwrap();
+    *md += "| condition | runs: ours / theirs | episodes: ours / theirs | learned: ours / theirs | \
+            ours per episode: Q1 / median / Q3 | theirs per episode: Q1 / median / Q3 | \
+            Mann-Whitney p | Fisher p |\n|---|---|---|---|---|---|---|---|\n";
+    let share = |n: Option<usize>, of: usize| n.map_or("-".to_string(), |n| format!("{n}/{of}"));
+    let mut groups = Vec::new();
+    for r in &t.runs {
+        let Some(c) = ours(&r.condition) else {
+            let theirs_pe: Vec<f64> = r.totals.iter().map(|x| x / t.episodes as f64).collect();
+            writeln!(
+                md,
+                "| {} | not run / {} | - / {} | - / {} | - | {} | - | - |",
+                r.condition,
+                r.totals.len(),
+                t.episodes,
+                share(bar.map(|b| b.count(&theirs_pe)), r.totals.len()),
+                quartiles(&theirs_pe)
+            )
+            .unwrap();
+            continue;
+        };
+        let v = versus(c, r, t.episodes, bar, t.runs.len());
+        writeln!(
+            md,
+            "| {} | {} / {} | {} / {} | {} / {} | {} | {} | {} | {} |",
+            r.condition,
+            v.ours.len(),
+            v.theirs.len(),
+            c.runs[0].len(),
+            t.episodes,
+            share(v.learned.map(|l| l.0), v.ours.len()),
+            share(v.learned.map(|l| l.1), v.theirs.len()),
+            quartiles(&v.ours),
+            quartiles(&v.theirs),
+            fmt_p(v.p_mann_whitney),
+            fmt_p(v.p_fisher),
+        )
+        .unwrap();
+        let model = r.condition.split_once('/').map_or(r.condition.as_str(), |(_, m)| m);
+        groups.push((model.to_string(), [v.ours, v.theirs]));
+    }
+    let mark = bar.map_or((0.0, String::new()), |b| (b.per_episode, format!("R {:.3}", b.per_episode)));
+    let name = stem.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned());
+    crate::plot::dots(
+        stem,
+        &format!("{name}: reward per episode, run by run"),
+        "reward per episode",
+        &groups,
+        ["ours", "the authors'"],
+        (mark.0, &mark.1),
+    )
 }
 
 /// `13` or `13, 15`: the distinct cells, in order.

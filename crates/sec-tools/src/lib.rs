@@ -44,4 +44,5 @@ pub mod quote;
 pub mod reference;
 pub mod report;
 pub mod stats;
+pub mod surfaces;
 pub mod warmup;

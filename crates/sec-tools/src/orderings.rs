@@ -1,5 +1,6 @@
-//! Every ordering the paper reports, checked against the committed runs of two result trees side
-//! by side (the code preset's and the trained-encoder runs) and against the authors' own runs
+//! Every ordering the paper reports, checked against the committed runs of three result trees side
+//! by side (the code preset's, its textured-renderer runs of experiment 1 and the trained-encoder
+//! runs) and against the authors' own runs
 //! (`results/authors/`: their per-run totals where the notebooks keep them, else their means),
 //! with the paper's numbers: the table REPRODUCTION.md opens with.
 //!
@@ -135,6 +136,9 @@ pub struct Verdict {
     /// The test's p value, where one was run.
     pub p: Option<f64>,
 }
+
+/// The trees the table compares, in its columns' order (the CSV's `tree`).
+const TREES: [&str; 4] = ["code", "textured", "trained", "authors"];
 
 /// Permutations of the trend test's p (its resolution is 1 / 20,001).
 const TREND_PERMUTATIONS: usize = 20_000;
@@ -315,6 +319,12 @@ impl Tree {
         Tree { exp }
     }
 
+    /// The textured renderer's runs of experiment 1 (`ROOT/textured`, whose conditions carry
+    /// experiment 1's names; results/PROTOCOL.md, 2026-12-06) as this tree's exp1.
+    fn textured(root: &Path) -> Tree {
+        Tree { exp: vec![("exp1".to_string(), arms(&root.join(crate::authors::TEXTURED)))] }
+    }
+
     fn arms(&self, exp: &str) -> &[Arm] {
         self.exp.iter().find(|(e, _)| e == exp).map_or(&[], |(_, a)| a)
     }
@@ -340,12 +350,12 @@ impl Tree {
 /// Writes `orderings.md` and `orderings.csv` into `out` from the trees `code` and `trained` and
 /// the authors' numbers under `authors`; returns the markdown.
 pub fn orderings(code: &Path, trained: &Path, authors: &Path, out: &Path) -> Result<String, String> {
-    let trees = [Tree::load(code), Tree::load(trained), Tree::authors(authors)];
-    let mut rows: Vec<[String; 6]> = Vec::new();
+    let trees = [Tree::load(code), Tree::textured(code), Tree::load(trained), Tree::authors(authors)];
+    let mut rows: Vec<[String; 7]> = Vec::new();
     let mut csv = String::from("family,ordering,paper,tree,verdict,ratio,p_corrected\n");
-    let mut add = |family: &str, ordering: String, paper: String, verdicts: [(Verdict, &str); 3]| {
+    let mut add = |family: &str, ordering: String, paper: String, verdicts: [(Verdict, &str); 4]| {
         for (i, (v, _)) in verdicts.iter().enumerate() {
-            let tree = ["code", "trained", "authors"][i];
+            let tree = TREES[i];
             writeln!(
                 csv,
                 "{family},\"{ordering}\",{paper},{tree},{},{},{}",
@@ -355,11 +365,15 @@ pub fn orderings(code: &Path, trained: &Path, authors: &Path, out: &Path) -> Res
             )
             .unwrap();
         }
-        let [(a, wa), (b, wb), (mut c, wc)] = verdicts;
+        let [(a, wa), (mut t, wt), (b, wb), (mut c, wc)] = verdicts;
         if c.text == "not run" {
             c.text = "not stored".into();
         }
-        rows.push([family.to_string(), ordering, paper, cell(&a, wa), cell(&b, wb), cell(&c, wc)]);
+        // The textured grid runs experiment 1 only.
+        if !family.starts_with("exp1") {
+            t.text = "-".into();
+        }
+        rows.push([family.to_string(), ordering, paper, cell(&a, wa), cell(&t, wt), cell(&b, wb), cell(&c, wc)]);
     };
     for task in ["double-t-maze", "cylinder", "detour", "object-permanence"] {
         let pair = |tree: &Tree, other: &str, claim| {
@@ -367,7 +381,7 @@ pub fn orderings(code: &Path, trained: &Path, authors: &Path, out: &Path) -> Res
         };
         let paper = |other: &str| paper_ratio("exp1", &format!("{task}/SEC"), &format!("{task}/{other}"));
         let outside = |tree: &Tree, v: Verdict, other: &str| {
-            mark_outside(v, tree.arms("exp1"), trees[2].arms("exp1"), &format!("{task}/{other}"))
+            mark_outside(v, tree.arms("exp1"), trees[3].arms("exp1"), &format!("{task}/{other}"))
         };
         for other in ["NSEC", "MFEC-ae", "MFEC-rp"] {
             add(
@@ -377,7 +391,8 @@ pub fn orderings(code: &Path, trained: &Path, authors: &Path, out: &Path) -> Res
                 [
                     (outside(&trees[0], pair(&trees[0], other, Claim::More), other), "×"),
                     (outside(&trees[1], pair(&trees[1], other, Claim::More), other), "×"),
-                    (pair(&trees[2], other, Claim::More), "×"),
+                    (outside(&trees[2], pair(&trees[2], other, Claim::More), other), "×"),
+                    (pair(&trees[3], other, Claim::More), "×"),
                 ],
             );
         }
@@ -401,7 +416,8 @@ pub fn orderings(code: &Path, trained: &Path, authors: &Path, out: &Path) -> Res
                 [
                     (outside(&trees[0], deep(&trees[0], other), other), "×"),
                     (outside(&trees[1], deep(&trees[1], other), other), "×"),
-                    (deep(&trees[2], other), "×"),
+                    (outside(&trees[2], deep(&trees[2], other), other), "×"),
+                    (deep(&trees[3], other), "×"),
                 ],
             );
         }
@@ -413,6 +429,7 @@ pub fn orderings(code: &Path, trained: &Path, authors: &Path, out: &Path) -> Res
                 (pair(&trees[0], "NSEC", Claim::LowerEntropy), "×"),
                 (pair(&trees[1], "NSEC", Claim::LowerEntropy), "×"),
                 (pair(&trees[2], "NSEC", Claim::LowerEntropy), "×"),
+                (pair(&trees[3], "NSEC", Claim::LowerEntropy), "×"),
             ],
         );
     }
@@ -425,6 +442,7 @@ pub fn orderings(code: &Path, trained: &Path, authors: &Path, out: &Path) -> Res
             (exp2(&trees[0], "m125/SEC", "m1000/NSEC", 5), "×"),
             (exp2(&trees[1], "m125/SEC", "m1000/NSEC", 5), "×"),
             (exp2(&trees[2], "m125/SEC", "m1000/NSEC", 5), "×"),
+            (exp2(&trees[3], "m125/SEC", "m1000/NSEC", 5), "×"),
         ],
     );
     for m in [125, 250, 500, 1000] {
@@ -433,7 +451,12 @@ pub fn orderings(code: &Path, trained: &Path, authors: &Path, out: &Path) -> Res
             "exp2",
             format!("SEC > NSEC at m={m}"),
             paper_ratio("exp2", &s, &n),
-            [(exp2(&trees[0], &s, &n, 5), "×"), (exp2(&trees[1], &s, &n, 5), "×"), (exp2(&trees[2], &s, &n, 5), "×")],
+            [
+                (exp2(&trees[0], &s, &n, 5), "×"),
+                (exp2(&trees[1], &s, &n, 5), "×"),
+                (exp2(&trees[2], &s, &n, 5), "×"),
+                (exp2(&trees[3], &s, &n, 5), "×"),
+            ],
         );
     }
     // The protocol's rule (a strict fall of the four ratios) and, where the runs are there, a
@@ -473,7 +496,7 @@ pub fn orderings(code: &Path, trained: &Path, authors: &Path, out: &Path) -> Res
         "exp2",
         "SEC/NSEC at equal memory falls as m grows (125 / 250 / 500 / 1000)".into(),
         "2.42 / 2.00 / 1.95 / 1.64".into(),
-        [falling(&trees[0]), falling(&trees[1]), falling(&trees[2])],
+        [falling(&trees[0]), falling(&trees[1]), falling(&trees[2]), falling(&trees[3])],
     );
     for v in ["noGi", "noDist", "noRR", "soloGi", "soloDist", "soloRR"] {
         let name = format!("value-function/SEC-{v}");
@@ -486,33 +509,44 @@ pub fn orderings(code: &Path, trained: &Path, authors: &Path, out: &Path) -> Res
             "exp3",
             format!("SEC-{v} = SEC-default"),
             paper.into(),
-            [(check(&trees[0]), "×"), (check(&trees[1]), "×"), (check(&trees[2]), "×")],
+            [(check(&trees[0]), "×"), (check(&trees[1]), "×"), (check(&trees[2]), "×"), (check(&trees[3]), "×")],
         );
     }
     for model in ["SEC", "NSEC"] {
         for f in ["fifo", "rwd", "prior"] {
             let (a, b) = (format!("forgetting/{model}-{f}"), format!("forgetting/{model}-none"));
             let check = |tree: &Tree| verdict(tree.arms("exp4"), &a, &b, Claim::AtLeast, 6);
-            let outside = |tree: &Tree| mark_outside(check(tree), tree.arms("exp4"), trees[2].arms("exp4"), &b);
+            let outside = |tree: &Tree| mark_outside(check(tree), tree.arms("exp4"), trees[3].arms("exp4"), &b);
             add(
                 "exp4",
                 format!("{model}-{f} >= {model}-none"),
                 paper_ratio("exp4", &a, &b),
-                [(outside(&trees[0]), "×"), (outside(&trees[1]), "×"), (check(&trees[2]), "×")],
+                [
+                    (outside(&trees[0]), "×"),
+                    (outside(&trees[1]), "×"),
+                    (outside(&trees[2]), "×"),
+                    (check(&trees[3]), "×"),
+                ],
             );
         }
     }
     let mut md = String::from(
-        "| experiment | ordering (the paper's) | paper: ratio | untrained encoder, the code preset | trained encoder | the authors' runs |\n|---|---|---|---|---|---|\n",
+        "| experiment | ordering (the paper's) | paper: ratio | untrained encoder, the code preset | the same, textured renderer | trained encoder | the authors' runs |\n|---|---|---|---|---|---|---|\n",
     );
     for r in &rows {
-        writeln!(md, "| {} | {} | {} | {} | {} | {} |", r[0], r[1], r[2], r[3], r[4], r[5]).unwrap();
+        writeln!(md, "| {} |", r.join(" | ")).unwrap();
     }
     let mut scales = String::from("\nRuns x episodes per condition:");
     for (e, prefix) in [("exp1", "double-t-maze/"), ("exp1", "detour/"), ("exp2", ""), ("exp3", ""), ("exp4", "")] {
         let label = if prefix.is_empty() { e.to_string() } else { format!("{e} {}", prefix.trim_end_matches('/')) };
-        write!(scales, " {label} {} (untrained), {} (trained);", trees[0].scale(e, prefix), trees[1].scale(e, prefix))
-            .unwrap();
+        let textured = if e == "exp1" { format!(", {} (textured)", trees[1].scale(e, prefix)) } else { String::new() };
+        write!(
+            scales,
+            " {label} {} (untrained){textured}, {} (trained);",
+            trees[0].scale(e, prefix),
+            trees[2].scale(e, prefix)
+        )
+        .unwrap();
     }
     scales.pop();
     md += &scales;

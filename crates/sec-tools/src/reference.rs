@@ -196,7 +196,7 @@ pub fn references(out: &Path, to: &Path) -> Result<String, String> {
             let episodes: usize = c.runs.iter().map(Vec::len).sum();
             let reward: f64 = c.runs.iter().flatten().map(|m| m.reward).sum();
             let task = &c.condition.config.task;
-            let bar = *bars.entry(task.clone()).or_insert_with(|| LearnedBar::of(out, task));
+            let bar = *bars.entry(task.clone()).or_insert_with(|| LearnedBar::of(out, "exp1", task));
             let theirs = authors
                 .iter()
                 .filter(|a| a.experiment == experiment)

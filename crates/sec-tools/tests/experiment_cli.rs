@@ -236,6 +236,12 @@ fn the_committed_orderings_are_regenerated_from_the_committed_runs() {
     assert_eq!(md, std::fs::read_to_string(root.join("results/orderings.md")).unwrap());
     let reproduction = std::fs::read_to_string(root.join("REPRODUCTION.md")).unwrap();
     assert!(reproduction.contains(&md), "REPRODUCTION.md quotes results/orderings.md");
+    // The textured grid's column: experiment 1's double T-maze tested, the other experiments not
+    // in it.
+    let row = |start: &str| md.lines().find(|l| l.starts_with(start)).unwrap_or_default().to_string();
+    let cells = |r: String| r.split(" | ").map(str::to_string).collect::<Vec<_>>();
+    assert!(cells(row("| exp1 double-t-maze | SEC > NSEC |"))[4].contains("p "), "{md}");
+    assert_eq!(cells(row("| exp2 | SEC > NSEC at m=125 |"))[4], "-", "{md}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -351,6 +357,44 @@ fn the_committed_comparison_with_the_authors_is_regenerated_from_the_committed_r
     let quoted = sec_tools::quote::quoted(&reproduction, "versus-authors").expect("REPRODUCTION.md quotes it");
     assert_eq!(quoted.trim_end(), md.trim_end());
     assert!(md.contains("| double-t-maze/MFEC-ae |") && md.contains("| forgetting/NSEC-rwd |"), "{md}");
+    assert!(md.contains("**exp1 with the textured renderer**"), "the textured runs get their table: {md}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The textured grid's verdict (results/PROTOCOL.md, 2026-12-06) is what `sec-experiment surfaces`
+/// makes of the committed runs, and REPRODUCTION.md quotes it as it is; with the textured SEC runs
+/// cut to 19 the block is incomplete and nothing is decided.
+#[test]
+fn the_textured_grids_verdict_is_regenerated_from_the_committed_runs() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let dir = temp("surfaces");
+    let args = |out: &Path| {
+        cli(&[
+            "surfaces",
+            "--out",
+            out.to_str().unwrap(),
+            "--authors",
+            root.join("results/authors").to_str().unwrap(),
+            "--to",
+            dir.to_str().unwrap(),
+        ])
+    };
+    let (ok, md, err) = args(&root.join("results/experiments"));
+    assert!(ok, "{err}");
+    assert_eq!(md, std::fs::read_to_string(root.join("results/surfaces.md")).unwrap());
+    let reproduction = std::fs::read_to_string(root.join("REPRODUCTION.md")).unwrap();
+    let quoted = sec_tools::quote::quoted(&reproduction, "surfaces").expect("REPRODUCTION.md quotes it");
+    assert_eq!(quoted.trim_end(), md.trim_end());
+    assert!(md.contains("**Decision: "), "{md}");
+
+    let partial = dir.join("partial");
+    for exp in ["exp1", "textured"] {
+        copy_tree(&root.join("results/experiments").join(exp), &partial.join(exp));
+    }
+    std::fs::remove_file(partial.join("textured/double-t-maze/SEC/seed-20.jsonl.gz")).unwrap();
+    let (ok, md, err) = args(&partial);
+    assert!(ok, "{err}");
+    assert!(md.contains("not complete (textured: SEC 19 of 20; flat: complete)") && !md.contains("Decision"), "{md}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -438,7 +482,7 @@ fn every_table_reproduction_quotes_is_regenerated_from_the_committed_runs() {
     assert!(keys.len() >= 6, "{keys:?}");
     let mut reports = std::collections::BTreeMap::new();
     // The orderings and the comparison with the authors have tests of their own.
-    for key in keys.iter().filter(|k| *k != "orderings" && *k != "versus-authors") {
+    for key in keys.iter().filter(|k| !["orderings", "versus-authors", "surfaces"].contains(&k.as_str())) {
         let quoted = sec_tools::quote::quoted(&page, key).unwrap();
         if key == "perception/matching" {
             let md = std::fs::read_to_string(out.join("perception/matching.md")).unwrap();

@@ -19,6 +19,8 @@
 //!   sec-experiment reference [--out results/experiments] [--to assets/reference]
 //!   sec-experiment versus-authors [--out results/experiments] [--authors results/authors] [--to results]
 //!                                 [--quote REPRODUCTION.md]
+//!   sec-experiment surfaces [--out results/experiments] [--authors results/authors] [--to results]
+//!                           [--quote REPRODUCTION.md]
 //!   sec-experiment verify [--out results/experiments]
 //!   sec-experiment merge SRC... --into DIR
 //!   sec-experiment warm-up --from OUT/EXPERIMENT/GROUP/MODEL --seed S --episodes N --to FILE.secmem
@@ -72,6 +74,9 @@ const USAGE: &str = "usage:
   sec-experiment reference [--out DIR] [--to DIR] [--partial]   (the page's reference curves)
   sec-experiment versus-authors [--out DIR] [--authors DIR] [--to DIR] [--quote PAGE.md]
                                 (our runs against the authors' per-run results, results/authors/)
+  sec-experiment surfaces [--out DIR] [--authors DIR] [--to DIR] [--quote PAGE.md]
+                          (the textured double T-maze against the flat one and the authors': the
+                           tests, predictions and default rule of results/PROTOCOL.md, 2026-12-06)
   sec-experiment verify [--out DIR]   (every shorter run is the head of the longer runs of its
                                        configuration and seed)
   sec-experiment merge SRC... --into DIR   (result folders of several machines into one, checked
@@ -93,7 +98,7 @@ defaults: --seeds 1..20, --episodes 5000, --jobs all cores, --shard 1/1 (in a Sl
   copied from it, not played again: runs are deterministic; no plays every run),
   --to OUT/EXPERIMENT for report; --quote rewrites the page's quotes of the tables made, each between
   '<!-- KEY: COMMAND -->' and '<!-- /KEY -->' (KEY: orderings, EXPERIMENT/GROUP, perception/matching,
-  versus-authors)";
+  versus-authors, surfaces)";
 
 fn main() -> ExitCode {
     // A reader that stops early (`| head`) ends the process as it ends any Unix tool, instead of
@@ -432,6 +437,23 @@ fn dispatch(args: &[String]) -> Result<(), String> {
             )?;
             if let Some(page) = o.get("quote") {
                 sec_tools::quote::quote_required(Path::new(page), "versus-authors", &md)?;
+            }
+            print!("{md}");
+            Ok(())
+        }
+        "surfaces" => {
+            let (pos, o) = options(rest, &["out", "authors", "to", "quote"])?;
+            if !pos.is_empty() {
+                return Err(format!("surfaces takes no positional argument\n{USAGE}"));
+            }
+            let dir = |k: &str, d: &str| PathBuf::from(o.get(k).copied().unwrap_or(d));
+            let md = sec_tools::surfaces::surfaces(
+                &dir("out", "results/experiments"),
+                &dir("authors", "results/authors"),
+                &dir("to", "results"),
+            )?;
+            if let Some(page) = o.get("quote") {
+                sec_tools::quote::quote_required(Path::new(page), "surfaces", &md)?;
             }
             print!("{md}");
             Ok(())
