@@ -7,11 +7,16 @@ use sec_playground::env::{Env, EnvConfig};
 
 /// An arena with only the given objects and the agent at (x, z) facing `heading`.
 fn open_env(objects: Vec<ObjectSpec>, x: f32, z: f32, heading: f32) -> Env {
+    raised_env(objects, x, 0.0, z, heading)
+}
+
+/// The same with the agent placed `y` high.
+fn raised_env(objects: Vec<ObjectSpec>, x: f32, y: f32, z: f32, heading: f32) -> Env {
     let layout = Layout {
         name: "test".into(),
         t: 1000,
         objects,
-        agent: AgentSpec { position: [Some(x), Some(z)], rotation: Some(heading) },
+        agent: AgentSpec { position: [Some(x), Some(z)], y, rotation: Some(heading) },
         blackouts: Default::default(),
     };
     let task = Task { name: "test".into(), description: String::new(), layouts: vec![layout], warnings: Vec::new() };
@@ -96,8 +101,8 @@ fn drive(env: &mut Env, action: Action, steps: u32) -> (f32, Vec2) {
         env.step(action).unwrap();
         let w = env.world();
         for c in &w.colliders {
-            let l = c.to_local(w.agent.pos);
-            let q = l.clamp(-c.half, c.half);
+            let l = c.foot.to_local(w.agent.pos);
+            let q = l.clamp(-c.foot.half, c.foot.half);
             worst = worst.max(AGENT_RADIUS - (l - q).length());
         }
     }
@@ -125,7 +130,7 @@ fn no_wall_of_the_double_t_maze_can_be_crossed() {
                 }
                 runs += 1;
                 let mut env = open_env(vec![w.clone()], start.x, start.y, heading + skew);
-                let foot = env.world().colliders[0];
+                let foot = env.world().colliders[0].foot;
                 let mut prev = start;
                 for _ in 0..60 {
                     let (pen, p) = drive(&mut env, Action::FORWARD, 1);
@@ -270,7 +275,7 @@ fn a_random_goal_is_drawn_again_where_it_would_overlap_another() {
         name: "onto".into(),
         t: 100,
         objects: vec![ObjectSpec::new(ObjectKind::GoodGoal, 20.0, 0.0, 20.0), wall],
-        agent: AgentSpec { position: [Some(5.0), Some(5.0)], rotation: Some(0.0) },
+        agent: AgentSpec { position: [Some(5.0), Some(5.0)], y: 0.0, rotation: Some(0.0) },
         blackouts: Default::default(),
     };
     let task = Task { name: "onto".into(), description: String::new(), layouts: vec![layout], warnings: Vec::new() };
@@ -434,4 +439,186 @@ fn the_camera_is_black_while_the_light_is_off() {
     assert_eq!(seen, [false, false, false, true, true, true, false, false, false], "black at env steps 3, 4, 5");
     // Standing still, the view changes only where the light switches.
     assert!(serials[3] != serials[2] && serials[6] != serials[5] && serials[2] == serials[1], "{serials:?}");
+}
+
+/// The agent's bottom height after each physics frame of a fall from rest at `from` to `to`, as
+/// Unity integrates a rigid body (docs/ARENAS.md section 3): gravity 9.81 m/s^2 first, then the
+/// drag of 2 (a factor 1 - 2 x 0.02 per 0.02 s frame), then the move; it lands without a bounce.
+fn unity_fall(from: f32, to: f32) -> Vec<f32> {
+    let (mut y, mut v, mut out) = (from, 0.0f32, Vec::new());
+    while y > to {
+        v = (v - 9.81 * 0.02) * (1.0 - 2.0 * 0.02);
+        y = (y + v * 0.02).max(to);
+        out.push(y);
+    }
+    out
+}
+
+#[test]
+fn an_agent_placed_on_a_platform_stands_on_it_and_falls_when_it_walks_off() {
+    // A 1-high platform 2 wide along z; the agent placed 1 high on it (v1's files write y = 1
+    // for an agent on a platform the config makes 1 high, which SIZE_ADJUST makes 0.999).
+    let platform = ObjectSpec::new(ObjectKind::Wall, 20.0, 0.0, 20.0).size(2.0, 1.0, 30.0);
+    let mut env = raised_env(vec![platform], 20.0, 1.0, 10.0, 90.0);
+    env.step(Action::NOOP).unwrap();
+    let top = env.world().walls[0].top();
+    assert_eq!(env.world().agent.y, top, "it lands on the top, {top} high");
+    assert!(env.world().agent.grounded);
+    // Forward (east, +x) off the 1 m half-width: it falls as a Unity body does, frame by frame.
+    let mut heights = Vec::new();
+    let mut left = None;
+    for step in 0..40 {
+        env.step(Action::FORWARD).unwrap();
+        let a = &env.world().agent;
+        if left.is_none() && a.y < top {
+            left = Some(step);
+        }
+        if left.is_some() {
+            heights.push(a.y);
+        }
+        if a.y == 0.0 {
+            break;
+        }
+    }
+    assert!(left.is_some(), "it walked off the platform");
+    let a = &env.world().agent;
+    assert!(a.y == 0.0 && a.grounded && a.vy == 0.0, "it lands on the floor: {a:?}");
+    assert!(a.pos.x >= 21.0 + AGENT_RADIUS - 1e-3, "clear of the platform's side: {}", a.pos.x);
+    // 3 frames a step: the fall's last frame is Unity's, and it takes as many frames to within a step.
+    let unity = unity_fall(top, 0.0);
+    let frames = heights.len() * 3;
+    assert!(unity.len().abs_diff(frames) <= 3, "fell in {frames} frames; Unity's body in {}", unity.len());
+}
+
+#[test]
+fn a_raised_wall_is_placed_where_another_box_spans_other_heights_and_falls_onto_it() {
+    // v1's spawn check is a 3-D box overlap: a box above another (a gap between them) is free;
+    // the walls are rigid bodies, so it then falls onto the one under it.
+    let low = ObjectSpec::new(ObjectKind::Wall, 10.0, 0.0, 10.0).size(4.0, 1.0, 4.0);
+    let high = ObjectSpec::new(ObjectKind::Wall, 10.0, 3.0, 10.0).size(2.0, 1.0, 2.0);
+    let env = open_env(vec![low.clone(), high], 30.0, 30.0, 0.0);
+    let w = env.world();
+    assert_eq!(w.walls.len(), 2);
+    assert_eq!(w.walls[1].base, w.walls[0].top(), "it rests on the low box");
+    assert_eq!((w.colliders[1].bottom, w.colliders[1].top), (w.walls[1].base, w.walls[1].top()));
+    // The same box at a height the low one spans overlaps it: refused as v1 leaves it out.
+    let clash = ObjectSpec::new(ObjectKind::Wall, 10.0, 0.5, 10.0).size(2.0, 1.0, 2.0);
+    let layout = Layout {
+        name: "clash".into(),
+        t: 1000,
+        objects: vec![low, clash],
+        agent: AgentSpec { position: [Some(30.0), Some(30.0)], y: 0.0, rotation: Some(0.0) },
+        blackouts: Default::default(),
+    };
+    assert!(sec_playground::arena::World::check_room(&layout).is_err());
+}
+
+#[test]
+fn a_goal_over_a_box_rests_on_its_top_and_the_agent_walks_under_a_raised_box() {
+    // A goal dropped over a 2-high box comes to rest on its top.
+    let box_ = ObjectSpec::new(ObjectKind::Wall, 10.0, 0.0, 10.0).size(3.0, 2.0, 3.0);
+    let goal = ObjectSpec::new(ObjectKind::GoodGoal, 10.0, 5.0, 10.0).size(1.0, 1.0, 1.0);
+    // A bridge deck resting on two pillars 2 high: the agent (1 high) passes under it.
+    let pillars = [6.0f32, 14.0].map(|x| ObjectSpec::new(ObjectKind::Wall, x, 0.0, 30.0).size(1.0, 2.0, 1.0));
+    let deck = ObjectSpec::new(ObjectKind::Wall, 10.0, 2.0, 30.0).size(9.0, 0.5, 1.0);
+    let mut objects = vec![box_, goal];
+    objects.extend(pillars);
+    objects.push(deck);
+    let mut env = open_env(objects, 10.0, 26.0, 0.0);
+    for _ in 0..60 {
+        env.step(Action::NOOP).unwrap();
+    }
+    let w = env.world();
+    let g = &w.goals[0];
+    assert!(g.resting, "the goal came to rest");
+    assert!((g.centre.y - (w.walls[0].top() + g.radius)).abs() < 1e-6, "on the box: {}", g.centre.y);
+    assert!(w.walls[3].base > 1.0, "the deck stays on its pillars: {}", w.walls[3].base);
+    // Forward (+z) under the deck at z = 30: nothing stops it.
+    for _ in 0..12 {
+        env.step(Action::FORWARD).unwrap();
+    }
+    assert!(env.world().agent.pos.y > 31.0, "it passed under the deck: {}", env.world().agent.pos.y);
+}
+
+#[test]
+fn a_zone_under_a_platform_does_not_touch_the_agent_on_it() {
+    let platform = ObjectSpec::new(ObjectKind::Wall, 20.0, 0.0, 20.0).size(4.0, 1.0, 4.0);
+    let zone = ObjectSpec::new(ObjectKind::DeathZone, 30.0, 0.0, 30.0).size(4.0, 0.0, 4.0);
+    let mut env = raised_env(vec![platform, zone], 20.0, 1.0, 20.0, 0.0);
+    env.step(Action::NOOP).unwrap();
+    // Moved over the zone while standing 0.999 high (as on an invisible shelf), no death.
+    let a = &mut env.world_mut().agent;
+    a.pos = Vec2::new(30.0, 30.0);
+    let out = env.step(Action::NOOP).unwrap();
+    assert!(!out.terminated, "not in the zone while above it");
+}
+
+#[test]
+fn a_bouncing_goal_is_launched_at_v1s_speed_rolls_and_bounces_off_the_fence() {
+    // `BallGoalBounce.Start`: AddForce(forceToApply 500 x forward x fixedDeltaTime 0.02,
+    // VelocityChange) = 10 m/s along its rotation (90: +x).
+    let ball = ObjectSpec::new(ObjectKind::GoodGoalBounce, 10.0, 0.0, 30.0).size(1.0, 1.0, 1.0).rotation(90.0);
+    let mut env = open_env(vec![ball], 20.0, 5.0, 0.0);
+    let g = env.world().goals[0].clone();
+    assert_eq!(g.kind, ObjectKind::GoodGoal, "it pays and looks as a GoodGoal");
+    assert_eq!((g.vel, g.launch.map(|d| d.round())), (Vec2::ZERO, Some(Vec2::X)), "launched as it starts");
+    // One env step: launched in the first frame (in the air: it spawns 0.01 up), then at most two
+    // frames of the floor's friction, 0.3 x 9.81 x 0.02 = 0.0589 m/s each.
+    env.step(Action::NOOP).unwrap();
+    let v = env.world().goals[0].vel;
+    assert!(v.x <= 10.0 && v.x >= 10.0 - 2.0 * 0.0589 - 1e-4 && v.y.abs() < 1e-5, "launched at 10 m/s: {v:?}");
+    // Sliding on the floor (friction 0.3) until its spin catches up: a solid sphere then rolls
+    // at 5/7 of its speed.
+    let mut rolled = None;
+    for _ in 0..30 {
+        env.step(Action::NOOP).unwrap();
+        let g = &env.world().goals[0];
+        if g.vel == g.spin && g.vel.x > 0.0 {
+            rolled.get_or_insert(g.vel.x);
+        }
+    }
+    let rolling = rolled.expect("it rolls");
+    assert!((rolling - 10.0 * 5.0 / 7.0).abs() < 0.15, "rolls at {rolling}, 5/7 of 10 is 7.14");
+    // At the fence (x = 40) its speed reverses at bounciness 0.8 (combined by maximum).
+    let (mut before, mut after) = (0.0, 0.0);
+    for _ in 0..200 {
+        let v = env.world().goals[0].vel.x;
+        env.step(Action::NOOP).unwrap();
+        after = env.world().goals[0].vel.x;
+        if v > 0.0 && after < 0.0 {
+            before = v;
+            break;
+        }
+    }
+    assert!(before > 6.0, "it reached the fence rolling");
+    // Within the step, friction against its spin (still forward) takes at most 0.06 m/s a frame.
+    assert!((after + 0.8 * before).abs() < 0.2, "{before} came back at {after}, not -0.8 x");
+    let g = &env.world().goals[0];
+    assert!(g.centre.x <= 40.0 - g.radius && !g.resting);
+}
+
+#[test]
+fn a_bouncing_goal_bounces_off_a_wall_and_pays_when_touched() {
+    // Launched at a wall 5 m away (rotation 0: +z); the agent waits where it comes back.
+    let ball = ObjectSpec::new(ObjectKind::BadGoalBounce, 20.0, 0.0, 20.0).size(2.0, 2.0, 2.0).rotation(0.0);
+    let wall = ObjectSpec::new(ObjectKind::Wall, 20.0, 0.0, 26.0).size(10.0, 3.0, 1.0);
+    let mut env = open_env(vec![ball, wall], 20.0, 10.0, 0.0);
+    let mut turned = false;
+    let mut paid = None;
+    for _ in 0..200 {
+        let (terminated, reward) = {
+            let o = env.step(Action::NOOP).unwrap();
+            (o.terminated, o.reward)
+        };
+        let g = &env.world().goals[0];
+        turned |= g.vel.y < 0.0;
+        assert!(g.centre.z + g.radius <= 25.5 + 1e-3, "never inside the wall: {}", g.centre.z);
+        if terminated {
+            paid = Some(reward);
+            break;
+        }
+    }
+    assert!(turned, "it came back off the wall");
+    let reward = paid.expect("it reached the agent");
+    assert!((reward - (-2.0 * 0.999 - 1.0 / 1000.0)).abs() < 1e-9, "a bad goal of size 2: {reward}");
 }

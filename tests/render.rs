@@ -200,7 +200,7 @@ fn a_transparent_arch_shows_the_goal_inside_tinted() {
             ObjectSpec::new(kind, 20.0, 0.0, 20.0).size(10.0, 10.0, 10.0).rotation(90.0),
             ObjectSpec::new(ObjectKind::GoodGoal, 20.0, 0.0, 20.0).size(2.0, 2.0, 2.0),
         ],
-        agent: AgentSpec { position: [Some(20.0), Some(5.0)], rotation: Some(0.0) },
+        agent: AgentSpec { position: [Some(20.0), Some(5.0)], y: 0.0, rotation: Some(0.0) },
         blackouts: Default::default(),
     };
     let frame = |kind, with_goal: bool| {
@@ -243,4 +243,38 @@ fn rgb_floats_are_the_bytes_over_255() {
         let got: Vec<u32> = o.iter().map(|v| v.to_bits()).collect();
         assert_eq!(got, want.map(f32::to_bits), "pixel {i}");
     }
+}
+
+/// The eye is at the agent's centre wherever it stands: on a platform the camera sees the
+/// platform's top below it, lit from above (an eye still 0.5 above the floor would be inside the
+/// box and see none of it); from the floor beside the platform it sees its side, lit less.
+#[test]
+fn on_a_platform_the_camera_sees_its_top_from_the_eye_height() {
+    use sec_playground::arena::{AgentSpec, Layout, ObjectKind, ObjectSpec};
+    let blue = (0u8, 0u8, 255u8);
+    let frame = |x: f32, y: f32, heading: f32| {
+        let l = Layout {
+            name: "platform".into(),
+            t: 1000,
+            objects: vec![ObjectSpec::new(ObjectKind::Wall, 20.0, 0.0, 20.0)
+                .size(4.0, 2.0, 30.0)
+                .colour(blue.0, blue.1, blue.2)],
+            agent: AgentSpec { position: [Some(x), Some(10.0)], y, rotation: Some(heading) },
+            blackouts: Default::default(),
+        };
+        let task = Task { name: "t".into(), description: String::new(), layouts: vec![l], warnings: Vec::new() };
+        let mut env = Env::new(EnvConfig::new(task), 1).unwrap();
+        env.step(sec_playground::arena::Action::NOOP).unwrap();
+        (env.world().agent.y, env.observation().clone())
+    };
+    let is_blue = |p: [u8; 3]| p[2] > 100 && p[0] < 40 && p[1] < 40;
+    // Standing on it, looking along it (+z): the bottom rows are its top, bright.
+    let (y, on) = frame(20.0, 2.0, 0.0);
+    assert!((y - 1.998).abs() < 1e-6, "on the top: {y}");
+    let top = on.pixel(WIDTH / 2, HEIGHT - 1);
+    assert!(is_blue(top), "{top:?}");
+    // From the floor 3 m east, looking west at it: its side, darker than its top.
+    let (_, beside) = frame(25.0, 0.0, 270.0);
+    let side = beside.pixel(WIDTH / 2, HEIGHT / 2 + 5);
+    assert!(is_blue(side) && side[2] < top[2], "side {side:?}, top {top:?}");
 }

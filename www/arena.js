@@ -162,7 +162,7 @@ async function olympicsMenu() {
         o.disabled = true;
         o.textContent += ` (needs ${f.needs.join(', ')})`;
       } else if (!f.asV1) {
-        o.textContent += ` (flat: ${f.needs.join(', ')} left out)`;
+        o.textContent += ' (its random run failed: results/arenas.csv)';
       }
       group.append(o);
     }

@@ -15,7 +15,7 @@ pub use crate::error::ConfigError;
 pub use action::Action;
 pub use physics::{DRAG_FACTOR, FRAMES_PER_STEP, FRAME_DT, FRICTION_DV, GRAVITY, IMPULSE_DV, TURN_DEGREES};
 pub use tasks::{facing_centre, StartHeading, Task, TaskInfo, TASKS, TASK_NAMES};
-pub use world::{Agent, BoxObj, Footprint, Goal, Tunnel, World, Zone, AGENT_RADIUS};
+pub use world::{support, Agent, BoxObj, Collider, Footprint, Goal, Tunnel, World, Zone, AGENT_RADIUS};
 
 /// Side of the square arena, metres; the fences' inner faces are at 0 and 40.
 pub const ARENA_SIZE: f32 = 40.0;
@@ -47,6 +47,13 @@ pub enum ObjectKind {
     BadGoal,
     /// A gold sphere: positive reward, collected without ending the episode.
     GoodGoalMulti,
+    /// A GoodGoal launched along its rotation when it spawns (v1's `BallGoalBounce`): it rolls
+    /// and bounces off walls.
+    GoodGoalBounce,
+    /// A BadGoal launched likewise.
+    BadGoalBounce,
+    /// A GoodGoalMulti launched likewise.
+    GoodGoalMultiBounce,
     /// A red floor zone: reward -1, ends the episode.
     DeathZone,
     /// An orange floor zone: a penalty per step on it.
@@ -55,7 +62,7 @@ pub enum ObjectKind {
 
 impl ObjectKind {
     /// Every kind, in the catalogue's order.
-    pub const ALL: [ObjectKind; 9] = [
+    pub const ALL: [ObjectKind; 12] = [
         ObjectKind::Wall,
         ObjectKind::WallTransparent,
         ObjectKind::CylinderTunnel,
@@ -63,6 +70,9 @@ impl ObjectKind {
         ObjectKind::GoodGoal,
         ObjectKind::BadGoal,
         ObjectKind::GoodGoalMulti,
+        ObjectKind::GoodGoalBounce,
+        ObjectKind::BadGoalBounce,
+        ObjectKind::GoodGoalMultiBounce,
         ObjectKind::DeathZone,
         ObjectKind::HotZone,
     ];
@@ -77,6 +87,9 @@ impl ObjectKind {
             ObjectKind::GoodGoal => "GoodGoal",
             ObjectKind::BadGoal => "BadGoal",
             ObjectKind::GoodGoalMulti => "GoodGoalMulti",
+            ObjectKind::GoodGoalBounce => "GoodGoalBounce",
+            ObjectKind::BadGoalBounce => "BadGoalBounce",
+            ObjectKind::GoodGoalMultiBounce => "GoodGoalMultiBounce",
             ObjectKind::DeathZone => "DeathZone",
             ObjectKind::HotZone => "HotZone",
         }
@@ -93,8 +106,8 @@ impl ObjectKind {
         match self {
             ObjectKind::Wall | ObjectKind::WallTransparent => ([0.1; 3], [40.0, 10.0, 40.0]),
             ObjectKind::CylinderTunnel | ObjectKind::CylinderTunnelTransparent => ([2.5; 3], [10.0; 3]),
-            ObjectKind::GoodGoal | ObjectKind::BadGoal | ObjectKind::GoodGoalMulti => ([0.5; 3], [5.0; 3]),
-            ObjectKind::DeathZone | ObjectKind::HotZone => ([1.0, 0.0, 1.0], [40.0, 10.0, 40.0]),
+            k if k.is_goal() => ([0.5; 3], [5.0; 3]),
+            _ => ([1.0, 0.0, 1.0], [40.0, 10.0, 40.0]),
         }
     }
 
@@ -103,8 +116,8 @@ impl ObjectKind {
         match self {
             ObjectKind::Wall | ObjectKind::WallTransparent => [1.0, 1.0, 1.0],
             ObjectKind::CylinderTunnel | ObjectKind::CylinderTunnelTransparent => [5.0, 5.0, 5.0],
-            ObjectKind::GoodGoal | ObjectKind::BadGoal | ObjectKind::GoodGoalMulti => [1.0, 1.0, 1.0],
-            ObjectKind::DeathZone | ObjectKind::HotZone => [1.0, 0.0, 1.0],
+            k if k.is_goal() => [1.0, 1.0, 1.0],
+            _ => [1.0, 0.0, 1.0],
         }
     }
 
@@ -113,9 +126,24 @@ impl ObjectKind {
         matches!(self, ObjectKind::Wall | ObjectKind::CylinderTunnel)
     }
 
-    /// Whether touching it is a goal (good, bad or multi).
+    /// Whether touching it is a goal (good, bad or multi, bouncing or not).
     pub fn is_goal(self) -> bool {
-        matches!(self, ObjectKind::GoodGoal | ObjectKind::BadGoal | ObjectKind::GoodGoalMulti)
+        matches!(self.unbounced(), ObjectKind::GoodGoal | ObjectKind::BadGoal | ObjectKind::GoodGoalMulti)
+    }
+
+    /// The goal whose reward, ending and look a bouncing goal has; every other kind is its own.
+    pub fn unbounced(self) -> ObjectKind {
+        match self {
+            ObjectKind::GoodGoalBounce => ObjectKind::GoodGoal,
+            ObjectKind::BadGoalBounce => ObjectKind::BadGoal,
+            ObjectKind::GoodGoalMultiBounce => ObjectKind::GoodGoalMulti,
+            k => k,
+        }
+    }
+
+    /// Whether it is launched when it spawns.
+    pub fn bounces(self) -> bool {
+        self.unbounced() != self
     }
 }
 
@@ -167,6 +195,9 @@ impl ObjectSpec {
 pub struct AgentSpec {
     /// x and z.
     pub position: [Option<f32>; 2],
+    /// The height of the agent's bottom as the file places it (0: on the floor); it falls onto
+    /// whatever is under it.
+    pub y: f32,
     /// Degrees about +y.
     pub rotation: Option<f32>,
 }
@@ -253,6 +284,7 @@ impl Layout {
                 )?;
             }
         }
+        check_range("agent.position.y", self.agent.y, 0.0, 100.0)?;
         if let Some(r) = self.agent.rotation {
             check_range("agent.rotation", r, -360.0, 360.0)?;
         }

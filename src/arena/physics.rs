@@ -1,6 +1,6 @@
 //! Animal-AI v1 dynamics, one 0.02 s physics frame at a time (docs/ARENAS.md section 3).
 
-use super::world::{wrap_degrees, World, AGENT_RADIUS};
+use super::world::{support, wrap_degrees, World, AGENT_RADIUS};
 use super::{ObjectKind, ARENA_SIZE};
 use glam::Vec2;
 
@@ -20,6 +20,18 @@ pub const DRAG_FACTOR: f32 = 0.96;
 pub const GRAVITY: f32 = 9.81;
 /// Goals bounce with bounciness 0.4 averaged with the floor's 0.
 const GOAL_RESTITUTION: f32 = 0.2;
+/// A bouncing goal's launch speed, m/s: `forceToApply` 500 x the physics step as a velocity
+/// change, in its first frame (`BallGoalBounce.Start`).
+pub const BOUNCE_LAUNCH: f32 = 500.0 * FRAME_DT;
+/// Its `BounceBall` material's bounciness 0.8, combined by maximum: 0.8 against every surface.
+const BOUNCE_RESTITUTION: f32 = 0.8;
+/// Its dynamic friction 0.3, combined by minimum (the floor's is higher): the sliding
+/// deceleration while its spin catches up with its speed.
+const BOUNCE_FRICTION_DV: f32 = 0.3 * GRAVITY * FRAME_DT;
+/// Its angular drag 0.05 per second, per frame.
+const BOUNCE_SPIN_FACTOR: f32 = 1.0 - 0.05 * FRAME_DT;
+/// Unity puts a body to sleep below 0.005 of kinetic energy per unit mass: v^2 / 2 < 0.005.
+const SLEEP_SPEED: f32 = 0.1;
 /// Unity's bounce threshold: a rebound slower than this is dropped, which gives the single
 /// bounce of docs/ARENAS.md section 7.2 (14 m/s -> 2.8 m/s, then 0.56 m/s is dropped).
 const BOUNCE_THRESHOLD: f32 = 2.0;
@@ -67,24 +79,43 @@ pub fn physics_frame(w: &mut World, movement: u8, turn: u8, hot_penalty: f64) ->
     a.vel *= DRAG_FACTOR;
     let before = a.pos;
     a.pos += a.vel * FRAME_DT;
-    a.grounded = true;
     if !collide(w) {
         // Squeezed between colliders (a gap narrower than the agent): stay where it was.
         w.agent.pos = before;
         w.agent.vel = Vec2::ZERO;
     }
+    fall_agent(w);
     fall_goals(w);
     touches(w, hot_penalty)
 }
 
-/// Pushes the agent's disc out of every collider and the fences, dropping the velocity
+/// The agent above what is under it falls under gravity, with the drag it has in every
+/// direction, and lands without a bounce; it is grounded when it stands on something.
+fn fall_agent(w: &mut World) {
+    let a = &mut w.agent;
+    let floor = support(&w.walls, a.pos, a.y);
+    if a.y > floor || a.vy != 0.0 {
+        a.vy = (a.vy - GRAVITY * FRAME_DT) * DRAG_FACTOR;
+        a.y += a.vy * FRAME_DT;
+        if a.y <= floor {
+            a.y = floor;
+            a.vy = 0.0;
+        }
+    }
+    a.grounded = a.y == floor;
+}
+
+/// Pushes the agent's disc out of every collider in its way (one spanning some of its heights)
+/// and the fences, dropping the velocity
 /// component into the surface (no bounce, no wall friction). Returns false when the pushes
 /// could not resolve every overlap.
 fn collide(w: &mut World) -> bool {
     let a = &mut w.agent;
+    let span = (a.y, a.y + 2.0 * AGENT_RADIUS);
     for _ in 0..COLLISION_PASSES {
         let mut moved = false;
-        for c in &w.colliders {
+        for c in w.colliders.iter().filter(|c| c.spans(span)) {
+            let c = &c.foot;
             let l = c.to_local(a.pos);
             if l.x.abs() >= c.half.x + AGENT_RADIUS || l.y.abs() >= c.half.y + AGENT_RADIUS {
                 continue;
@@ -131,34 +162,98 @@ fn collide(w: &mut World) -> bool {
             return true;
         }
     }
-    !w.colliders.iter().any(|c| {
-        let l = c.to_local(a.pos);
-        (l - l.clamp(-c.half, c.half)).length() < AGENT_RADIUS - 1e-3
+    !w.colliders.iter().filter(|c| c.spans(span)).any(|c| {
+        let l = c.foot.to_local(a.pos);
+        (l - l.clamp(-c.foot.half, c.foot.half)).length() < AGENT_RADIUS - 1e-3
     })
 }
 
-/// Goals fall under gravity (no drag) and bounce once on the floor.
+/// Goals fall under gravity (no drag) and bounce once on the floor or the box under them; a
+/// bouncing goal also rolls and bounces off walls and fences until it sleeps.
 fn fall_goals(w: &mut World) {
     for g in w.goals.iter_mut().filter(|g| !g.resting && !g.collected) {
+        let floor = support(&w.walls, Vec2::new(g.centre.x, g.centre.z), g.centre.y - g.radius);
         g.vy -= GRAVITY * FRAME_DT;
         g.centre.y += g.vy * FRAME_DT;
-        if g.centre.y <= g.radius {
-            g.centre.y = g.radius;
-            let rebound = -g.vy * GOAL_RESTITUTION;
+        let mut grounded = false;
+        if g.centre.y <= floor + g.radius {
+            g.centre.y = floor + g.radius;
+            let e = if g.bouncing { BOUNCE_RESTITUTION } else { GOAL_RESTITUTION };
+            let rebound = -g.vy * e;
             if rebound >= BOUNCE_THRESHOLD {
                 g.vy = rebound;
             } else {
                 g.vy = 0.0;
-                g.resting = true;
+                grounded = true;
+                g.resting = !g.bouncing;
             }
         }
+        if g.bouncing {
+            roll(g, grounded, &w.colliders);
+        }
+    }
+}
+
+/// One frame of a bouncing goal's horizontal motion: its spin's drag; on the ground, sliding
+/// friction between its speed and its spin until it rolls (a solid sphere: the spin gains 5/2 of
+/// what the speed loses); the move; bounces off the colliders in its way and the fences; sleep.
+fn roll(g: &mut crate::arena::Goal, grounded: bool, colliders: &[crate::arena::Collider]) {
+    if let Some(forward) = g.launch.take() {
+        g.vel += forward * BOUNCE_LAUNCH;
+    }
+    g.spin *= BOUNCE_SPIN_FACTOR;
+    if grounded {
+        let slip = g.vel - g.spin;
+        let s = slip.length();
+        if s <= 3.5 * BOUNCE_FRICTION_DV {
+            let rolling = (g.vel * 2.5 + g.spin) / 3.5;
+            (g.vel, g.spin) = (rolling, rolling);
+        } else {
+            let d = slip / s * BOUNCE_FRICTION_DV;
+            g.vel -= d;
+            g.spin += d * 2.5;
+        }
+    }
+    let mut p = Vec2::new(g.centre.x, g.centre.z) + g.vel * FRAME_DT;
+    let r = g.radius;
+    let bounce = |vel: &mut Vec2, n: Vec2| {
+        let vn = vel.dot(n);
+        if vn < 0.0 {
+            let rebound = if -vn * BOUNCE_RESTITUTION >= BOUNCE_THRESHOLD { BOUNCE_RESTITUTION } else { 0.0 };
+            *vel -= n * vn * (1.0 + rebound);
+        }
+    };
+    for c in colliders.iter().filter(|c| c.spans((g.centre.y - r, g.centre.y + r))) {
+        let l = c.foot.to_local(p);
+        let d = l - l.clamp(-c.foot.half, c.foot.half);
+        let dist = d.length();
+        if dist >= r || dist == 0.0 {
+            continue;
+        }
+        let n = c.foot.to_world_dir(d / dist);
+        p += n * (r - dist);
+        bounce(&mut g.vel, n);
+    }
+    for (axis, n) in [(0, Vec2::X), (1, Vec2::Y)] {
+        if p[axis] < r {
+            p[axis] = r;
+            bounce(&mut g.vel, n);
+        } else if p[axis] > ARENA_SIZE - r {
+            p[axis] = ARENA_SIZE - r;
+            bounce(&mut g.vel, -n);
+        }
+    }
+    (g.centre.x, g.centre.z) = (p.x, p.y);
+    if grounded && g.vel.length() < SLEEP_SPEED && g.spin.length() < SLEEP_SPEED {
+        (g.vel, g.spin) = (Vec2::ZERO, Vec2::ZERO);
+        g.resting = true;
     }
 }
 
 /// Goal touches (3-D centre distance <= 0.5 + r) and zones.
 fn touches(w: &mut World, hot_penalty: f64) -> FrameEvents {
     let mut ev = FrameEvents::default();
-    let agent3 = glam::Vec3::new(w.agent.pos.x, AGENT_RADIUS, w.agent.pos.y);
+    let agent3 = glam::Vec3::new(w.agent.pos.x, w.agent.y + AGENT_RADIUS, w.agent.pos.y);
     for g in w.goals.iter_mut().filter(|g| !g.collected) {
         if (g.centre - agent3).length() > AGENT_RADIUS + g.radius {
             continue;
@@ -184,7 +279,8 @@ fn touches(w: &mut World, hot_penalty: f64) -> FrameEvents {
     if ev.good_goal && collected == good {
         ev.terminal = true;
     }
-    for z in &w.zones {
+    // Zones lie on the floor: the agent on a box above one is not in it.
+    for z in w.zones.iter().filter(|_| w.agent.y < ZONE_MARGIN) {
         if !z.foot.contains(w.agent.pos, ZONE_MARGIN) {
             continue;
         }

@@ -5,21 +5,14 @@
 //! otherwise than in v1.
 
 use super::yaml::{parse, Node};
-use super::{ConfigError, Footprint, ObjectKind};
-use glam::Vec2;
+use super::{ConfigError, ObjectKind};
 use std::collections::BTreeSet;
 
-/// A feature of Animal-AI arena files that this simulator lacks or ignores.
+/// A feature of Animal-AI arena files that this simulator lacks.
 #[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Feature {
-    /// Something that stands above the floor: an agent or a box placed at `y > 0` (on a platform,
-    /// raised), or a goal over a box's footprint (it comes to rest on the box). The world is
-    /// flat: a loaded file puts them on the floor. (A goal over bare floor falls onto it, as here.)
-    World3d,
     /// A `Ramp`.
     Ramp,
-    /// `GoodGoalBounce`, `BadGoalBounce`, `GoodGoalMultiBounce`: goals launched along their rotation.
-    BouncingGoals,
     /// `Cardbox1`, `Cardbox2`, `UObject`, `LObject`, `LObject2`: objects the agent pushes.
     Pushable,
     /// Any other item the simulator does not know.
@@ -30,18 +23,10 @@ impl Feature {
     /// Short name for reports.
     pub fn name(&self) -> String {
         match self {
-            Feature::World3d => "3-D world".into(),
             Feature::Ramp => "ramps".into(),
-            Feature::BouncingGoals => "bouncing goals".into(),
             Feature::Pushable => "pushable objects".into(),
             Feature::Item(name) => format!("item {name}"),
         }
-    }
-
-    /// Whether a file with it can load, with the feature ignored (it then does not behave as
-    /// in v1), as opposed to being refused.
-    pub fn ignored_on_load(&self) -> bool {
-        matches!(self, Feature::World3d)
     }
 
     /// The feature an item's name asks for, if it is not one the simulator has.
@@ -49,7 +34,6 @@ impl Feature {
         match name {
             "Agent" => None,
             "Ramp" => Some(Feature::Ramp),
-            "GoodGoalBounce" | "BadGoalBounce" | "GoodGoalMultiBounce" => Some(Feature::BouncingGoals),
             "Cardbox1" | "Cardbox2" | "UObject" | "LObject" | "LObject2" => Some(Feature::Pushable),
             _ if ObjectKind::from_name(name).is_some() => None,
             _ => Some(Feature::Item(name.to_string())),
@@ -68,49 +52,10 @@ pub fn features(src: &str) -> Result<BTreeSet<Feature>, ConfigError> {
     let mut out = BTreeSet::new();
     for (_, arena) in arenas {
         let Some(Node::Seq(items, _)) = entry(arena, "items") else { continue };
-        // Footprints of the boxes placed where the file says, and the goals' spots.
-        let mut boxes = Vec::new();
-        let mut goals = Vec::new();
         for item in items {
-            let Some(Node::Scalar(name, _)) = entry(item, "name") else { continue };
-            out.extend(Feature::of_item(name));
-            let kind = ObjectKind::from_name(name);
-            let goal = kind.is_some_and(ObjectKind::is_goal) || name.contains("Goal");
-            let positions = match entry(item, "positions") {
-                Some(Node::Seq(ps, _)) => ps.as_slice(),
-                _ => &[],
-            };
-            if !goal && positions.iter().any(|p| component(p, "y").is_some_and(|y| y > 0.0)) {
-                out.insert(Feature::World3d);
+            if let Some(Node::Scalar(name, _)) = entry(item, "name") {
+                out.extend(Feature::of_item(name));
             }
-            let list = |key| match entry(item, key) {
-                Some(Node::Seq(v, _)) => v.as_slice(),
-                _ => &[],
-            };
-            for (j, p) in positions.iter().enumerate() {
-                let (Some(x), Some(z)) =
-                    (component(p, "x").filter(|v| *v >= 0.0), component(p, "z").filter(|v| *v >= 0.0))
-                else {
-                    continue;
-                };
-                if goal {
-                    goals.push(Vec2::new(x, z));
-                } else if matches!(kind, Some(ObjectKind::Wall | ObjectKind::WallTransparent)) {
-                    let size = list("sizes").get(j);
-                    let (sx, sz) = (size.and_then(|s| component(s, "x")), size.and_then(|s| component(s, "z")));
-                    let rotation = match list("rotations").get(j) {
-                        Some(Node::Scalar(r, _)) => r.trim().parse::<f32>().ok().filter(|r| *r != -1.0),
-                        _ => Some(0.0),
-                    };
-                    if let (Some(sx), Some(sz), Some(r)) = (sx.filter(|v| *v > 0.0), sz.filter(|v| *v > 0.0), rotation)
-                    {
-                        boxes.push(Footprint::new(Vec2::new(x, z), Vec2::new(sx / 2.0, sz / 2.0), r));
-                    }
-                }
-            }
-        }
-        if goals.iter().any(|g| boxes.iter().any(|b| b.contains(*g, 0.0))) {
-            out.insert(Feature::World3d);
         }
     }
     Ok(out)
@@ -120,14 +65,6 @@ pub fn features(src: &str) -> Result<BTreeSet<Feature>, ConfigError> {
 fn entry<'a>(node: &'a Node, key: &str) -> Option<&'a Node> {
     let Node::Map(pairs, _) = node else { return None };
     pairs.iter().find(|(k, _)| matches!(k, Node::Scalar(s, _) if s == key)).map(|(_, v)| v)
-}
-
-/// A vector's component `key`, if it is a number.
-fn component(node: &Node, key: &str) -> Option<f32> {
-    match entry(node, key)? {
-        Node::Scalar(s, _) => s.trim().parse::<f32>().ok().filter(|v| v.is_finite()),
-        _ => None,
-    }
 }
 
 #[cfg(test)]
@@ -143,7 +80,7 @@ mod tests {
             \x20   - !Item\n      name: GoodGoal\n    - !Item\n      name: GoodGoalMulti\n\
             \x20   - !Item\n      name: Cardbox1\n    - !Item\n      name: Pillar\n";
         let names: Vec<String> = features(src).unwrap().iter().map(Feature::name).collect();
-        assert_eq!(names, ["3-D world", "ramps", "pushable objects", "item Pillar"]);
+        assert_eq!(names, ["ramps", "pushable objects", "item Pillar"]);
     }
 
     #[test]

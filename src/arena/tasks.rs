@@ -45,7 +45,7 @@ fn goal(kind: ObjectKind, x: f32, y: f32, z: f32, size: f32) -> ObjectSpec {
 }
 
 fn agent(x: f32, z: f32, rotation: Option<f32>) -> AgentSpec {
-    AgentSpec { position: [Some(x), Some(z)], rotation }
+    AgentSpec { position: [Some(x), Some(z)], y: 0.0, rotation }
 }
 
 fn layout(name: &str, objects: Vec<ObjectSpec>, agent: AgentSpec) -> Layout {

@@ -92,11 +92,13 @@ impl Footprint {
     }
 }
 
-/// A wall: a box standing on the floor.
+/// A wall: a box on the floor or on the top of another box.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BoxObj {
     /// Where it stands.
     pub foot: Footprint,
+    /// The height of its bottom: 0 on the floor, else the top of the box it rests on.
+    pub base: f32,
     /// Its height.
     pub height: f32,
     /// Its colour.
@@ -160,10 +162,47 @@ impl Tunnel {
     }
 }
 
-/// A goal sphere; it falls under gravity until it rests on the floor.
+impl BoxObj {
+    /// The height of its top.
+    pub fn top(&self) -> f32 {
+        self.base + self.height
+    }
+}
+
+/// Something solid the agent collides with: a footprint and the heights it spans.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Collider {
+    /// Where it stands.
+    pub foot: Footprint,
+    /// The height of its bottom.
+    pub bottom: f32,
+    /// The height of its top.
+    pub top: f32,
+    /// The wall it belongs to (an index into `World::walls`), if it is one.
+    pub wall: Option<usize>,
+}
+
+impl Collider {
+    /// Whether it spans some of the heights strictly between `lo` and `hi` (touching does not
+    /// count: a box under the agent or above it is not in its way).
+    pub fn spans(&self, (lo, hi): (f32, f32)) -> bool {
+        self.bottom < hi - OVERLAP_EPS && self.top > lo + OVERLAP_EPS
+    }
+}
+
+/// The height a body at `p` whose bottom is at `y` rests on: the highest top of a wall under its
+/// centre that is not above `y`, or the floor.
+pub fn support(walls: &[BoxObj], p: Vec2, y: f32) -> f32 {
+    walls
+        .iter()
+        .filter(|b| b.top() <= y + OVERLAP_EPS && b.foot.contains(p, 0.0))
+        .fold(0.0, |best, b| best.max(b.top()))
+}
+
+/// A goal sphere; it falls under gravity until it rests on the floor or a box.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Goal {
-    /// Good, bad or multi.
+    /// Good, bad or multi (a bouncing goal's unbounced kind: it pays and looks the same).
     pub kind: ObjectKind,
     /// Centre (x, y, z).
     pub centre: Vec3,
@@ -171,6 +210,17 @@ pub struct Goal {
     pub radius: f32,
     /// Vertical speed while falling.
     pub vy: f32,
+    /// A bouncing goal's horizontal velocity (x, z); zero for the others, which never move
+    /// sideways.
+    pub vel: Vec2,
+    /// A bouncing goal's spin as the velocity of its lowest point's rolling (angular velocity
+    /// times radius, in x and z): it rolls without slipping when this equals `vel`.
+    pub spin: Vec2,
+    /// Launched as it starts (v1's `BallGoalBounce`): bounces off everything with 0.8, rolls.
+    pub bouncing: bool,
+    /// The direction a bouncing goal is launched along in its first physics frame (its
+    /// rotation's forward), until then.
+    pub launch: Option<Vec2>,
     /// Whether it has come to rest.
     pub resting: bool,
     /// Reward on touch: +size*0.999 for good goals, minus that for BadGoal.
@@ -191,13 +241,18 @@ pub struct Zone {
 /// The agent's physical state.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Agent {
-    /// Centre on the floor plane (x, z); the sphere's centre is 0.5 above the floor.
+    /// Centre on the floor plane (x, z).
     pub pos: Vec2,
+    /// The height of the sphere's bottom: 0 on the floor (its centre is 0.5 above it).
+    pub y: f32,
     /// World-frame velocity (x, z), m/s.
     pub vel: Vec2,
+    /// Vertical velocity while falling, m/s.
+    pub vy: f32,
     /// Heading in degrees, clockwise from +z seen from above, in [0, 360).
     pub heading: f32,
-    /// False only in the first physics frame after spawn.
+    /// Standing on the floor or a box (false in the first physics frame after spawn and while
+    /// falling): only then does a move push it.
     pub grounded: bool,
 }
 
@@ -220,8 +275,8 @@ pub struct World {
     pub goals: Vec<Goal>,
     /// Floor zones.
     pub zones: Vec<Zone>,
-    /// Solid footprints the agent collides with: walls and tunnel legs (fences are the bounds).
-    pub colliders: Vec<Footprint>,
+    /// What the agent collides with: walls and tunnel legs (fences are the bounds).
+    pub colliders: Vec<Collider>,
     /// The agent's body.
     pub agent: Agent,
 }
@@ -232,7 +287,7 @@ impl World {
     /// keys render equal frames.
     pub fn view_key(&self, key: &mut Vec<u32>) {
         key.clear();
-        key.extend([self.agent.pos.x, self.agent.pos.y, self.agent.heading].map(f32::to_bits));
+        key.extend([self.agent.pos.x, self.agent.pos.y, self.agent.y, self.agent.heading].map(f32::to_bits));
         for g in &self.goals {
             key.extend([g.centre.x, g.centre.y, g.centre.z].map(f32::to_bits));
             key.push(g.collected as u32);
@@ -256,13 +311,20 @@ impl World {
             goals: Vec::new(),
             zones: Vec::new(),
             colliders: Vec::new(),
-            agent: Agent { pos: Vec2::ZERO, vel: Vec2::ZERO, heading: 0.0, grounded: false },
+            agent: Agent {
+                pos: Vec2::ZERO,
+                y: layout.agent.y,
+                vel: Vec2::ZERO,
+                vy: 0.0,
+                heading: 0.0,
+                grounded: false,
+            },
         };
         let fixed_agent = matches!(layout.agent.position, [Some(_), Some(_)]);
         let mut agent_disc = None;
         if fixed_agent {
             let pos = Vec2::new(layout.agent.position[0].unwrap(), layout.agent.position[1].unwrap());
-            agent_disc = Some(pos);
+            agent_disc = Some((pos, layout.agent.y));
             w.agent.pos = pos;
         }
         let mut unplaced = Vec::new();
@@ -279,6 +341,7 @@ impl World {
                 unplaced.push(k);
             }
         }
+        w.settle();
         w.agent.heading = wrap_degrees(match layout.agent.rotation {
             Some(r) => r,
             None => rng.gen_range(0.0f32..360.0),
@@ -289,8 +352,33 @@ impl World {
         (w, unplaced)
     }
 
-    /// Places one object if its spot is free; returns whether it was placed.
-    fn try_place(&mut self, spec: &ObjectSpec, agent: Option<Vec2>, rng: &mut ChaCha8Rng) -> bool {
+    /// Lets every wall the file places above the floor fall onto what is under it, lowest first:
+    /// v1's walls are rigid bodies (mass 100, not kinematic), so one left in the air falls at
+    /// once. Here they land before the first frame; a wall rests on a box whose footprint overlaps
+    /// its own, however little (v1 would tip one resting on an edge).
+    fn settle(&mut self) {
+        let mut order: Vec<usize> = (0..self.walls.len()).filter(|&i| self.walls[i].base > 0.0).collect();
+        order.sort_by(|&a, &b| self.walls[a].base.total_cmp(&self.walls[b].base));
+        for i in order {
+            let b = &self.walls[i];
+            let rest = self
+                .walls
+                .iter()
+                .enumerate()
+                .filter(|&(j, o)| j != i && o.top() <= b.base + OVERLAP_EPS && o.foot.overlaps(&b.foot))
+                .fold(0.0f32, |best, (_, o)| best.max(o.top()));
+            self.walls[i].base = rest;
+        }
+        for c in &mut self.colliders {
+            if let Some(i) = c.wall {
+                (c.bottom, c.top) = (self.walls[i].base, self.walls[i].top());
+            }
+        }
+    }
+
+    /// Places one object if its spot is free; returns whether it was placed. `agent` is a placed
+    /// agent's centre and the height of its bottom.
+    fn try_place(&mut self, spec: &ObjectSpec, agent: Option<(Vec2, f32)>, rng: &mut ChaCha8Rng) -> bool {
         let (lo, hi) = spec.kind.size_range();
         let raw: [f32; 3] = std::array::from_fn(|i| {
             spec.size[i].unwrap_or_else(|| if lo[i] < hi[i] { rng.gen_range(lo[i]..hi[i]) } else { lo[i] })
@@ -312,12 +400,19 @@ impl World {
             }
             _ => Rgb(255, 255, 255),
         });
-        // v1's `IsSpotFree`: nothing solid in the object's box, goals included (they are
-        // colliders too), so a random goal drawn onto another is drawn again. `rise` is the
-        // height the object spans from the floor; a goal counts where its sphere spans it.
-        let free = |solid: &[Footprint], agent: Option<Vec2>, rise: (f32, f32)| {
-            !solid.iter().any(|s| self.colliders.iter().any(|c| c.overlaps(s)))
-                && !solid.iter().any(|s| agent.is_some_and(|a| s.overlaps_disc(a, AGENT_RADIUS)))
+        // v1's `IsSpotFree`: nothing solid in the object's box (a 3-D overlap at the place the
+        // file gives, before anything falls), goals included (they are colliders too), so a random
+        // goal drawn onto another is drawn again. `rise` is the heights the object spans.
+        let free = |solid: &[Footprint], rise: (f32, f32)| {
+            let agent_in = |s: &Footprint| {
+                agent.is_some_and(|(a, ay)| {
+                    ay < rise.1 - OVERLAP_EPS
+                        && ay + 2.0 * AGENT_RADIUS > rise.0 + OVERLAP_EPS
+                        && s.overlaps_disc(a, AGENT_RADIUS)
+                })
+            };
+            !solid.iter().any(|s| self.colliders.iter().any(|c| c.spans(rise) && c.foot.overlaps(s)))
+                && !solid.iter().any(agent_in)
                 && !solid.iter().any(|s| {
                     self.goals.iter().any(|g| {
                         g.centre.y - g.radius < rise.1
@@ -329,13 +424,14 @@ impl World {
         match kind {
             ObjectKind::Wall | ObjectKind::WallTransparent => {
                 let foot = Footprint::new(centre, footprint_half, rotation);
-                if !free(&[foot], agent, (0.0, size[1])) {
+                if !free(&[foot], (y, y + size[1])) {
                     return false;
                 }
                 let transparent = kind == ObjectKind::WallTransparent;
                 let colour = if transparent { Rgb(255, 255, 255) } else { colour };
-                self.walls.push(BoxObj { foot, height: size[1], colour, transparent });
-                self.colliders.push(foot);
+                let wall = Some(self.walls.len());
+                self.walls.push(BoxObj { foot, base: y, height: size[1], colour, transparent });
+                self.colliders.push(Collider { foot, bottom: y, top: y + size[1], wall });
             }
             ObjectKind::CylinderTunnel | ObjectKind::CylinderTunnelTransparent => {
                 let (outer_w, outer_h) = (size[0] / 2.0, size[1] / 2.0);
@@ -355,36 +451,42 @@ impl World {
                     },
                     transparent: kind == ObjectKind::CylinderTunnelTransparent,
                 };
+                // Arches stand on the floor (no file of the Olympics corpus raises one).
                 let legs = t.legs();
-                if !free(&legs, agent, (0.0, size[1] / 2.0)) {
+                if !free(&legs, (0.0, size[1] / 2.0)) {
                     return false;
                 }
-                self.colliders.extend(legs);
+                self.colliders.extend(legs.map(|foot| Collider { foot, bottom: 0.0, top: size[1] / 2.0, wall: None }));
                 self.tunnels.push(t);
             }
-            ObjectKind::GoodGoal | ObjectKind::BadGoal | ObjectKind::GoodGoalMulti => {
+            k if k.is_goal() => {
                 // A sphere's diameter is size.x; y and z are ignored (docs/ARENAS.md section 5).
                 let radius = size[0] / 2.0;
                 let foot = Footprint::new(centre, Vec2::splat(radius), 0.0);
                 let cy = y + radius + 0.01;
-                // Only an object at the agent's height can collide with it at spawn.
-                let agent_here = if cy - radius < 1.0 { agent } else { None };
-                if !free(&[foot], agent_here, (cy - radius, cy + radius)) {
+                if !free(&[foot], (cy - radius, cy + radius)) {
                     return false;
                 }
-                let sign = if kind == ObjectKind::BadGoal { -1.0 } else { 1.0 };
+                let sign = if kind.unbounced() == ObjectKind::BadGoal { -1.0 } else { 1.0 };
+                // v1 launches a bouncing goal along its rotation as it starts (`BallGoalBounce`).
+                let r = rotation.to_radians();
+                let forward = Vec2::new(libm::sinf(r), libm::cosf(r));
                 // In f64, so that a size-3 goal pays 2.997 to the last digit.
                 self.goals.push(Goal {
-                    kind,
+                    kind: kind.unbounced(),
                     centre: Vec3::new(x, cy, z),
                     radius,
                     vy: 0.0,
+                    vel: Vec2::ZERO,
+                    spin: Vec2::ZERO,
+                    bouncing: kind.bounces(),
+                    launch: kind.bounces().then_some(forward),
                     resting: false,
                     reward: sign * raw[0] as f64 * 0.999,
                     collected: false,
                 });
             }
-            ObjectKind::DeathZone | ObjectKind::HotZone => {
+            _ => {
                 // Zones are triggers: they never block spawning.
                 self.zones.push(Zone { kind, foot: Footprint::new(centre, footprint_half, rotation) });
             }
@@ -403,9 +505,11 @@ impl World {
                 spec.position[0].unwrap_or_else(|| rng.gen_range(lo..hi)),
                 spec.position[1].unwrap_or_else(|| rng.gen_range(lo..hi)),
             );
-            let blocked = self.colliders.iter().any(|c| c.overlaps_disc(p, AGENT_RADIUS))
+            let (lo, hi) = (spec.y, spec.y + 2.0 * AGENT_RADIUS);
+            let blocked = self.colliders.iter().any(|c| c.spans((lo, hi)) && c.foot.overlaps_disc(p, AGENT_RADIUS))
                 || self.goals.iter().any(|g| {
-                    g.centre.y - g.radius < 1.0
+                    g.centre.y - g.radius < hi
+                        && g.centre.y + g.radius > lo
                         && (Vec2::new(g.centre.x, g.centre.z) - p).length() < g.radius + AGENT_RADIUS + 0.5
                 })
                 || self.zones.iter().any(|z| z.foot.contains(p, AGENT_RADIUS));

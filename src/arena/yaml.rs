@@ -361,7 +361,11 @@ fn parse_item(node: &Node, field: &str, warnings: &mut Vec<String>) -> Result<It
         for (k, v) in [(0, p[0]), (2, p[2])] {
             in_range(v, 0.5, ARENA_SIZE - 0.5, node.line(), &format!("{field}.positions[0].{}", AXES[k]))?;
         }
-        return Ok(Item::Agent(AgentSpec { position: [p[0], p[2]], rotation: rotations.first().copied().flatten() }));
+        return Ok(Item::Agent(AgentSpec {
+            position: [p[0], p[2]],
+            y: p[1].unwrap_or(0.0),
+            rotation: rotations.first().copied().flatten(),
+        }));
     }
     let Some(kind) = ObjectKind::from_name(&name) else {
         let known: Vec<&str> = ObjectKind::ALL.iter().map(|k| k.name()).chain(["Agent"]).collect();
@@ -421,8 +425,9 @@ fn parse_item(node: &Node, field: &str, warnings: &mut Vec<String>) -> Result<It
         .map(|j| ObjectSpec {
             kind,
             position: positions.get(j).copied().unwrap_or([None; 3]),
-            // A missing rotation is random, except for spheres, which look the same either way.
-            rotation: if kind.is_goal() {
+            // A missing rotation is random, except for spheres, which look the same either way
+            // (a bouncing goal's sets where it is launched).
+            rotation: if kind.is_goal() && !kind.bounces() {
                 Some(rotations.get(j).copied().flatten().unwrap_or(0.0))
             } else {
                 rotations.get(j).copied().flatten()

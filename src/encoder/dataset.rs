@@ -35,7 +35,7 @@ pub fn random_pose(rng: &mut ChaCha8Rng) -> Pose {
 /// spawns first, so an object that would overlap it is left out of that frame.
 pub fn first_frame(layout: &Layout, pose: Pose, rng: &mut ChaCha8Rng, camera: &mut Camera, frame: &mut Frame) {
     let mut l = layout.clone();
-    l.agent = AgentSpec { position: [Some(pose.x), Some(pose.z)], rotation: Some(pose.heading) };
+    l.agent = AgentSpec { position: [Some(pose.x), Some(pose.z)], y: 0.0, rotation: Some(pose.heading) };
     let world = World::spawn(&l, rng);
     camera.render(&world, frame);
 }

@@ -1,5 +1,6 @@
-//! The agent's first-person camera: one ray per pixel, 60 degree field of view, eye 0.5 above the
-//! floor, no pitch or roll (docs/ARENAS.md section 4).
+//! The agent's first-person camera: one ray per pixel, 60 degree field of view, the eye at the
+//! agent sphere's centre (0.5 above the floor, or above the box it stands on), no pitch or roll
+//! (docs/ARENAS.md section 4).
 //!
 //! Because the camera never pitches, every pixel of a column shares the horizontal part of its
 //! ray. The column's 2-D intersections with the vertical walls and fences are computed once, and
@@ -15,7 +16,7 @@ use glam::{Vec2, Vec3};
 
 /// tan(30 degrees): half the field of view, horizontally and vertically (the image is square).
 const TAN_HALF_FOV: f32 = 0.577_350_26;
-/// The eye is at the agent sphere's centre.
+/// The eye is at the agent sphere's centre: this high above what the agent stands on.
 const EYE: f32 = AGENT_RADIUS;
 /// The fence model spans 0 to 7.1; drawn 7 tall (docs/ARENAS.md section 1).
 const FENCE_HEIGHT: f32 = 7.0;
@@ -33,8 +34,10 @@ pub struct Camera {
     row_slope: [f32; HEIGHT],
     depth: Vec<f32>,
     /// What every frame starts from: the sky above the horizon and the bare floor below, as
-    /// RGBA and as depth (the same in every frame, so copied rather than recomputed).
+    /// RGBA and as depth (the same in every frame from the same eye height, so copied rather than
+    /// recomputed), and the eye height its depths are for.
     background: (Vec<u8>, Vec<f32>),
+    background_eye: f32,
     /// Per opaque box of the frame being drawn, the column offsets whose rays can meet it.
     reach: Vec<(f32, f32)>,
     /// How the floor and fences are drawn.
@@ -51,13 +54,14 @@ impl Default for Camera {
 
 /// One column's ray, horizontally: from `eye` along `h` (whose forward component is 1, so the
 /// ray parameter is the view depth); `right` is the camera's right axis (a column step moves the
-/// ray along it).
+/// ray along it); `y` is the eye's height.
 #[derive(Clone, Copy)]
 struct Column {
     c: usize,
     eye: Vec2,
     h: Vec2,
     right: Vec2,
+    y: f32,
 }
 
 /// An entering crossing of a surface: ray parameter and world normal.
@@ -76,7 +80,8 @@ impl Camera {
             col_offset: std::array::from_fn(|c| ((2 * c + 1) as f32 / n - 1.0) * TAN_HALF_FOV),
             row_slope,
             depth: vec![f32::INFINITY; PIXELS],
-            background: background(&row_slope),
+            background: background(&row_slope, EYE),
+            background_eye: EYE,
             reach: Vec::new(),
             surface: Surface::Flat,
             floor_base: row_slope[HEIGHT / 2..].iter().map(|&s| floor_gradient(s)).collect(),
@@ -99,6 +104,11 @@ impl Camera {
     pub fn render(&mut self, w: &World, frame: &mut Frame) {
         let f = w.agent.forward();
         let right = Vec2::new(f.y, -f.x);
+        let y = w.agent.y + EYE;
+        if y != self.background_eye {
+            self.background = background(&self.row_slope, y);
+            self.background_eye = y;
+        }
         self.depth.copy_from_slice(&self.background.1);
         frame.rgba.copy_from_slice(&self.background.0);
         let px = &mut frame.rgba;
@@ -107,7 +117,7 @@ impl Camera {
         reach.extend(w.walls.iter().filter(|b| !b.transparent).map(|b| reach_of(&b.foot, w.agent.pos, f, right)));
         for c in 0..WIDTH {
             let offset = self.col_offset[c];
-            let col = Column { c, eye: w.agent.pos, h: f + right * offset, right };
+            let col = Column { c, eye: w.agent.pos, h: f + right * offset, right, y };
             self.floor_and_fence(w, col, px);
             for (b, &(lo, hi)) in w.walls.iter().filter(|b| !b.transparent).zip(&reach) {
                 if (lo..=hi).contains(&offset) {
@@ -144,7 +154,7 @@ impl Camera {
         glass.sort_by(|a, b| b.0.total_cmp(&a.0));
         for (_, i, is_wall) in glass {
             for c in 0..WIDTH {
-                let col = Column { c, eye: w.agent.pos, h: f + right * self.col_offset[c], right };
+                let col = Column { c, eye: w.agent.pos, h: f + right * self.col_offset[c], right, y };
                 if is_wall {
                     self.wall(&w.walls[i], col, px, Some(()));
                 } else {
@@ -172,7 +182,7 @@ impl Camera {
     /// computed), box-filtered over the pixel's footprint: a column step moves the hit along
     /// `right`, a row step along the ray.
     fn floor_texture(&self, w: &World, col: Column, px: &mut [u8]) {
-        let Column { c, eye, h, right } = col;
+        let Column { c, eye, h, right, y } = col;
         let (spans, n) = zone_spans(w, eye, h);
         for r in HEIGHT / 2..HEIGHT {
             let i = r * WIDTH + c;
@@ -181,14 +191,14 @@ impl Camera {
                 continue;
             }
             let p = eye + h * s;
-            let fx = (right.x.abs() + h.x.abs() * s / EYE) * s * PIXEL_SLOPE;
-            let fz = (right.y.abs() + h.y.abs() * s / EYE) * s * PIXEL_SLOPE;
+            let fx = (right.x.abs() + h.x.abs() * s / y) * s * PIXEL_SLOPE;
+            let fz = (right.y.abs() + h.y.abs() * s / y) * s * PIXEL_SLOPE;
             put(px, i, floor_texel(p.x, p.y, fx, fz, &self.floor_base[r - HEIGHT / 2]));
         }
     }
 
     fn floor_and_fence(&mut self, w: &World, col: Column, px: &mut [u8]) {
-        let Column { c, eye, h, right } = col;
+        let Column { c, eye, h, right, y: eye_y } = col;
         let textured = self.surface == Surface::Textured;
         let (spans, n) = zone_spans(w, eye, h);
         // The floor's depth and colour are the background's; a zone's colour replaces it.
@@ -233,8 +243,8 @@ impl Camera {
         });
         let top = planks.as_ref().map_or(FENCE_HEIGHT, |p| p.0);
         let (flat, fy) = ([colours::FENCE.0, colours::FENCE.1, colours::FENCE.2], s * PIXEL_SLOPE);
-        for r in self.rows(-EYE / s, (top - EYE) / s) {
-            let y = EYE + self.row_slope[r] * s;
+        for r in self.rows(-eye_y / s, (top - eye_y) / s) {
+            let y = eye_y + self.row_slope[r] * s;
             let i = r * WIDTH + c;
             if (0.0..=top).contains(&y) && s < self.depth[i] {
                 self.depth[i] = s;
@@ -243,31 +253,42 @@ impl Camera {
         }
     }
 
-    /// A box on the floor: its entering side face, and its top when it is below the eye.
-    /// `glass` blends instead of overwriting.
+    /// A box: its entering side face, its top when it is below the eye and its bottom when it
+    /// is above it. `glass` blends instead of overwriting.
     fn wall(&mut self, b: &BoxObj, col: Column, px: &mut [u8], glass: Option<()>) {
         let Some((s0, s1, n)) = slab(b.foot.to_local(col.eye), local_dir(&b.foot, col.h), b.foot.half) else {
             return;
         };
+        let (eye, base, h) = (col.y, b.base, b.top());
         if s0 <= NEAR {
+            // The eye is over (or under) the box: only its top (or bottom) shows.
+            if h < eye || base > eye {
+                self.cap(b, col, s1, px, glass);
+            }
             return;
         }
-        let h = b.height;
         let n = b.foot.to_world_dir(n);
         let side = shade_factor([n.x, 0.0, n.y]);
         let top = shade_factor([0.0, 1.0, 0.0]);
-        let (lo, hi) = if h < EYE { (-EYE / s0, (h - EYE) / s1) } else { (-EYE / s0, (h - EYE) / s0) };
+        let lo = if base > eye { (base - eye) / s1 } else { (base - eye) / s0 };
+        let hi = if h < eye { (h - eye) / s1 } else { (h - eye) / s0 };
         for r in self.rows(lo, hi) {
             let slope = self.row_slope[r];
-            let y = EYE + slope * s0;
-            let (s, factor) = if (0.0..=h).contains(&y) {
+            let y = eye + slope * s0;
+            let (s, factor) = if (base..=h).contains(&y) {
                 (s0, side)
-            } else if h < EYE && slope < 0.0 {
-                let st = (h - EYE) / slope;
+            } else if h < eye && slope < 0.0 {
+                let st = (h - eye) / slope;
                 if st < s0 || st > s1 {
                     continue;
                 }
                 (st, top)
+            } else if base > eye && slope > 0.0 {
+                let sb = (base - eye) / slope;
+                if sb < s0 || sb > s1 {
+                    continue;
+                }
+                (sb, shade_factor([0.0, -1.0, 0.0]))
             } else {
                 continue;
             };
@@ -284,16 +305,42 @@ impl Camera {
         }
     }
 
+    /// The top of a box the eye is above, or the bottom of one it is under, from the eye out to
+    /// where the column's ray leaves the box's footprint (`s1`).
+    fn cap(&mut self, b: &BoxObj, col: Column, s1: f32, px: &mut [u8], glass: Option<()>) {
+        let (face, normal) = if b.top() < col.y { (b.top(), 1.0) } else { (b.base, -1.0) };
+        let factor = shade_factor([0.0, normal, 0.0]);
+        let edge = (face - col.y) / s1;
+        let rows = if normal > 0.0 { self.rows(f32::NEG_INFINITY, edge) } else { self.rows(edge, f32::INFINITY) };
+        for r in rows {
+            let slope = self.row_slope[r];
+            if slope * normal >= 0.0 {
+                continue;
+            }
+            let s = (face - col.y) / slope;
+            let i = r * WIDTH + col.c;
+            if s <= NEAR || s > s1 || s >= self.depth[i] {
+                continue;
+            }
+            if glass.is_some() {
+                blend(px, i, factor);
+            } else {
+                self.depth[i] = s;
+                put(px, i, lit(b.colour, factor));
+            }
+        }
+    }
+
     /// A goal sphere: emissive (flat) except GoodGoalMulti, which is lit.
     fn sphere(&mut self, kind: ObjectKind, centre: Vec3, radius: f32, col: Column, px: &mut [u8]) {
-        let Column { c, eye, h, .. } = col;
+        let Column { c, eye, h, y: eye_y, .. } = col;
         let w2 = Vec2::new(centre.x, centre.z) - eye;
         let hh = h.length_squared();
         let along = w2.dot(h);
         if along <= 0.0 || w2.length_squared() - along * along / hh > radius * radius {
             return;
         }
-        let wy = centre.y - EYE;
+        let wy = centre.y - eye_y;
         let cc = w2.length_squared() + wy * wy - radius * radius;
         let flat = match kind {
             ObjectKind::GoodGoal => Some(colours::GOOD_GOAL),
@@ -317,7 +364,7 @@ impl Camera {
             let rgb = match flat {
                 Some(k) => [k.0, k.1, k.2],
                 None => {
-                    let p = Vec3::new(eye.x + h.x * s, EYE + slope * s, eye.y + h.y * s);
+                    let p = Vec3::new(eye.x + h.x * s, eye_y + slope * s, eye.y + h.y * s);
                     let n = (p - centre) / radius;
                     lit(colours::MULTI_GOAL, shade_factor(n.to_array()))
                 }
@@ -334,14 +381,14 @@ impl Camera {
         let Some((s0, _, _)) = slab(o, d, Vec2::new(t.outer_w, t.half_len)) else {
             return;
         };
-        let rows = if s0 > NEAR { self.rows(-EYE / s0, (t.outer_h - EYE) / s0) } else { 0..HEIGHT };
+        let rows = if s0 > NEAR { self.rows(-col.y / s0, (t.outer_h - col.y) / s0) } else { 0..HEIGHT };
         let s_min = s0.max(0.0);
         for r in rows {
             let i = r * WIDTH + col.c;
             if s_min >= self.depth[i] {
                 continue;
             }
-            let (o3, d3) = ([o.x, EYE, o.y], [d.x, self.row_slope[r], d.y]);
+            let (o3, d3) = ([o.x, col.y, o.y], [d.x, self.row_slope[r], d.y]);
             if glass {
                 let mut hits = [Hit { s: 0.0, n: Vec3::ZERO }; 4];
                 let k = arch_hits(t, o3, d3, &mut hits);
@@ -377,13 +424,13 @@ fn zone_spans(w: &World, eye: Vec2, h: Vec2) -> ([(f32, f32, crate::arena::Rgb);
 }
 
 /// `Camera::background`: above the horizon the sky at infinite depth, below it the floor at the
-/// depth where each row's ray meets it.
-fn background(row_slope: &[f32; HEIGHT]) -> (Vec<u8>, Vec<f32>) {
+/// depth where each row's ray from an eye `eye` high meets it.
+fn background(row_slope: &[f32; HEIGHT], eye: f32) -> (Vec<u8>, Vec<f32>) {
     let (sky, floor) = (colours::SKY, colours::FLOOR);
     let mut rgba = Vec::with_capacity(4 * PIXELS);
     let mut depth = Vec::with_capacity(PIXELS);
     for (r, &slope) in row_slope.iter().enumerate() {
-        let (colour, s) = if r < HEIGHT / 2 { (sky, f32::INFINITY) } else { (floor, -EYE / slope) };
+        let (colour, s) = if r < HEIGHT / 2 { (sky, f32::INFINITY) } else { (floor, -eye / slope) };
         for _ in 0..WIDTH {
             rgba.extend_from_slice(&[colour.0, colour.1, colour.2, 255]);
             depth.push(s);
