@@ -622,3 +622,61 @@ fn a_bouncing_goal_bounces_off_a_wall_and_pays_when_touched() {
     let reward = paid.expect("it reached the agent");
     assert!((reward - (-2.0 * 0.999 - 1.0 / 1000.0)).abs() < 1e-9, "a bad goal of size 2: {reward}");
 }
+
+#[test]
+fn the_agent_climbs_a_ramp_onto_the_platform_it_leads_to_and_not_its_high_face() {
+    // v1's Ramp rises towards its local -z (its mesh; docs/ARENAS.md section 5): turned 180, a
+    // 2 m ramp over z 15-25 rises northwards onto a 2 m platform over z 25-35.
+    let platform = ObjectSpec::new(ObjectKind::Wall, 20.0, 0.0, 30.0).size(6.0, 2.0, 10.0).rotation(0.0);
+    let ramp = ObjectSpec::new(ObjectKind::Ramp, 20.0, 0.0, 20.0).size(6.0, 2.0, 10.0).rotation(180.0);
+    let mut env = open_env(vec![platform.clone(), ramp], 20.0, 8.0, 0.0);
+    let mut on_slope = Vec::new();
+    for _ in 0..40 {
+        env.step(Action::FORWARD).unwrap();
+        let a = &env.world().agent;
+        if a.pos.y > 16.0 && a.pos.y < 24.0 {
+            on_slope.push((a.pos.y, a.y));
+        }
+        if a.pos.y > 27.0 {
+            break;
+        }
+    }
+    let a = &env.world().agent;
+    let top = env.world().walls[0].top();
+    assert!(a.pos.y > 27.0 && a.y == top && a.grounded, "onto the platform: {a:?}");
+    // On the slope it stands on the surface: 0.2 m up per metre from z 15.005.
+    for (z, y) in on_slope {
+        assert!((y - (z - 15.005) * 0.2).abs() < 0.1, "at z {z} the slope is {}, the agent {y}", (z - 15.005) * 0.2);
+    }
+    // From the other side its 2 m high face is a wall: facing south from z 12, held back.
+    let back = ObjectSpec::new(ObjectKind::Ramp, 20.0, 0.0, 20.0).size(6.0, 2.0, 10.0).rotation(0.0);
+    let mut env = open_env(vec![back], 20.0, 8.0, 0.0);
+    for _ in 0..30 {
+        env.step(Action::FORWARD).unwrap();
+    }
+    let a = &env.world().agent;
+    assert!(a.y == 0.0 && a.pos.y <= 15.005 - AGENT_RADIUS + 1e-3, "stopped by the high face: {a:?}");
+}
+
+#[test]
+fn a_goal_on_an_olympics_ramp_rolls_down_towards_the_agent() {
+    // 02-21-01 (preferences): a 3 m goal dropped on the low end of a ramp turned 180 over a
+    // platform; its high end is north, so the goal rolls south, off the platform, to the agent's
+    // side: how the arena is meant to be solved.
+    let src = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/arenas/competition/02-21-01.yaml"))
+        .unwrap();
+    let task = sec_playground::arena::yaml::load_task("02-21-01.yaml", &src).unwrap();
+    let mut env = Env::new(EnvConfig::new(task), 1).unwrap();
+    let z0 = env.world().goals[0].centre.z;
+    let mut fastest = 0.0f32;
+    for _ in 0..100 {
+        env.step(Action::NOOP).unwrap();
+        fastest = fastest.max(-env.world().goals[0].vel.y);
+    }
+    let g = &env.world().goals[0];
+    assert!(g.centre.z < 5.0 && z0 > 8.0, "rolled south off the ramp: z {z0} -> {}", g.centre.z);
+    assert!((g.centre.y - g.radius).abs() < 1e-4, "down on the floor: {}", g.centre.y);
+    // A solid sphere rolling down a slope of 2 m in 35 accelerates at 5/7 g sin(a) cos(a)
+    // horizontally: over the 4 m it rolls on the ramp, about 1.2 m/s.
+    assert!(fastest > 0.8, "{fastest}");
+}

@@ -72,8 +72,9 @@ fn the_js_api_validates_its_inputs() {
     // A refused call changed nothing: the run goes on.
     assert!(env.step(v(3)).is_ok());
     assert_eq!(env.observation().len(), 84 * 84 * 4);
-    let e =
-        ArenaEnv::from_yaml(v("x"), v("arenas:\n  0:\n    items:\n    - name: Ramp\n"), v(1.0), None).err().unwrap();
+    let e = ArenaEnv::from_yaml(v("x"), v("arenas:\n  0:\n    items:\n    - name: Cardbox1\n"), v(1.0), None)
+        .err()
+        .unwrap();
     assert!(message(e).contains("line 4"));
 }
 

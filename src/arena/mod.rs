@@ -15,7 +15,7 @@ pub use crate::error::ConfigError;
 pub use action::Action;
 pub use physics::{DRAG_FACTOR, FRAMES_PER_STEP, FRAME_DT, FRICTION_DV, GRAVITY, IMPULSE_DV, TURN_DEGREES};
 pub use tasks::{facing_centre, StartHeading, Task, TaskInfo, TASKS, TASK_NAMES};
-pub use world::{support, Agent, BoxObj, Collider, Footprint, Goal, Tunnel, World, Zone, AGENT_RADIUS};
+pub use world::{support, Agent, BoxObj, Collider, Footprint, Goal, Ramp, Support, Tunnel, World, Zone, AGENT_RADIUS};
 
 /// Side of the square arena, metres; the fences' inner faces are at 0 and 40.
 pub const ARENA_SIZE: f32 = 40.0;
@@ -37,6 +37,8 @@ pub enum ObjectKind {
     Wall,
     /// A see-through wall block.
     WallTransparent,
+    /// A wedge rising towards its local -z, which the agent climbs.
+    Ramp,
     /// An arch the agent can walk through.
     CylinderTunnel,
     /// A see-through arch.
@@ -62,9 +64,10 @@ pub enum ObjectKind {
 
 impl ObjectKind {
     /// Every kind, in the catalogue's order.
-    pub const ALL: [ObjectKind; 12] = [
+    pub const ALL: [ObjectKind; 13] = [
         ObjectKind::Wall,
         ObjectKind::WallTransparent,
+        ObjectKind::Ramp,
         ObjectKind::CylinderTunnel,
         ObjectKind::CylinderTunnelTransparent,
         ObjectKind::GoodGoal,
@@ -82,6 +85,7 @@ impl ObjectKind {
         match self {
             ObjectKind::Wall => "Wall",
             ObjectKind::WallTransparent => "WallTransparent",
+            ObjectKind::Ramp => "Ramp",
             ObjectKind::CylinderTunnel => "CylinderTunnel",
             ObjectKind::CylinderTunnelTransparent => "CylinderTunnelTransparent",
             ObjectKind::GoodGoal => "GoodGoal",
@@ -105,6 +109,7 @@ impl ObjectKind {
     pub fn size_range(self) -> ([f32; 3], [f32; 3]) {
         match self {
             ObjectKind::Wall | ObjectKind::WallTransparent => ([0.1; 3], [40.0, 10.0, 40.0]),
+            ObjectKind::Ramp => ([0.5, 0.1, 0.5], [40.0, 10.0, 40.0]),
             ObjectKind::CylinderTunnel | ObjectKind::CylinderTunnelTransparent => ([2.5; 3], [10.0; 3]),
             k if k.is_goal() => ([0.5; 3], [5.0; 3]),
             _ => ([1.0, 0.0, 1.0], [40.0, 10.0, 40.0]),
@@ -114,7 +119,7 @@ impl ObjectKind {
     /// The size used when a config gives none (Animal-AI's prefab defaults).
     pub fn default_size(self) -> [f32; 3] {
         match self {
-            ObjectKind::Wall | ObjectKind::WallTransparent => [1.0, 1.0, 1.0],
+            ObjectKind::Wall | ObjectKind::WallTransparent | ObjectKind::Ramp => [1.0, 1.0, 1.0],
             ObjectKind::CylinderTunnel | ObjectKind::CylinderTunnelTransparent => [5.0, 5.0, 5.0],
             k if k.is_goal() => [1.0, 1.0, 1.0],
             _ => [1.0, 0.0, 1.0],
@@ -123,7 +128,7 @@ impl ObjectKind {
 
     /// Whether a config may give this object a colour (goals and zones have fixed materials).
     pub fn colourable(self) -> bool {
-        matches!(self, ObjectKind::Wall | ObjectKind::CylinderTunnel)
+        matches!(self, ObjectKind::Wall | ObjectKind::Ramp | ObjectKind::CylinderTunnel)
     }
 
     /// Whether touching it is a goal (good, bad or multi, bouncing or not).

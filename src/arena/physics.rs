@@ -28,7 +28,10 @@ const BOUNCE_RESTITUTION: f32 = 0.8;
 /// Its dynamic friction 0.3, combined by minimum (the floor's is higher): the sliding
 /// deceleration while its spin catches up with its speed.
 const BOUNCE_FRICTION_DV: f32 = 0.3 * GRAVITY * FRAME_DT;
-/// Its angular drag 0.05 per second, per frame.
+/// Other goals' `MediumBounce` material: friction 0.6 (averaged with the floor's, taken as the
+/// same), which acts once a ramp sets them rolling.
+const GOAL_FRICTION_DV: f32 = 0.6 * GRAVITY * FRAME_DT;
+/// Its angular drag 0.05 per second, per frame (every goal's rigid body has it).
 const BOUNCE_SPIN_FACTOR: f32 = 1.0 - 0.05 * FRAME_DT;
 /// Unity puts a body to sleep below 0.005 of kinetic energy per unit mass: v^2 / 2 < 0.005.
 const SLEEP_SPEED: f32 = 0.1;
@@ -37,6 +40,9 @@ const SLEEP_SPEED: f32 = 0.1;
 const BOUNCE_THRESHOLD: f32 = 2.0;
 /// The agent is "in" a zone when its centre is within this of the rectangle.
 const ZONE_MARGIN: f32 = 0.1;
+/// How far a ramp's slope can lift a sphere in one frame: it meets the slope below its centre, so
+/// one radius (the agent's 0.5; a goal's own).
+const CLIMB: f32 = AGENT_RADIUS;
 /// Collision passes per frame; several resolve corners where two walls push at once.
 const COLLISION_PASSES: usize = 4;
 
@@ -90,11 +96,20 @@ pub fn physics_frame(w: &mut World, movement: u8, turn: u8, hot_penalty: f64) ->
 }
 
 /// The agent above what is under it falls under gravity, with the drag it has in every
-/// direction, and lands without a bounce; it is grounded when it stands on something.
+/// direction, and lands without a bounce; it is grounded when it stands on something. Standing on
+/// a ramp it follows the slope, up or down, and gravity pulls it downhill.
 fn fall_agent(w: &mut World) {
     let a = &mut w.agent;
-    let floor = support(&w.walls, a.pos, a.y);
-    if a.y > floor || a.vy != 0.0 {
+    let under = support(&w.walls, &w.ramps, a.pos, a.y, CLIMB);
+    let floor = under.height;
+    if floor > a.y || (under.ramp.is_some() && a.grounded && floor >= a.y - CLIMB) {
+        a.y = floor;
+        a.vy = 0.0;
+        if let Some(i) = under.ramp {
+            let (downhill, rise) = w.ramps[i].downhill();
+            a.vel += downhill * (slope_gravity(rise) * FRAME_DT);
+        }
+    } else if a.y > floor || a.vy != 0.0 {
         a.vy = (a.vy - GRAVITY * FRAME_DT) * DRAG_FACTOR;
         a.y += a.vy * FRAME_DT;
         if a.y <= floor {
@@ -105,16 +120,32 @@ fn fall_agent(w: &mut World) {
     a.grounded = a.y == floor;
 }
 
-/// Pushes the agent's disc out of every collider in its way (one spanning some of its heights)
-/// and the fences, dropping the velocity
+/// The horizontal pull of gravity on a slope rising `rise` per metre: g sin(a) cos(a).
+fn slope_gravity(rise: f32) -> f32 {
+    GRAVITY * rise / (1.0 + rise * rise)
+}
+
+/// Pushes the agent's disc out of every collider in its way (one spanning some of its heights;
+/// a ramp only where its slope at the contact is too high to climb onto) and the fences, dropping the velocity
 /// component into the surface (no bounce, no wall friction). Returns false when the pushes
 /// could not resolve every overlap.
 fn collide(w: &mut World) -> bool {
     let a = &mut w.agent;
-    let span = (a.y, a.y + 2.0 * AGENT_RADIUS);
+    // Its bottom is where it now stands (a slope's or a box's height, which the fall below sets
+    // for the frame): on a ramp the sphere rides over the edge of a box the ramp leads onto, which
+    // it touches at most the slope's rise over one radius below the box's top.
+    let under = support(&w.walls, &w.ramps, a.pos, a.y, CLIMB);
+    let step = under.ramp.map_or(0.0, |i| w.ramps[i].downhill().1 * AGENT_RADIUS + 1e-3);
+    let span = (under.height.max(a.y) + step, a.y + 2.0 * AGENT_RADIUS);
     for _ in 0..COLLISION_PASSES {
         let mut moved = false;
         for c in w.colliders.iter().filter(|c| c.spans(span)) {
+            if let Some(i) = c.ramp {
+                let l = c.foot.to_local(a.pos);
+                if w.ramps[i].surface_local(l.clamp(-c.foot.half, c.foot.half)) <= a.y + CLIMB {
+                    continue;
+                }
+            }
             let c = &c.foot;
             let l = c.to_local(a.pos);
             if l.x.abs() >= c.half.x + AGENT_RADIUS || l.y.abs() >= c.half.y + AGENT_RADIUS {
@@ -172,7 +203,8 @@ fn collide(w: &mut World) -> bool {
 /// bouncing goal also rolls and bounces off walls and fences until it sleeps.
 fn fall_goals(w: &mut World) {
     for g in w.goals.iter_mut().filter(|g| !g.resting && !g.collected) {
-        let floor = support(&w.walls, Vec2::new(g.centre.x, g.centre.z), g.centre.y - g.radius);
+        let under = support(&w.walls, &w.ramps, Vec2::new(g.centre.x, g.centre.z), g.centre.y - g.radius, g.radius);
+        let floor = under.height;
         g.vy -= GRAVITY * FRAME_DT;
         g.centre.y += g.vy * FRAME_DT;
         let mut grounded = false;
@@ -185,31 +217,45 @@ fn fall_goals(w: &mut World) {
             } else {
                 g.vy = 0.0;
                 grounded = true;
-                g.resting = !g.bouncing;
+                g.resting = !g.bouncing && under.ramp.is_none() && g.vel == Vec2::ZERO;
             }
         }
-        if g.bouncing {
-            roll(g, grounded, &w.colliders);
+        if g.bouncing || under.ramp.is_some() || g.vel != Vec2::ZERO {
+            let slope = under.ramp.filter(|_| grounded).map(|i| w.ramps[i].downhill());
+            roll(g, grounded, slope, &w.colliders, &w.ramps);
         }
     }
 }
 
-/// One frame of a bouncing goal's horizontal motion: its spin's drag; on the ground, sliding
-/// friction between its speed and its spin until it rolls (a solid sphere: the spin gains 5/2 of
-/// what the speed loses); the move; bounces off the colliders in its way and the fences; sleep.
-fn roll(g: &mut crate::arena::Goal, grounded: bool, colliders: &[crate::arena::Collider]) {
+/// One frame of a goal's horizontal motion (a bouncing goal's always, another's once a ramp sets
+/// it rolling): its launch; its spin's drag; downhill on a slope (`slope`: downhill and rise);
+/// on the ground, sliding friction between its speed and its spin until it rolls (a solid
+/// sphere: the spin gains 5/2 of what the speed loses); the move; bounces off the colliders in
+/// its way and the fences; sleep.
+fn roll(
+    g: &mut crate::arena::Goal,
+    grounded: bool,
+    slope: Option<(Vec2, f32)>,
+    colliders: &[crate::arena::Collider],
+    ramps: &[crate::arena::Ramp],
+) {
     if let Some(forward) = g.launch.take() {
         g.vel += forward * BOUNCE_LAUNCH;
     }
+    let (restitution, friction) =
+        if g.bouncing { (BOUNCE_RESTITUTION, BOUNCE_FRICTION_DV) } else { (GOAL_RESTITUTION, GOAL_FRICTION_DV) };
     g.spin *= BOUNCE_SPIN_FACTOR;
+    if let Some((downhill, rise)) = slope {
+        g.vel += downhill * (slope_gravity(rise) * FRAME_DT);
+    }
     if grounded {
         let slip = g.vel - g.spin;
         let s = slip.length();
-        if s <= 3.5 * BOUNCE_FRICTION_DV {
+        if s <= 3.5 * friction {
             let rolling = (g.vel * 2.5 + g.spin) / 3.5;
             (g.vel, g.spin) = (rolling, rolling);
         } else {
-            let d = slip / s * BOUNCE_FRICTION_DV;
+            let d = slip / s * friction;
             g.vel -= d;
             g.spin += d * 2.5;
         }
@@ -219,13 +265,18 @@ fn roll(g: &mut crate::arena::Goal, grounded: bool, colliders: &[crate::arena::C
     let bounce = |vel: &mut Vec2, n: Vec2| {
         let vn = vel.dot(n);
         if vn < 0.0 {
-            let rebound = if -vn * BOUNCE_RESTITUTION >= BOUNCE_THRESHOLD { BOUNCE_RESTITUTION } else { 0.0 };
+            let rebound = if -vn * restitution >= BOUNCE_THRESHOLD { restitution } else { 0.0 };
             *vel -= n * vn * (1.0 + rebound);
         }
     };
     for c in colliders.iter().filter(|c| c.spans((g.centre.y - r, g.centre.y + r))) {
         let l = c.foot.to_local(p);
-        let d = l - l.clamp(-c.foot.half, c.foot.half);
+        let q = l.clamp(-c.foot.half, c.foot.half);
+        if c.ramp.is_some_and(|i| ramps[i].surface_local(q) <= g.centre.y) {
+            // Onto the slope, not off its side.
+            continue;
+        }
+        let d = l - q;
         let dist = d.length();
         if dist >= r || dist == 0.0 {
             continue;
@@ -244,7 +295,8 @@ fn roll(g: &mut crate::arena::Goal, grounded: bool, colliders: &[crate::arena::C
         }
     }
     (g.centre.x, g.centre.z) = (p.x, p.y);
-    if grounded && g.vel.length() < SLEEP_SPEED && g.spin.length() < SLEEP_SPEED {
+    // A goal on a slope never sleeps: gravity keeps pulling it.
+    if grounded && slope.is_none() && g.vel.length() < SLEEP_SPEED && g.spin.length() < SLEEP_SPEED {
         (g.vel, g.spin) = (Vec2::ZERO, Vec2::ZERO);
         g.resting = true;
     }

@@ -11,8 +11,6 @@ use std::collections::BTreeSet;
 /// A feature of Animal-AI arena files that this simulator lacks.
 #[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Feature {
-    /// A `Ramp`.
-    Ramp,
     /// `Cardbox1`, `Cardbox2`, `UObject`, `LObject`, `LObject2`: objects the agent pushes.
     Pushable,
     /// Any other item the simulator does not know.
@@ -23,7 +21,6 @@ impl Feature {
     /// Short name for reports.
     pub fn name(&self) -> String {
         match self {
-            Feature::Ramp => "ramps".into(),
             Feature::Pushable => "pushable objects".into(),
             Feature::Item(name) => format!("item {name}"),
         }
@@ -33,7 +30,6 @@ impl Feature {
     fn of_item(name: &str) -> Option<Feature> {
         match name {
             "Agent" => None,
-            "Ramp" => Some(Feature::Ramp),
             "Cardbox1" | "Cardbox2" | "UObject" | "LObject" | "LObject2" => Some(Feature::Pushable),
             _ if ObjectKind::from_name(name).is_some() => None,
             _ => Some(Feature::Item(name.to_string())),
@@ -80,7 +76,7 @@ mod tests {
             \x20   - !Item\n      name: GoodGoal\n    - !Item\n      name: GoodGoalMulti\n\
             \x20   - !Item\n      name: Cardbox1\n    - !Item\n      name: Pillar\n";
         let names: Vec<String> = features(src).unwrap().iter().map(Feature::name).collect();
-        assert_eq!(names, ["ramps", "pushable objects", "item Pillar"]);
+        assert_eq!(names, ["pushable objects", "item Pillar"]);
     }
 
     #[test]

@@ -169,6 +169,48 @@ impl BoxObj {
     }
 }
 
+/// A ramp: a wedge on its footprint, `height` tall at its local -z edge and 0 at its +z edge
+/// (v1's `Ramp` mesh; docs/ARENAS.md section 5).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Ramp {
+    /// Where it stands.
+    pub foot: Footprint,
+    /// The height of its bottom.
+    pub base: f32,
+    /// Its height at the high edge.
+    pub height: f32,
+    /// Its colour.
+    pub colour: Rgb,
+}
+
+impl Ramp {
+    /// The height of its sloped top above `local` (a point in its footprint's axes), clamped to
+    /// the footprint's z extent.
+    pub fn surface_local(&self, local: Vec2) -> f32 {
+        let hz = self.foot.half.y;
+        self.base + self.height * (hz - local.y.clamp(-hz, hz)) / (2.0 * hz)
+    }
+
+    /// The height of its top at `p`, if `p` is over it.
+    pub fn surface(&self, p: Vec2) -> Option<f32> {
+        self.foot.contains(p, 0.0).then(|| self.surface_local(self.foot.to_local(p)))
+    }
+
+    /// The highest its slope reaches over `f` (where they overlap): a linear height over two
+    /// convex shapes peaks at a corner of one inside the other, or where their edges cross; the
+    /// corners of `f` moved into the footprint stand for the crossings.
+    pub fn top_over(&self, f: &Footprint) -> f32 {
+        let own = self.foot.corners().into_iter().filter(|p| f.contains(*p, 0.0)).map(|p| self.foot.to_local(p));
+        let theirs = f.corners().map(|p| self.foot.to_local(p).clamp(-self.foot.half, self.foot.half));
+        own.chain(theirs).map(|l| self.surface_local(l)).fold(f32::NEG_INFINITY, f32::max)
+    }
+
+    /// Downhill, horizontally (a unit vector: its local +z), and the slope's rise per metre.
+    pub fn downhill(&self) -> (Vec2, f32) {
+        (self.foot.axis_z(), self.height / (2.0 * self.foot.half.y))
+    }
+}
+
 /// Something solid the agent collides with: a footprint and the heights it spans.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Collider {
@@ -180,6 +222,9 @@ pub struct Collider {
     pub top: f32,
     /// The wall it belongs to (an index into `World::walls`), if it is one.
     pub wall: Option<usize>,
+    /// The ramp it bounds (an index into `World::ramps`), if it is one: the agent collides with
+    /// a ramp's slope, not its box (`physics`).
+    pub ramp: Option<usize>,
 }
 
 impl Collider {
@@ -190,13 +235,30 @@ impl Collider {
     }
 }
 
-/// The height a body at `p` whose bottom is at `y` rests on: the highest top of a wall under its
-/// centre that is not above `y`, or the floor.
-pub fn support(walls: &[BoxObj], p: Vec2, y: f32) -> f32 {
-    walls
+/// What a body at `p` whose bottom is at `y` rests on: the highest top under its centre, of a
+/// wall or a ramp's slope, that is at most `climb` above `y` (a body's centre is over a box only
+/// if the box let it pass, so one a little higher is a step it is climbing); or the floor.
+pub fn support(walls: &[BoxObj], ramps: &[Ramp], p: Vec2, y: f32, climb: f32) -> Support {
+    let wall = walls
         .iter()
-        .filter(|b| b.top() <= y + OVERLAP_EPS && b.foot.contains(p, 0.0))
-        .fold(0.0, |best, b| best.max(b.top()))
+        .filter(|b| b.top() <= y + climb.max(OVERLAP_EPS) && b.foot.contains(p, 0.0))
+        .fold(0.0f32, |best, b| best.max(b.top()));
+    let mut out = Support { height: wall, ramp: None };
+    for (i, r) in ramps.iter().enumerate() {
+        if let Some(h) = r.surface(p).filter(|&h| h <= y + climb && h > out.height) {
+            out = Support { height: h, ramp: Some(i) };
+        }
+    }
+    out
+}
+
+/// What a body rests on (`support`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Support {
+    /// The height of the surface under it.
+    pub height: f32,
+    /// The ramp whose slope that is, if it is one.
+    pub ramp: Option<usize>,
 }
 
 /// A goal sphere; it falls under gravity until it rests on the floor or a box.
@@ -269,6 +331,8 @@ impl Agent {
 pub struct World {
     /// Wall blocks.
     pub walls: Vec<BoxObj>,
+    /// Ramps.
+    pub ramps: Vec<Ramp>,
     /// Arches.
     pub tunnels: Vec<Tunnel>,
     /// Goal spheres.
@@ -307,6 +371,7 @@ impl World {
     fn spawn_counting(layout: &Layout, rng: &mut ChaCha8Rng) -> (World, Vec<usize>) {
         let mut w = World {
             walls: Vec::new(),
+            ramps: Vec::new(),
             tunnels: Vec::new(),
             goals: Vec::new(),
             zones: Vec::new(),
@@ -352,10 +417,11 @@ impl World {
         (w, unplaced)
     }
 
-    /// Lets every wall the file places above the floor fall onto what is under it, lowest first:
-    /// v1's walls are rigid bodies (mass 100, not kinematic), so one left in the air falls at
-    /// once. Here they land before the first frame; a wall rests on a box whose footprint overlaps
-    /// its own, however little (v1 would tip one resting on an edge).
+    /// Lets every wall the file places above the floor fall onto what is under it, lowest first,
+    /// then every ramp onto the walls: v1's walls and ramps are rigid bodies (mass 100, not
+    /// kinematic), so one left in the air falls at once. Here they land before the first frame,
+    /// on a box whose footprint overlaps their own, however little (v1 would tip one resting on an
+    /// edge).
     fn settle(&mut self) {
         let mut order: Vec<usize> = (0..self.walls.len()).filter(|&i| self.walls[i].base > 0.0).collect();
         order.sort_by(|&a, &b| self.walls[a].base.total_cmp(&self.walls[b].base));
@@ -369,9 +435,20 @@ impl World {
                 .fold(0.0f32, |best, (_, o)| best.max(o.top()));
             self.walls[i].base = rest;
         }
+        // Ramps (rigid bodies too) onto the settled walls.
+        for r in self.ramps.iter_mut().filter(|r| r.base > 0.0) {
+            r.base = self
+                .walls
+                .iter()
+                .filter(|o| o.top() <= r.base + OVERLAP_EPS && o.foot.overlaps(&r.foot))
+                .fold(0.0f32, |best, o| best.max(o.top()));
+        }
         for c in &mut self.colliders {
             if let Some(i) = c.wall {
                 (c.bottom, c.top) = (self.walls[i].base, self.walls[i].top());
+            }
+            if let Some(i) = c.ramp {
+                (c.bottom, c.top) = (self.ramps[i].base, self.ramps[i].base + self.ramps[i].height);
             }
         }
     }
@@ -395,7 +472,7 @@ impl World {
         let y = spec.position[1].unwrap_or(0.0);
         let centre = Vec2::new(x, z);
         let colour = spec.colour.unwrap_or_else(|| match kind {
-            ObjectKind::Wall => {
+            ObjectKind::Wall | ObjectKind::Ramp => {
                 Rgb(rng.gen_range(0..=255u32) as u8, rng.gen_range(0..=255u32) as u8, rng.gen_range(0..=255u32) as u8)
             }
             _ => Rgb(255, 255, 255),
@@ -411,7 +488,12 @@ impl World {
                         && s.overlaps_disc(a, AGENT_RADIUS)
                 })
             };
-            !solid.iter().any(|s| self.colliders.iter().any(|c| c.spans(rise) && c.foot.overlaps(s)))
+            // A ramp is a wedge (v1 checks its convex mesh): only its slope's height counts.
+            let wedge_below =
+                |c: &Collider, s: &Footprint| c.ramp.is_some_and(|i| self.ramps[i].top_over(s) <= rise.0 + OVERLAP_EPS);
+            !solid
+                .iter()
+                .any(|s| self.colliders.iter().any(|c| c.spans(rise) && c.foot.overlaps(s) && !wedge_below(c, s)))
                 && !solid.iter().any(agent_in)
                 && !solid.iter().any(|s| {
                     self.goals.iter().any(|g| {
@@ -431,7 +513,16 @@ impl World {
                 let colour = if transparent { Rgb(255, 255, 255) } else { colour };
                 let wall = Some(self.walls.len());
                 self.walls.push(BoxObj { foot, base: y, height: size[1], colour, transparent });
-                self.colliders.push(Collider { foot, bottom: y, top: y + size[1], wall });
+                self.colliders.push(Collider { foot, bottom: y, top: y + size[1], wall, ramp: None });
+            }
+            ObjectKind::Ramp => {
+                let foot = Footprint::new(centre, footprint_half, rotation);
+                if !free(&[foot], (y, y + size[1])) {
+                    return false;
+                }
+                let ramp = Some(self.ramps.len());
+                self.ramps.push(Ramp { foot, base: y, height: size[1], colour });
+                self.colliders.push(Collider { foot, bottom: y, top: y + size[1], wall: None, ramp });
             }
             ObjectKind::CylinderTunnel | ObjectKind::CylinderTunnelTransparent => {
                 let (outer_w, outer_h) = (size[0] / 2.0, size[1] / 2.0);
@@ -456,7 +547,13 @@ impl World {
                 if !free(&legs, (0.0, size[1] / 2.0)) {
                     return false;
                 }
-                self.colliders.extend(legs.map(|foot| Collider { foot, bottom: 0.0, top: size[1] / 2.0, wall: None }));
+                self.colliders.extend(legs.map(|foot| Collider {
+                    foot,
+                    bottom: 0.0,
+                    top: size[1] / 2.0,
+                    wall: None,
+                    ramp: None,
+                }));
                 self.tunnels.push(t);
             }
             k if k.is_goal() => {

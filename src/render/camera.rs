@@ -11,7 +11,7 @@
 
 use super::surface::{fence_top, floor_gradient, floor_texel, FenceColumn, FenceSide};
 use super::{colours, lit, shade_factor, Frame, Surface, GLASS_ALPHA, HEIGHT, PIXELS, WIDTH};
-use crate::arena::{BoxObj, Footprint, ObjectKind, Tunnel, World, AGENT_RADIUS, ARENA_SIZE};
+use crate::arena::{BoxObj, Footprint, ObjectKind, Ramp, Tunnel, World, AGENT_RADIUS, ARENA_SIZE};
 use glam::{Vec2, Vec3};
 
 /// tan(30 degrees): half the field of view, horizontally and vertically (the image is square).
@@ -123,6 +123,9 @@ impl Camera {
                 if (lo..=hi).contains(&offset) {
                     self.wall(b, col, px, None);
                 }
+            }
+            for r in &w.ramps {
+                self.ramp(r, col, px);
             }
             for g in w.goals.iter().filter(|g| !g.collected) {
                 self.sphere(g.kind, g.centre, g.radius, col, px);
@@ -328,6 +331,58 @@ impl Camera {
                 self.depth[i] = s;
                 put(px, i, lit(b.colour, factor));
             }
+        }
+    }
+
+    /// A ramp: the wedge's face a pixel's ray enters first, found by clipping the ray against the
+    /// wedge's five half-spaces (it is convex), lit by that face's normal.
+    fn ramp(&mut self, r: &Ramp, col: Column, px: &mut [u8]) {
+        let o = r.foot.to_local(col.eye);
+        let d = local_dir(&r.foot, col.h);
+        let Some((s0, s1, _)) = slab(o, d, r.foot.half) else {
+            return;
+        };
+        let (hx, hz, h) = (r.foot.half.x, r.foot.half.y, r.height);
+        // Local x, height above the base, local z: n . p <= c inside.
+        let planes: [([f32; 3], f32); 6] = [
+            ([0.0, -1.0, 0.0], 0.0),
+            ([0.0, 0.0, -1.0], hz),
+            ([0.0, 0.0, 1.0], hz),
+            ([1.0, 0.0, 0.0], hx),
+            ([-1.0, 0.0, 0.0], hx),
+            ([0.0, 2.0 * hz, h], h * hz),
+        ];
+        let eye = col.y - r.base;
+        let near = s0.max(NEAR);
+        let lo = -eye / if eye < 0.0 { s1 } else { near };
+        let hi = (h - eye) / if h < eye { s1 } else { near };
+        for row in self.rows(lo, hi) {
+            let d3 = [d.x, self.row_slope[row], d.y];
+            let o3 = [o.x, eye, o.y];
+            let (mut enter, mut exit, mut normal) = (f32::NEG_INFINITY, f32::INFINITY, [0.0f32; 3]);
+            for (n, c) in &planes {
+                let along = n[0] * d3[0] + n[1] * d3[1] + n[2] * d3[2];
+                let room = c - (n[0] * o3[0] + n[1] * o3[1] + n[2] * o3[2]);
+                if along == 0.0 {
+                    if room < 0.0 {
+                        enter = f32::INFINITY;
+                    }
+                } else if along < 0.0 {
+                    if room / along > enter {
+                        (enter, normal) = (room / along, *n);
+                    }
+                } else {
+                    exit = exit.min(room / along);
+                }
+            }
+            let i = row * WIDTH + col.c;
+            if enter > exit || enter <= NEAR || enter >= self.depth[i] {
+                continue;
+            }
+            self.depth[i] = enter;
+            let n = r.foot.to_world_dir(Vec2::new(normal[0], normal[2]));
+            let n = Vec3::new(n.x, normal[1], n.y).normalize();
+            put(px, i, lit(r.colour, shade_factor(n.to_array())));
         }
     }
 

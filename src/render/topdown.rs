@@ -120,6 +120,9 @@ pub fn render_top_down(w: &World, trail: &[Vec2], size: usize, out: &mut [u8]) {
             fill_rect(&v, out, &leg, t.colour, if t.transparent { 0.5 } else { 1.0 });
         }
     }
+    for r in &w.ramps {
+        fill_rect(&v, out, &r.foot, r.colour, 0.8);
+    }
     for b in &w.walls {
         if b.transparent {
             fill_rect(&v, out, &b.foot, Rgb(220, 235, 255), 0.6);

@@ -51,6 +51,8 @@ struct StepJs {
 #[serde(rename_all = "camelCase")]
 struct AgentJs {
     x: f32,
+    /// The height of the agent's bottom: 0 on the floor.
+    y: f32,
     z: f32,
     heading: f32,
     speed: f32,
@@ -165,6 +167,7 @@ impl ArenaEnv {
         let a = &self.env.world().agent;
         let out = AgentJs {
             x: a.pos.x,
+            y: a.y,
             z: a.pos.y,
             heading: a.heading,
             speed: a.vel.length(),

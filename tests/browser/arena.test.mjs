@@ -136,3 +136,19 @@ test('the Olympics menu lists the 900 arenas by category; a category-7 arena goe
   }
   assert.deepEqual(problems, []);
 });
+
+test('an Olympics ramp arena: held forward, the agent climbs the ramp in front of it', async () => {
+  // 05-25-01: the agent starts facing a 1 m ramp (docs/ARENAS.md section 5); the arrow key is held
+  // until it stands above the floor, however slowly a loaded machine steps.
+  await page.selectOption('#olympics', '05-25-01.yaml');
+  await page.waitForFunction(() => window.secPlayground.env.taskName() === '05-25-01.yaml');
+  const start = await page.evaluate(() => window.secPlayground.env.agent());
+  assert.equal(start.y, 0, 'it starts on the floor');
+  await page.locator('body').click({ position: { x: 5, y: 5 } });
+  await page.keyboard.down('ArrowUp');
+  await page.waitForFunction(() => window.secPlayground.env.agent().y > 0.5, null, { timeout: 60000 });
+  await page.keyboard.up('ArrowUp');
+  const up = await page.evaluate(() => window.secPlayground.env.agent());
+  assert.ok(up.y > 0.5 && up.y < 1.0, `on the ramp, below its 0.999 top: ${up.y}`);
+  assert.deepEqual(problems, []);
+});
