@@ -680,3 +680,27 @@ fn a_goal_on_an_olympics_ramp_rolls_down_towards_the_agent() {
     // horizontally: over the 4 m it rolls on the ramp, about 1.2 m/s.
     assert!(fastest > 0.8, "{fastest}");
 }
+
+#[test]
+fn up_a_slope_the_speed_follows_v1s_push_friction_and_drag_less_gravity_along_it() {
+    // Straight up a 3 m ramp 30 m long (rise 0.1): per frame, gravity along the slope first
+    // (g sin a cos a = 9.81 x 0.1 / 1.01 m/s^2 horizontally), then v1's push (+1.0 m/s), its
+    // friction (-0.6 x 9.81 x 0.02) and its drag (x 0.96), as on the flat (docs/ARENAS.md section 3).
+    let ramp = ObjectSpec::new(ObjectKind::Ramp, 20.0, 0.0, 20.0).size(6.0, 3.0, 30.0).rotation(180.0);
+    let mut env = open_env(vec![ramp], 20.0, 2.0, 0.0);
+    let slope = 9.81 * 0.1 / (1.0 + 0.01) * 0.02;
+    let mut checked = 0;
+    let mut before: Option<f32> = None;
+    for _ in 0..30 {
+        env.step(Action::FORWARD).unwrap();
+        let a = &env.world().agent;
+        let on = a.y > 0.3 && a.pos.y < 33.0;
+        if let (Some(v), true) = (before, on) {
+            let want = (0..3).fold(v, |v, _| 0.96 * (v - slope + 1.0 - 0.6 * 9.81 * 0.02));
+            assert!((a.vel.y - want).abs() / want < 0.005, "{v} -> {}, expected {want}", a.vel.y);
+            checked += 1;
+        }
+        before = on.then_some(a.vel.y);
+    }
+    assert!(checked >= 2, "{checked} steps checked on the slope");
+}

@@ -160,7 +160,7 @@ async function olympicsMenu() {
       const o = new Option(f.file.replace(/\.ya?ml$/, ''), f.file);
       if (!f.loads) {
         o.disabled = true;
-        o.textContent += ` (needs ${f.needs.join(', ')})`;
+        o.textContent += f.needs.length ? ` (needs ${f.needs.join(', ')})` : ` (refused: ${f.refused})`;
       } else if (!f.asV1) {
         o.textContent += ' (its random run failed: results/arenas.csv)';
       }

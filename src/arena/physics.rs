@@ -69,6 +69,12 @@ pub fn physics_frame(w: &mut World, movement: u8, turn: u8, hot_penalty: f64) ->
         _ => {}
     }
     if a.grounded {
+        // On a slope, gravity first (as Unity integrates it, before the contacts and the drag).
+        let under = support(&w.walls, &w.ramps, a.pos, a.y, CLIMB);
+        if let Some(i) = under.ramp.filter(|_| under.height == a.y) {
+            let (downhill, rise) = w.ramps[i].downhill();
+            a.vel += downhill * (slope_gravity(rise) * FRAME_DT);
+        }
         let push = match movement {
             1 => IMPULSE_DV,
             2 => -IMPULSE_DV,
@@ -97,7 +103,7 @@ pub fn physics_frame(w: &mut World, movement: u8, turn: u8, hot_penalty: f64) ->
 
 /// The agent above what is under it falls under gravity, with the drag it has in every
 /// direction, and lands without a bounce; it is grounded when it stands on something. Standing on
-/// a ramp it follows the slope, up or down, and gravity pulls it downhill.
+/// a ramp it follows the slope, up or down (gravity pulls it downhill in `physics_frame`).
 fn fall_agent(w: &mut World) {
     let a = &mut w.agent;
     let under = support(&w.walls, &w.ramps, a.pos, a.y, CLIMB);
@@ -105,10 +111,6 @@ fn fall_agent(w: &mut World) {
     if floor > a.y || (under.ramp.is_some() && a.grounded && floor >= a.y - CLIMB) {
         a.y = floor;
         a.vy = 0.0;
-        if let Some(i) = under.ramp {
-            let (downhill, rise) = w.ramps[i].downhill();
-            a.vel += downhill * (slope_gravity(rise) * FRAME_DT);
-        }
     } else if a.y > floor || a.vy != 0.0 {
         a.vy = (a.vy - GRAVITY * FRAME_DT) * DRAG_FACTOR;
         a.y += a.vy * FRAME_DT;
@@ -126,9 +128,9 @@ fn slope_gravity(rise: f32) -> f32 {
 }
 
 /// Pushes the agent's disc out of every collider in its way (one spanning some of its heights;
-/// a ramp only where its slope at the contact is too high to climb onto) and the fences, dropping the velocity
-/// component into the surface (no bounce, no wall friction). Returns false when the pushes
-/// could not resolve every overlap.
+/// a ramp only where its slope at the contact is too high to climb onto) and the fences,
+/// dropping the velocity component into the surface (no bounce, no wall friction). Returns false
+/// when the pushes could not resolve every overlap.
 fn collide(w: &mut World) -> bool {
     let a = &mut w.agent;
     // Its bottom is where it now stands (a slope's or a box's height, which the fall below sets

@@ -109,9 +109,12 @@ test('the Olympics menu lists the 900 arenas by category; a category-7 arena goe
   await page.waitForFunction(() => document.querySelectorAll('#olympics optgroup').length === 10);
   const options = await page.$$eval('#olympics option[value$=".yaml"]', (os) => os.map((o) => ({ v: o.value, off: o.disabled, t: o.textContent })));
   assert.equal(options.length, 900);
-  // A file this simulator cannot run says what it needs and cannot be chosen.
+  // A file this simulator cannot run says what it needs (or, needing nothing it lacks, why it
+  // is refused) and cannot be chosen.
   const refused = options.filter((o) => o.off);
-  assert.ok(refused.length > 0 && refused.every((o) => /\(needs .+\)/.test(o.t)), refused[0]?.t);
+  const unsaid = refused.filter((o) => !/\((needs|refused:) .+\)$/.test(o.t));
+  assert.ok(refused.length > 0 && unsaid.length === 0, unsaid[0]?.t);
+  assert.ok(refused.some((o) => o.t.startsWith('06-11-01 (refused: object 24 (a Wall) finds no free spot')), 'a refusal says why');
   // 07-01-01: the light switches every 20 env steps (blackouts [-20]); one env step is 60 ms here.
   await page.selectOption('#olympics', '07-01-01.yaml');
   await page.waitForFunction(() => window.secPlayground.env.taskName() === '07-01-01.yaml');

@@ -255,7 +255,7 @@ pub(crate) fn step_seconds(frame_skip: u32) -> f64 {
 }
 
 /// An arena's `info`: layout, episode_index (not `episode`, which Gymnasium's
-/// RecordEpisodeStatistics owns), env_steps, agent_steps, position, heading and success.
+/// RecordEpisodeStatistics owns), env_steps, agent_steps, position, height, heading and success.
 pub(crate) fn info<'py>(py: Python<'py>, arena: &Tracked) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     let a = &arena.env.world().agent;
@@ -263,6 +263,7 @@ pub(crate) fn info<'py>(py: Python<'py>, arena: &Tracked) -> PyResult<Bound<'py,
     d.set_item("episode_index", arena.env.episode())?;
     d.set_item("env_steps", arena.env.steps())?;
     d.set_item("position", (a.pos.x, a.pos.y))?;
+    d.set_item("height", a.y)?;
     d.set_item("heading", a.heading)?;
     d.set_item("success", arena.success)?;
     d.set_item("agent_steps", arena.agent_steps)?;

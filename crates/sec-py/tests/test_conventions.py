@@ -85,7 +85,7 @@ def test_action_meanings_success_version_and_vector_parity():
     assert env.unwrapped.get_action_meanings() == ACTION_MEANINGS and len(ACTION_MEANINGS) == 9
     assert isinstance(sec_playground.__version__, str) and sec_playground.__version__[0].isdigit()
     _, info = env.reset(seed=2)
-    assert set(info) == {"layout", "episode_index", "env_steps", "agent_steps", "position", "heading", "success"}
+    assert set(info) == {"layout", "episode_index", "env_steps", "agent_steps", "position", "height", "heading", "success"}
     v = gym.make_vec(DTM, num_envs=2, render_mode="rgb_array")
     _, infos = v.reset(seed=2)
     assert set(infos) == set(info)

@@ -226,19 +226,26 @@ pub fn rows_csv(results: &[FileResult]) -> String {
 }
 
 /// The arena page's menu of the corpus (`assets/arenas/olympics.json`): the categories, and per
-/// file its category, whether it loads and behaves as in v1, and what it needs.
+/// file its category, whether it loads and behaves as in v1, what it needs, and, for a file
+/// refused while needing nothing the simulator lacks, why.
 pub fn index_json(results: &[FileResult]) -> String {
     let files: Vec<serde_json::Value> = results
         .iter()
         .map(|r| {
-            serde_json::json!({
+            let mut f = serde_json::json!({
                 "file": r.name,
                 "category": r.category,
                 "loads": r.loaded(),
                 "asV1": r.behaves_as_v1(),
                 "needs": r.needs.iter().map(Feature::name).collect::<Vec<_>>(),
                 "warnings": r.warnings.len(),
-            })
+            });
+            if let Some(why) = r.refused.as_ref().filter(|_| r.needs.is_empty()) {
+                // The loader's message names the file first; the menu already does.
+                let why = why.rsplit_once("': ").map_or(why.as_str(), |(_, w)| w);
+                f["refused"] = why.into();
+            }
+            f
         })
         .collect();
     let index = serde_json::json!({ "categories": CATEGORIES, "files": files });

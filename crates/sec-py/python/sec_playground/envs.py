@@ -168,8 +168,8 @@ class ArenaEnv(_Pickled, gym.Env):
     planked fences).
 
     `info` holds `layout`, `episode_index` (episodes since the last seeded reset), `env_steps`,
-    `agent_steps`, `position` (x, z), `heading` (degrees) and `success` (the step touched a good
-    goal). A goal or a death zone ends an episode as `terminated`, a limit as `truncated`.
+    `agent_steps`, `position` (x, z), `height` (of the agent's bottom: 0 on the floor, more on a
+    box or a ramp), `heading` (degrees) and `success` (the step touched a good goal). A goal or a death zone ends an episode as `terminated`, a limit as `truncated`.
     `get_state()`/`set_state()` (and pickle, `copy.deepcopy`) save and restore the env exactly.
     """
 
