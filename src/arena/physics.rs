@@ -1,6 +1,6 @@
 //! Animal-AI v1 dynamics, one 0.02 s physics frame at a time (docs/ARENAS.md section 3).
 
-use super::world::{support, wrap_degrees, World, AGENT_RADIUS};
+use super::world::{support, wrap_degrees, Support, World, AGENT_RADIUS};
 use super::{ObjectKind, ARENA_SIZE};
 use glam::Vec2;
 
@@ -62,6 +62,7 @@ pub struct FrameEvents {
 /// `movement` 0 none, 1 forward, 2 backward; `turn` 0 none, 1 right (clockwise), 2 left.
 /// `hot_penalty` is the HotZone reward per frame (negative).
 pub fn physics_frame(w: &mut World, movement: u8, turn: u8, hot_penalty: f64) -> FrameEvents {
+    let under = under_agent(w);
     let a = &mut w.agent;
     match turn {
         1 => a.heading = wrap_degrees(a.heading + TURN_DEGREES),
@@ -70,7 +71,6 @@ pub fn physics_frame(w: &mut World, movement: u8, turn: u8, hot_penalty: f64) ->
     }
     if a.grounded {
         // On a slope, gravity first (as Unity integrates it, before the contacts and the drag).
-        let under = support(&w.walls, &w.ramps, a.pos, a.y, CLIMB);
         if let Some(i) = under.ramp.filter(|_| under.height == a.y) {
             let (downhill, rise) = w.ramps[i].downhill();
             a.vel += downhill * (slope_gravity(rise) * FRAME_DT);
@@ -105,8 +105,8 @@ pub fn physics_frame(w: &mut World, movement: u8, turn: u8, hot_penalty: f64) ->
 /// direction, and lands without a bounce; it is grounded when it stands on something. Standing on
 /// a ramp it follows the slope, up or down (gravity pulls it downhill in `physics_frame`).
 fn fall_agent(w: &mut World) {
+    let under = under_agent(w);
     let a = &mut w.agent;
-    let under = support(&w.walls, &w.ramps, a.pos, a.y, CLIMB);
     let floor = under.height;
     if floor > a.y || (under.ramp.is_some() && a.grounded && floor >= a.y - CLIMB) {
         a.y = floor;
@@ -122,6 +122,15 @@ fn fall_agent(w: &mut World) {
     a.grounded = a.y == floor;
 }
 
+/// What the agent stands on. On the floor of an arena without ramps nothing else can be under
+/// it (a box would have stopped it first), which is most frames of most arenas: no search.
+fn under_agent(w: &World) -> Support {
+    if w.ramps.is_empty() && w.agent.y == 0.0 {
+        return Support { height: 0.0, ramp: None };
+    }
+    support(&w.walls, &w.ramps, w.agent.pos, w.agent.y, CLIMB)
+}
+
 /// The horizontal pull of gravity on a slope rising `rise` per metre: g sin(a) cos(a).
 fn slope_gravity(rise: f32) -> f32 {
     GRAVITY * rise / (1.0 + rise * rise)
@@ -132,11 +141,11 @@ fn slope_gravity(rise: f32) -> f32 {
 /// dropping the velocity component into the surface (no bounce, no wall friction). Returns false
 /// when the pushes could not resolve every overlap.
 fn collide(w: &mut World) -> bool {
-    let a = &mut w.agent;
     // Its bottom is where it now stands (a slope's or a box's height, which the fall below sets
     // for the frame): on a ramp the sphere rides over the edge of a box the ramp leads onto, which
     // it touches at most the slope's rise over one radius below the box's top.
-    let under = support(&w.walls, &w.ramps, a.pos, a.y, CLIMB);
+    let under = under_agent(w);
+    let a = &mut w.agent;
     let step = under.ramp.map_or(0.0, |i| w.ramps[i].downhill().1 * AGENT_RADIUS + 1e-3);
     let span = (under.height.max(a.y) + step, a.y + 2.0 * AGENT_RADIUS);
     for _ in 0..COLLISION_PASSES {
