@@ -296,15 +296,21 @@ impl Camera {
                 continue;
             };
             let i = r * WIDTH + col.c;
-            if s >= self.depth[i] {
-                continue;
+            if s < self.depth[i] {
+                self.box_pixel(px, i, s, lit(b.colour, factor), factor, glass);
             }
-            if glass.is_some() {
-                blend(px, i, factor);
-            } else {
-                self.depth[i] = s;
-                put(px, i, lit(b.colour, factor));
-            }
+        }
+    }
+
+    /// One pixel of a box's face at depth `s`, nearer than what is there: opaque, it takes the
+    /// face's colour and depth; glass blends over what is behind.
+    #[inline]
+    fn box_pixel(&mut self, px: &mut [u8], i: usize, s: f32, rgb: [u8; 3], factor: f32, glass: Option<()>) {
+        if glass.is_some() {
+            blend(px, i, factor);
+        } else {
+            self.depth[i] = s;
+            put(px, i, rgb);
         }
     }
 
@@ -322,14 +328,8 @@ impl Camera {
             }
             let s = (face - col.y) / slope;
             let i = r * WIDTH + col.c;
-            if s <= NEAR || s > s1 || s >= self.depth[i] {
-                continue;
-            }
-            if glass.is_some() {
-                blend(px, i, factor);
-            } else {
-                self.depth[i] = s;
-                put(px, i, lit(b.colour, factor));
+            if s > NEAR && s <= s1 && s < self.depth[i] {
+                self.box_pixel(px, i, s, lit(b.colour, factor), factor, glass);
             }
         }
     }

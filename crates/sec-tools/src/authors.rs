@@ -165,7 +165,8 @@ fn per_episode(c: &ConditionRuns) -> Vec<f64> {
     c.totals().into_iter().map(|t| t / n).collect()
 }
 
-fn fmt_p(p: f64) -> String {
+/// A p value as the tables print it: `-` for none, 1.2e-5 below 0.001, else three decimals.
+pub(crate) fn fmt_p(p: f64) -> String {
     if p.is_nan() {
         "-".into()
     } else if p < 0.001 {

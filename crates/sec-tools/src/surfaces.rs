@@ -9,7 +9,7 @@
 //! authors' runs (its tests, corrected as its tables correct them). The decision is taken on the
 //! complete block only.
 
-use crate::authors::{load_authors, versus, LearnedBar, Versus, TEXTURED};
+use crate::authors::{fmt_p, load_authors, versus, LearnedBar, Versus, TEXTURED};
 use crate::report::{load, ConditionRuns};
 use crate::stats::{fisher_exact, mann_whitney, mean, quantile};
 use std::fmt::Write as _;
@@ -62,16 +62,6 @@ impl Surface {
                 (have < runs).then(|| format!("{model} {have} of {runs}"))
             })
             .collect()
-    }
-}
-
-fn fmt_p(p: f64) -> String {
-    if p.is_nan() {
-        "-".into()
-    } else if p < 0.001 {
-        format!("{p:.1e}")
-    } else {
-        format!("{p:.3}")
     }
 }
 
