@@ -1,6 +1,6 @@
 //! Animal-AI v1 dynamics, one 0.02 s physics frame at a time (docs/ARENAS.md section 3).
 
-use super::world::{support, wrap_degrees, Support, World, AGENT_RADIUS};
+use super::world::{support, wrap_degrees, Collider, Goal, Ramp, Support, World, AGENT_RADIUS};
 use super::{ObjectKind, ARENA_SIZE};
 use glam::Vec2;
 
@@ -31,8 +31,8 @@ const BOUNCE_FRICTION_DV: f32 = 0.3 * GRAVITY * FRAME_DT;
 /// Other goals' `MediumBounce` material: friction 0.6 (averaged with the floor's, taken as the
 /// same), which acts once a ramp sets them rolling.
 const GOAL_FRICTION_DV: f32 = 0.6 * GRAVITY * FRAME_DT;
-/// Its angular drag 0.05 per second, per frame (every goal's rigid body has it).
-const BOUNCE_SPIN_FACTOR: f32 = 1.0 - 0.05 * FRAME_DT;
+/// Every goal's rigid body's angular drag, 0.05 per second, per frame.
+const SPIN_FACTOR: f32 = 1.0 - 0.05 * FRAME_DT;
 /// Unity puts a body to sleep below 0.005 of kinetic energy per unit mass: v^2 / 2 < 0.005.
 const SLEEP_SPEED: f32 = 0.1;
 /// Unity's bounce threshold: a rebound slower than this is dropped, which gives the single
@@ -211,7 +211,7 @@ fn collide(w: &mut World) -> bool {
 }
 
 /// Goals fall under gravity (no drag) and bounce once on the floor or the box under them; a
-/// bouncing goal also rolls and bounces off walls and fences until it sleeps.
+/// bouncing goal, and any goal a ramp sets rolling, also rolls (`roll`) until it sleeps.
 fn fall_goals(w: &mut World) {
     for g in w.goals.iter_mut().filter(|g| !g.resting && !g.collected) {
         let under = support(&w.walls, &w.ramps, Vec2::new(g.centre.x, g.centre.z), g.centre.y - g.radius, g.radius);
@@ -243,19 +243,13 @@ fn fall_goals(w: &mut World) {
 /// on the ground, sliding friction between its speed and its spin until it rolls (a solid
 /// sphere: the spin gains 5/2 of what the speed loses); the move; bounces off the colliders in
 /// its way and the fences; sleep.
-fn roll(
-    g: &mut crate::arena::Goal,
-    grounded: bool,
-    slope: Option<(Vec2, f32)>,
-    colliders: &[crate::arena::Collider],
-    ramps: &[crate::arena::Ramp],
-) {
+fn roll(g: &mut Goal, grounded: bool, slope: Option<(Vec2, f32)>, colliders: &[Collider], ramps: &[Ramp]) {
     if let Some(forward) = g.launch.take() {
         g.vel += forward * BOUNCE_LAUNCH;
     }
     let (restitution, friction) =
         if g.bouncing { (BOUNCE_RESTITUTION, BOUNCE_FRICTION_DV) } else { (GOAL_RESTITUTION, GOAL_FRICTION_DV) };
-    g.spin *= BOUNCE_SPIN_FACTOR;
+    g.spin *= SPIN_FACTOR;
     if let Some((downhill, rise)) = slope {
         g.vel += downhill * (slope_gravity(rise) * FRAME_DT);
     }
