@@ -395,7 +395,7 @@ fn the_untrained_encoder_is_drawn_from_the_runs_seed() {
     assert_eq!(fp(3, PerceptionKind::Trained), bundled::autoencoder("detour").unwrap().fingerprint());
     // Either way the gate's model is the trained one, and an embedding is finite and >= 0.
     let p = Perception::new(PerceptionKind::Untrained, "detour", Some(2.0), 3).unwrap();
-    assert_eq!(p.trained().fingerprint(), bundled::autoencoder("detour").unwrap().fingerprint());
+    assert_eq!(p.trained().unwrap().fingerprint(), bundled::autoencoder("detour").unwrap().fingerprint());
     let mut e = [0.0; EMBEDDING];
     p.embed(&frame("detour"), &mut Scratch::default(), &mut e);
     assert!(e.iter().all(|v| v.is_finite() && *v >= 0.0) && e.iter().any(|&v| v > 0.0), "{e:?}");

@@ -84,8 +84,13 @@ fn missing(name: &str, value: &Value) -> Vec<String> {
 #[test]
 fn every_field_the_core_hands_to_js_is_declared() {
     // Every optional part present: the textured surface (left out of the JSON when flat), a
-    // scale override.
-    let cfg = RunConfig { surface: Surface::Textured, embedding_scale: Some(2.0), ..RunConfig::default() };
+    // scale override, an arena file (left out when absent; not validated here).
+    let cfg = RunConfig {
+        surface: Surface::Textured,
+        embedding_scale: Some(2.0),
+        arena: Some("arenas: {}".into()),
+        ..RunConfig::default()
+    };
     let cfg_json = serde_json::to_value(&cfg).unwrap();
     let mut run =
         Run::new(RunConfig { task: "object-permanence".into(), t: Some(50), ..RunConfig::default() }, 1).unwrap();

@@ -156,6 +156,23 @@ fn a_textured_run_through_the_js_api_gives_the_native_golden_log() {
     assert_eq!(got, golden);
 }
 
+/// An Olympics arena file through the JS API (a build with the YAML parser, as the arena build
+/// is) gives the native golden log (`fixtures::golden_arena_run`), with no model registered for it.
+#[wasm_bindgen_test]
+fn an_arena_files_run_through_the_js_api_gives_the_native_golden_log() {
+    use sec_playground::experiment::{fixtures, RunConfig};
+    let (name, yaml) = fixtures::ARENA_FILE;
+    let mut cfg = RunConfig::default().with_arena(name, yaml).unwrap();
+    cfg.section_mut::<sec_playground::agent::SecConfig>().min_sequences = 1;
+    let config = serde_json::to_string(&cfg).unwrap();
+    let mut run = sec_playground::web::SecRun::new(js(&config), v(3.0)).unwrap();
+    let got: Vec<String> =
+        (0..fixtures::ARENA_EPISODES).map(|_| metrics(run.step_episode().unwrap()).to_json()).collect();
+    let golden: Vec<&str> = include_str!("golden/run-arena.txt").lines().collect();
+    assert_eq!(got, golden);
+    assert_eq!(run.reconstruction().length(), 0, "no model: no reconstruction");
+}
+
 fn js(json: &str) -> wasm_bindgen::JsValue {
     js_sys::JSON::parse(json).unwrap()
 }

@@ -66,6 +66,7 @@ function fromTask() {
   if (fileT) $('limit').value = $('limit').defaultValue;
   if (rebuild(({ seed, t }) => new ArenaEnv(task, seed, t), taskDescription(task))) {
     source = { kind: 'task' };
+    learnLink(null);
     $('task').querySelector(`option[value="${CUSTOM}"]`)?.remove();
     $('olympics').value = '';
   } else if (source.kind === 'yaml') {
@@ -134,7 +135,14 @@ function fromText(name, text, label, menu) {
   custom.textContent = `${menu}: ${name}`;
   $('task').value = CUSTOM;
   if (menu !== 'olympics') $('olympics').value = '';
+  learnLink(menu === 'olympics' ? name.replace(/\.ya?ml$/, '') : null);
   return true;
+}
+
+/** The link to the playground playing the Olympics arena `name` (none for a task or a user's file). */
+function learnLink(name) {
+  $('learn').hidden = !name;
+  if (name) $('learn-link').href = `index.html?arena=${encodeURIComponent(name)}`;
 }
 
 /** The Olympics corpus's menu (assets/arenas/olympics.json, made by `sec-experiment arenas`): by

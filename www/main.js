@@ -2,7 +2,9 @@
 // hash, starting to play on load.
 import { Playground } from './playground.js';
 
-const pg = new Playground(document.getElementById('app'), { hash: true, autoplay: true });
+// `?arena=05-25-01`: the playground plays that Olympics arena (the arena page links here).
+const arena = new URLSearchParams(location.search).get('arena');
+const pg = new Playground(document.getElementById('app'), { hash: true, autoplay: true, arena });
 
 // For tests and the curious: the page's state.
 window.secPlayground = pg.state;

@@ -34,9 +34,10 @@ export class Playground {
    * keys to values), `hash` (keep the settings in the page's URL hash), `autoplay`, `hide`
    * (setting keys, or parts: runbar, keepbar, controls, views, charts, compare, or one view:
    * camera, arena, reconstruction, heat, policy), `keys` (where
-   * the keyboard shortcuts listen: the window, or the element).
+   * the keyboard shortcuts listen: the window, or the element), `arena` (an Olympics arena's
+   * name, `05-25-01`: every run plays that file, in the arena build).
    */
-  constructor(root, { settings = {}, hash = false, autoplay = true, hide = [], keys = window } = {}) {
+  constructor(root, { settings = {}, hash = false, autoplay = true, hide = [], keys = window, arena = null } = {}) {
     const t = document.createElement('template');
     t.innerHTML = TEMPLATE;
     root.append(t.content);
@@ -49,6 +50,9 @@ export class Playground {
     delete fromHash.tour;
     this.initial = { ...settings, ...fromHash };
     this.hidden = hide;
+    this.arena = arena;
+    /** What an arena file's run has no use for (set when the worker plays one): hidden with `hide`. */
+    this.arenaHides = [];
     this.worker = null;
     this.fatal = false;
     this.params = [];
@@ -109,10 +113,32 @@ export class Playground {
   setHidden(hide) {
     const part = (name) => (/^[a-z-]+$/i.test(name)
       ? this.root.querySelector(`.playground .${name}, .playground #${name}`) : null);
+    const all = [...hide, ...this.arenaHides];
     for (const name of this.hidden) part(name)?.removeAttribute('hidden');
-    for (const name of hide) part(name)?.setAttribute('hidden', '');
-    this.hidden = [...hide];
+    for (const name of all) part(name)?.setAttribute('hidden', '');
+    this.hidden = all;
+    this.teacherHides = [...hide];
     this.controls?.hide(this.hidden);
+  }
+
+  /**
+   * The worker plays the Olympics arena `name`: a note says what that run is (the untrained
+   * encoder, no gate: no model was trained on it) with the way back, and what it has no use for
+   * is hidden (the task and encoder choices, the episode limit, which is the file's own, the
+   * reconstruction, the warm-up of the paper's tasks, the comparison of presets in them).
+   */
+  showArena(name) {
+    this.arenaHides = name ? ['task', 'perception', 't', 'reconstruction', 'warm-up', 'compare'] : [];
+    this.setHidden(this.teacherHides ?? []);
+    const note = this.$('arena-note');
+    note.hidden = !name;
+    if (!name) return;
+    note.querySelector('.arena-name').textContent = name;
+    const category = Number(name.slice(0, 2));
+    fetch(new URL('../assets/arenas/olympics.json', import.meta.url)).then((r) => r.json()).then((index) => {
+      const c = index.categories?.[category - 1];
+      if (c) note.querySelector('.arena-name').textContent = `${name} (category ${category}: ${c})`;
+    }).catch(() => {}); // the name alone says which file it is
   }
 
   /** The error at the top of the page, and each refused value's next to its control. */
@@ -146,7 +172,10 @@ export class Playground {
     this.worker.onmessage = ({ data }) => this.handlers[data.type]?.call(this, data);
     this.worker.onerror = (e) => this.showError(`The simulation worker failed: ${e.message ?? 'it could not start'}`);
     // Which build, and the first task: the worker fetches its model while the wasm loads.
-    this.send({ type: 'boot', wasm: WASM, task: (this.settings ?? this.initial).task ?? 'double-t-maze', files: filesForWorker() });
+    this.send({
+      type: 'boot', wasm: WASM, task: (this.settings ?? this.initial).task ?? 'double-t-maze', files: filesForWorker(),
+      arena: this.arena,
+    });
   }
 
   writeHash() {
@@ -600,6 +629,7 @@ Playground.prototype.handlers = {
     this.params = msg.params;
     this.agents = msg.agents;
     this.build = msg.build;
+    this.showArena(msg.arena);
     this.controls ??= buildControls(this.$('controls'), this.params, (key, value) => {
       if (this.settings?.[key] !== value) this.send({ type: 'set', changes: { [key]: value } });
     });
@@ -668,7 +698,8 @@ Playground.prototype.handlers = {
         performance.mark('sec-playground:first-frame');
       }
       drawRgba($('camera'), new Uint8Array(msg.camera), msg.side, msg.side);
-      drawRgba($('reconstruction'), new Uint8Array(msg.reconstruction), msg.side, msg.side);
+      // An arena file's run has no trained model, so no reconstruction (its figure is hidden).
+      if (msg.reconstruction.byteLength) drawRgba($('reconstruction'), new Uint8Array(msg.reconstruction), msg.side, msg.side);
       drawRgba($('arena'), new Uint8Array(msg.top), $('arena').width, $('arena').width);
     }
     if (msg.heat) drawHeat($('heat'), new Float32Array(msg.heat), msg.n, new Uint32Array(msg.selected), $('heat-kind').value);
@@ -708,7 +739,7 @@ Playground.prototype.handlers = {
   },
   memory({ bytes }) {
     const s = this.settings;
-    download(this.root, `sec-memory-${s.task}-seed${s.seed}.secmem`, 'application/octet-stream', bytes);
+    download(this.root, `sec-memory-${this.arena ?? s.task}-seed${s.seed}.secmem`, 'application/octet-stream', bytes);
     this.notice(`Memory saved (${(bytes.byteLength / 1024).toFixed(0)} KB).`);
   },
   loaded({ sequences, what }) {
@@ -728,7 +759,7 @@ Playground.prototype.handlers = {
     if (!this.pendingJson) return;
     this.pendingJson = false;
     const json = JSON.stringify({ settings: this.settings, seed, config }, null, 2);
-    download(this.root, `sec-config-${this.settings.task}-seed${seed}.json`, 'application/json', json);
+    download(this.root, `sec-config-${this.arena ?? this.settings.task}-seed${seed}.json`, 'application/json', json);
   },
   file(msg) {
     answerFileRequest(this.worker, msg);

@@ -44,6 +44,10 @@ export const TEMPLATE = `
     that the comparison has the machine. <button id="main-resume" type="button">Resume it</button></p>
   <p id="error" class="error" role="alert" hidden></p>
   <p id="notice" class="notice" aria-live="polite"></p>
+  <p id="arena-note" class="note arena-note" hidden>Olympics arena <strong class="arena-name"></strong>: SEC learns it with
+    the untrained encoder (random weights drawn from the seed: nothing to train) and without the reconstruction gate,
+    since no model was trained on this arena. <a href="arena.html">Other arenas</a> ·
+    <a href="index.html">the paper's tasks</a></p>
   <div class="layout">
     <section id="controls" class="controls" aria-label="Parameters"></section>
     <section class="views" aria-label="What the agent sees and remembers">

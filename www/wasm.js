@@ -3,7 +3,8 @@
 // (the kernels sum in the same order), so a run is the same on either. `?wasm=scalar` in the
 // page's address forces the fallback (for tests and for comparing speed). `?wasm=hooks` loads the
 // test flavour (scripts/build-hooks.sh), the SIMD build with the test hooks; the published page
-// has no such folder. Every file is addressed by a literal `new URL(..., import.meta.url)` or
+// has no such folder. A run of an Olympics arena file loads the arena build (scalar, with the
+// YAML parser the other two leave out: `load({arena: true})`). Every file is addressed by a literal `new URL(..., import.meta.url)` or
 // `import(...)`, so a bundler (Vite) finds and copies the wasm and the models.
 
 import { TASKS } from './tasks.js';
@@ -23,33 +24,37 @@ const fetched = new Map();
 export let build = null;
 // The glue's exports, bound by `load` (live bindings: importers see them once it has run).
 export let SecRun, agents, parameters, parseSettings, applySettings, presetSettings, panicForTest, registerModel, hasModel,
-  taskNames, frameSize;
+  taskNames, frameSize, withArena;
 
 /**
  * Loads and instantiates the build `wanted` ('scalar', 'hooks', or anything else for the best
- * this engine runs), fetching the model of `task` meanwhile; resolves with the wasm's exports.
- * `files`: where the files come from (files.js; the page's boot message says), beside the modules
- * when null.
+ * this engine runs; the arena build when `arena`), fetching the model of `task` meanwhile;
+ * resolves with the wasm's exports. `files`: where the files come from (files.js; the page's
+ * boot message says), beside the modules when null.
  */
-export async function load({ wanted = null, task = null, files = null } = {}) {
-  build = wanted === 'hooks' ? 'hooks' : wanted === 'scalar' || !WebAssembly.validate(SIMD_PROBE) ? 'scalar' : 'simd';
+export async function load({ wanted = null, task = null, files = null, arena = false } = {}) {
+  build = arena ? 'arena' : wanted === 'hooks' ? 'hooks'
+    : wanted === 'scalar' || !WebAssembly.validate(SIMD_PROBE) ? 'scalar' : 'simd';
   if (files) provideFiles(files);
-  if (task) prefetchModel(task);
+  if (task && !arena) prefetchModel(task);
   const glue = build === 'hooks' ? await import(/* @vite-ignore */ new URL(HOOKS, import.meta.url).href)
-    : build === 'scalar' ? await import('../pkg/scalar/sec_playground.js') : await import('../pkg/sec_playground.js');
+    : build === 'arena' ? await import('../pkg/arena/sec_playground.js')
+      : build === 'scalar' ? await import('../pkg/scalar/sec_playground.js') : await import('../pkg/sec_playground.js');
   ({ SecRun, agents, parameters, parseSettings, applySettings, presetSettings, panicForTest, registerModel, hasModel,
-    taskNames, frameSize } = glue);
+    taskNames, frameSize, withArena } = glue);
   if (!filesProvided() || build === 'hooks') return glue.default();
   // The glue's own default is the wasm beside it, which a provided source replaces.
-  const wasm = build === 'scalar' ? 'pkg/scalar/sec_playground_bg.wasm' : 'pkg/sec_playground_bg.wasm';
+  const wasm = `${{ arena: 'pkg/arena', scalar: 'pkg/scalar' }[build] ?? 'pkg'}/sec_playground_bg.wasm`;
   const r = await fetchFile(wasm);
   if (!r.ok) throw new Error(`${wasm} could not be loaded (${r.statusText || `HTTP ${r.status}`})`);
   return glue.default({ module_or_path: r });
 }
 
 /** The trained model a run's reconstruction gate uses: its task's, trained on frames of its
- * surface (the core's `encoder::model_name`): `<task>` flat, `<task>-textured` textured. */
+ * surface (the core's `encoder::model_name`): `<task>` flat, `<task>-textured` textured; null
+ * for an arena file's run, which has none. */
 export function gateModel(config) {
+  if (config.arena != null) return null;
   return config.surface === 'textured' ? `${config.task}-textured` : config.task;
 }
 
@@ -77,7 +82,7 @@ export function prefetchModel(task) {
  * left to the run to refuse by name.
  */
 export function ensureModel(task) {
-  if (!taskNames().includes(taskOf(task)) || hasModel(task)) return Promise.resolve();
+  if (task == null || !taskNames().includes(taskOf(task)) || hasModel(task)) return Promise.resolve();
   if (!loading.has(task)) {
     prefetchModel(task);
     loading.set(task, fetched.get(task)

@@ -5,16 +5,17 @@
 // Any message may carry an `id`: it is then answered with {type: 'done', id, result} (or an error
 // with the id) after what it posted; `set` gives {mode, changes, settings}, `saveMemory` with an
 // id gives the bytes instead of posting them, `loadMemory` gives {sequences}.
-// Messages in:  {type: 'boot', wasm, task, files} (first), {type: 'start', settings}, {type: 'set', changes}, {type: 'play'}, {type: 'pause'},
+// Messages in:  {type: 'boot', wasm, task, files, arena} (first), {type: 'start', settings}, {type: 'set', changes}, {type: 'play'}, {type: 'pause'},
 //               {type: 'speed', value}, {type: 'step', what: 'decision' | 'episode'},
 //               {type: 'reset'}, {type: 'views', camera, top, heat, hz, explain}, {type: 'drive', action, record},
 //               {type: 'saveMemory'}, {type: 'loadMemory', bytes},
 //               {type: 'warmUp', bytes, what}, {type: 'crash'} (a test hook), {type: 'file', id, bytes | error}
-// Messages out: {type: 'ready', params, agents, defaults, build}, {type: 'started', settings, errors, mode},
+// Messages out: {type: 'ready', params, agents, defaults, build, arena}, {type: 'started', settings, errors, mode},
 //               {type: 'episodes', list}, {type: 'view', ...}, {type: 'state', playing},
 //               {type: 'memory', bytes}, {type: 'loaded', sequences, what}, {type: 'error', message, fatal},
 //               {type: 'file', id, path} (a file it needs, where the page provides them: files.js)
-import { load, build, ensureModel, gateModel, SecRun, agents, frameSize, parameters, parseSettings, applySettings, presetSettings, panicForTest } from './wasm.js';
+import { load, build, ensureModel, gateModel, SecRun, agents, frameSize, parameters, parseSettings, applySettings, presetSettings, panicForTest, withArena } from './wasm.js';
+import { fetchFile } from './files.js';
 import { AdaptiveBatch, SLICE_MS, serveMessages, soon } from './slices.js';
 
 /** Most view posts per second while watching; the page asks for fewer at max speed. */
@@ -33,6 +34,13 @@ let lastTick = 0;
 let dead = false; // the wasm instance trapped: only a new start can help
 let driver = null; // {action, record} while a person drives; kept across new runs
 let wasmMemory = null; // the instance's memory: its size goes out with each view (a leak shows)
+let arena = null; // {name, yaml}: the Olympics arena file every run of this worker plays, if any
+
+/** The Olympics corpus's file names (assets/arenas/competition/NN-NN-NN.yaml). */
+const OLYMPICS_NAME = /^(0[1-9]|10)-\d\d-0[1-3]$/;
+
+/** The run's configuration from the settings': the arena file's run when there is one. */
+const configOf = (config) => (arena ? withArena(config, arena.name, arena.yaml) : config);
 
 const post = (msg, transfer) => self.postMessage(msg, transfer ?? []);
 
@@ -129,7 +137,8 @@ function setPlaying(p) {
  * A new run (its task's model fetched first), given to `prepare` before it replaces the old one;
  * on failure (of either) the old run goes on.
  */
-async function newRun(config, seed, prepare) {
+async function newRun(settingsConfig, seed, prepare) {
+  const config = configOf(settingsConfig);
   await ensureModel(gateModel(config));
   const next = new SecRun(config, seed);
   try {
@@ -166,8 +175,9 @@ const handlers = {
       await newRun(next.config, next.seed);
       mode = 'restart';
     } else {
-      if (gateModel(next.config) !== gateModel(run.config())) await ensureModel(gateModel(next.config));
-      mode = run.replaceConfig(next.config).applied;
+      const config = configOf(next.config);
+      if (gateModel(config) !== gateModel(run.config())) await ensureModel(gateModel(config));
+      mode = run.replaceConfig(config).applied;
     }
     // What changed, under the table's keys (an attribute `thetaprop` is `thetaProp` here).
     const changed = Object.fromEntries(Object.entries(next.settings).filter(([k, v]) => settings?.[k] !== v));
@@ -268,14 +278,27 @@ serveMessages(handlers, (e, id) => (e instanceof WebAssembly.RuntimeError ? trap
  * The page's first message: which build (`wasm`) and the first task, whose model is fetched while
  * the wasm loads. Messages after it wait until it is done (serveMessages runs them in order).
  */
-handlers.boot = async ({ wasm, task, files }) => {
+handlers.boot = async ({ wasm, task, files, arena: name }) => {
   try {
-    wasmMemory = (await load({ wanted: wasm, task, files })).memory;
+    if (name != null && !OLYMPICS_NAME.test(String(name))) {
+      throw new Error(`arena: '${String(name).slice(0, 40)}' is not an Olympics arena's name (01-01-01 to 10-30-03, the arena page's menu)`);
+    }
+    const loading = load({ wanted: wasm, task, files, arena: name != null });
+    loading.catch(() => {}); // awaited below, after the file
+    if (name != null) {
+      const path = `assets/arenas/competition/${name}.yaml`;
+      const r = await fetchFile(path, () => new URL(`../${path}`, import.meta.url));
+      if (!r.ok) throw new Error(`arena: ${path} could not be loaded (${r.statusText || `HTTP ${r.status}`})`);
+      arena = { name, yaml: await r.text() };
+    }
+    wasmMemory = (await loading).memory;
+    // A file the loader refuses (one that needs what the arenas cannot do yet) is refused here, by name.
+    if (arena) withArena(parseSettings({}).config, arena.name, arena.yaml);
   } catch (e) {
     fail(`The simulation could not load: ${e?.message ?? e}`, true);
     dead = true;
     return;
   }
   const parsed = parseSettings({});
-  post({ type: 'ready', params: parameters(), agents: agents(), defaults: parsed.settings, build });
+  post({ type: 'ready', params: parameters(), agents: agents(), defaults: parsed.settings, build, arena: arena?.name ?? null });
 };

@@ -30,12 +30,13 @@ impl PerceptionKind {
 
 pub use super::weights::{check_scale, SCALE_RANGE};
 
-/// A run's perceptual layer: the trained autoencoder (always: it runs the reconstruction gate
-/// and the page's reconstruction) and, for `Untrained`, the encoder that embeds.
+/// A run's perceptual layer: the trained autoencoder (it runs the reconstruction gate and the
+/// page's reconstruction; an arena file has none, `without_model`) and, for `Untrained`, the
+/// encoder that embeds.
 #[derive(Clone, Debug)]
 pub struct Perception {
     kind: PerceptionKind,
-    trained: Autoencoder,
+    trained: Option<Autoencoder>,
     untrained: Option<Autoencoder>,
 }
 
@@ -55,15 +56,19 @@ impl Perception {
                 }
                 None
             }
-            PerceptionKind::Untrained => {
-                let mut rng = crate::seed::rng(seed, Stream::UntrainedEncoder);
-                let mut e = Autoencoder::untrained_encoder(&mut rng);
-                e.task = task.to_string();
-                e.embedding_scale = scale.unwrap_or(1.0);
-                Some(e)
-            }
+            PerceptionKind::Untrained => Some(untrained_encoder(task, scale, seed)),
         };
-        Ok(Perception { kind, trained, untrained })
+        Ok(Perception { kind, trained: Some(trained), untrained })
+    }
+
+    /// The untrained perception of an arena no model was trained on (an arena file): it embeds
+    /// with the untrained encoder drawn from `seed`, as `new` does, and has no gate model.
+    pub fn without_model(name: &str, scale: Option<f32>, seed: u64) -> Result<Self, Error> {
+        if let Some(s) = scale {
+            check_scale(s)?;
+        }
+        let untrained = Some(untrained_encoder(name, scale, seed));
+        Ok(Perception { kind: PerceptionKind::Untrained, trained: None, untrained })
     }
 
     /// Which encoder it is.
@@ -71,14 +76,17 @@ impl Perception {
         self.kind
     }
 
-    /// The trained autoencoder: the gate's model.
-    pub fn trained(&self) -> &Autoencoder {
-        &self.trained
+    /// The trained autoencoder: the gate's model (`None` for an arena file's run).
+    pub fn trained(&self) -> Option<&Autoencoder> {
+        self.trained.as_ref()
     }
 
     /// The encoder whose outputs are the embeddings.
     pub fn embedder(&self) -> &Autoencoder {
-        self.untrained.as_ref().unwrap_or(&self.trained)
+        match (&self.untrained, &self.trained) {
+            (Some(e), _) | (None, Some(e)) => e,
+            (None, None) => unreachable!("a perception has an encoder that embeds"),
+        }
     }
 
     /// The embedding of an image, times the embedding scale.
@@ -90,4 +98,13 @@ impl Perception {
     pub fn embeds_with_gate_model(&self) -> bool {
         self.untrained.is_none()
     }
+}
+
+/// The Glorot-initialised encoder of the run with `seed`, labelled `name`.
+fn untrained_encoder(name: &str, scale: Option<f32>, seed: u64) -> Autoencoder {
+    let mut rng = crate::seed::rng(seed, Stream::UntrainedEncoder);
+    let mut e = Autoencoder::untrained_encoder(&mut rng);
+    e.task = name.to_string();
+    e.embedding_scale = scale.unwrap_or(1.0);
+    e
 }

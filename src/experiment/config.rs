@@ -49,6 +49,13 @@ pub struct RunConfig {
     /// committed runs' manifests, memory files and checkpoints name it).
     #[serde(skip_serializing_if = "Surface::is_flat")]
     pub surface: Surface,
+    /// An Animal-AI arena file (its YAML text) played instead of a preset task: one of the
+    /// Olympics arenas (`assets/arenas/competition/`) or a user's own; `task` then names it (any
+    /// name but a preset task's). No model was trained on its frames, so its runs embed with the
+    /// untrained encoder and SEC runs without the reconstruction gate (`with_arena` sets both).
+    /// Left out of the JSON when absent.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub arena: Option<String>,
 }
 
 impl Default for RunConfig {
@@ -64,6 +71,7 @@ impl Default for RunConfig {
             raw_embeddings: false,
             start_heading: StartHeading::Random,
             surface: Surface::Flat,
+            arena: None,
         }
     }
 }
@@ -78,7 +86,10 @@ impl RunConfig {
                 format!("{} is out of range 1..=100", self.decision_period),
             ));
         }
-        EnvConfig { task: Task::preset(&self.task)?, t: self.t, surface: self.surface }.validate()?;
+        if self.arena.is_some() {
+            self.check_arena_run()?;
+        }
+        EnvConfig { task: self.task()?, t: self.t, surface: self.surface }.validate()?;
         if let Some(s) = self.embedding_scale {
             check_scale(s)?;
             if self.raw_embeddings && s != 1.0 {
@@ -117,14 +128,67 @@ impl RunConfig {
     }
 
     /// The trained model of the run's reconstruction gate: the task's, trained on frames of the
-    /// run's surface (`encoder::model_name`).
-    pub fn gate_model(&self) -> String {
-        crate::encoder::model_name(&self.task, self.surface)
+    /// run's surface (`encoder::model_name`); `None` for an arena file, which has none.
+    pub fn gate_model(&self) -> Option<String> {
+        self.arena.is_none().then(|| crate::encoder::model_name(&self.task, self.surface))
     }
 
-    /// The task with the start heading applied.
+    /// The task with the start heading applied: the preset `task`, or the arena file's.
     pub fn task(&self) -> Result<Task, ConfigError> {
-        Ok(Task::preset(&self.task)?.with_start_heading(self.start_heading))
+        let task = match &self.arena {
+            None => Task::preset(&self.task)?,
+            Some(yaml) => arena_task(&self.task, yaml)?,
+        };
+        Ok(task.with_start_heading(self.start_heading))
+    }
+
+    /// This configuration playing the arena file `yaml` named `name` (see `arena`): with the
+    /// untrained encoder and SEC's gate off, which an arena without a trained model needs, and
+    /// the file's own episode limits (`t` None: each of its arenas has its own). Checked like any
+    /// configuration.
+    pub fn with_arena(mut self, name: &str, yaml: &str) -> Result<RunConfig, ConfigError> {
+        self.task = name.to_string();
+        self.arena = Some(yaml.to_string());
+        self.t = None;
+        self.perception = PerceptionKind::Untrained;
+        self.section_mut::<crate::agent::SecConfig>().gate = None;
+        self.validate()?;
+        Ok(self)
+    }
+
+    /// What an arena file's run needs besides a valid file: a name that is not a preset's, and
+    /// no part that needs a model trained on the arena.
+    fn check_arena_run(&self) -> Result<(), ConfigError> {
+        let name = self.task.trim();
+        if name.is_empty() || name.len() > MAX_ARENA_NAME || name != self.task {
+            return Err(ConfigError::new(
+                "task",
+                format!(
+                    "'{}' cannot name an arena file: 1 to {MAX_ARENA_NAME} bytes, no spaces at its ends",
+                    crate::util::shown(&self.task)
+                ),
+            ));
+        }
+        if crate::arena::TASK_NAMES.contains(&name) {
+            return Err(ConfigError::new(
+                "task",
+                format!("'{name}' is a preset task; a run of an arena file names the file's arena instead"),
+            ));
+        }
+        if self.perception == PerceptionKind::Trained {
+            return Err(ConfigError::new(
+                "perception",
+                "'trained' needs a model trained on the arena; an arena file has none: use 'untrained'",
+            ));
+        }
+        let gate = self.section::<crate::agent::SecConfig>().gate;
+        if let (true, Some(g)) = (self.agent_row().has_gate, gate) {
+            return Err(ConfigError::new(
+                "agent.gate",
+                format!("{g} needs the arena's trained model, and an arena file has none: set it to null (off)"),
+            ));
+        }
+        Ok(())
     }
 
     /// A configuration from its JSON value, not yet validated: each agent's section is read by
@@ -233,6 +297,26 @@ impl RunConfig {
             (a, b) => a.is_none() && b.is_none(),
         })
     }
+}
+
+/// The longest name of an arena file's run (its memory files and the page show it).
+pub const MAX_ARENA_NAME: usize = 200;
+
+/// The task of an arena file, a file error reported under `arena`.
+#[cfg(any(not(target_arch = "wasm32"), feature = "yaml-arenas"))]
+fn arena_task(name: &str, yaml: &str) -> Result<Task, ConfigError> {
+    crate::arena::yaml::load_task(name, yaml).map_err(|e| ConfigError {
+        line: e.line,
+        field: if e.field == "arena" { e.field } else { format!("arena.{}", e.field) },
+        message: e.message,
+    })
+}
+
+/// Without the YAML parser (the page's playground builds leave it out: 41 KB gzipped), an arena
+/// file is refused, naming the build that reads it.
+#[cfg(not(any(not(target_arch = "wasm32"), feature = "yaml-arenas")))]
+fn arena_task(_name: &str, _yaml: &str) -> Result<Task, ConfigError> {
+    Err(ConfigError::new("arena", "this build reads no arena files: the arena build (pkg/arena/) does"))
 }
 
 fn no_section<T>() -> ! {

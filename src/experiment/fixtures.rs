@@ -96,3 +96,24 @@ pub fn golden_textured_run() -> String {
     }
     log
 }
+
+/// The Olympics arena of the golden arena run: a ramp up to a platform (the 3-D world) in
+/// spatial reasoning, with its own t of 500.
+pub const ARENA_FILE: (&str, &str) = ("05-25-01", include_str!("../../assets/arenas/competition/05-25-01.yaml"));
+/// Episodes of `golden_arena_run`.
+pub const ARENA_EPISODES: usize = 12;
+
+/// The golden log of SEC playing an Olympics arena file (`RunConfig::with_arena`: the untrained
+/// encoder, no gate), seed 3, acting from memory after its first stored sequence. Native, wasm
+/// (the arena build) and Python reproduce it bit for bit.
+pub fn golden_arena_run() -> String {
+    let mut cfg = RunConfig::default().with_arena(ARENA_FILE.0, ARENA_FILE.1).expect("the golden arena loads");
+    cfg.section_mut::<SecConfig>().min_sequences = 1;
+    let mut run = Run::new(cfg, 3).expect("the golden configuration is valid");
+    let mut log = String::new();
+    for _ in 0..ARENA_EPISODES {
+        log += &run.episode().to_json();
+        log.push('\n');
+    }
+    log
+}

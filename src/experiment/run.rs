@@ -129,7 +129,10 @@ impl Run {
     pub fn with_agents(cfg: RunConfig, seed: u64, extra: Option<AgentFactory>) -> Result<Self, Error> {
         cfg.validate()?;
         let task = cfg.task()?;
-        let perception = Perception::new(cfg.perception, &cfg.gate_model(), cfg.scale_override(), seed)?;
+        let perception = match cfg.gate_model() {
+            Some(model) => Perception::new(cfg.perception, &model, cfg.scale_override(), seed)?,
+            None => Perception::without_model(&cfg.task, cfg.scale_override(), seed)?,
+        };
         let env = Env::new(EnvConfig { task, t: cfg.t, surface: cfg.surface }, seed)?;
         let mut rng = seed::rng(seed, Stream::Agent);
         let controller = controller(&cfg, &perception, seed, &mut rng, extra)?;
@@ -200,8 +203,8 @@ impl Run {
     }
 
     /// The task's trained autoencoder: the reconstruction gate's model and the page's
-    /// reconstruction view.
-    pub fn encoder(&self) -> &Autoencoder {
+    /// reconstruction view (`None` in an arena file's run).
+    pub fn encoder(&self) -> Option<&Autoencoder> {
         self.perception.trained()
     }
 
@@ -218,7 +221,8 @@ impl Run {
     /// The reconstruction error the gate measured last (`None` before its first measurement,
     /// and always for an agent without the gate).
     pub fn gate_mse(&mut self) -> Option<f32> {
-        self.gate.has_measured().then(|| self.gate.mse(self.perception.trained(), &mut self.scratch, &mut self.cache))
+        let model = self.perception.trained().filter(|_| self.gate.has_measured())?;
+        Some(self.gate.mse(model, &mut self.scratch, &mut self.cache))
     }
 
     /// A person takes (`Some`) or gives back (`None`) the controls; see `Driver`.
@@ -292,14 +296,20 @@ impl Run {
             }
         }
         if self.sec_events().is_some() {
-            let rec_mse = self.gate.mse(self.perception.trained(), &mut self.scratch, &mut self.cache);
+            // Without a gate model (an arena file's run, whose gate is off) the log's default, 0.
+            let rec_mse = match self.perception.trained() {
+                Some(model) => self.gate.mse(model, &mut self.scratch, &mut self.cache),
+                None => 0.0,
+            };
             let ev = self.sec_events().expect("checked above");
             ev.push(trace::Event::Decision { embedding: e.to_vec(), rec_mse });
         }
         let obs = Observation { embedding: &e, image: &self.image, terminal, person: self.driver.map(|d| d.action) };
         let (gate, encoder, scratch, cache) =
             (&mut self.gate, self.perception.trained(), &mut self.scratch, &mut self.cache);
-        self.controller.decide(&obs, &mut || gate.mse(encoder, scratch, cache), &mut self.rng)
+        // A run without a gate model has its gate off (`RunConfig::validate`), so never asks.
+        let mut measure = || gate.mse(encoder.expect("a run whose gate is on has its model"), scratch, cache);
+        self.controller.decide(&obs, &mut measure, &mut self.rng)
     }
 
     /// The current frame into `image`, unless it holds that view already (the agent against a
@@ -389,7 +399,7 @@ impl Run {
                 }
             }
         }
-        let uses_gate = self.agent.has_gate;
+        let uses_gate = self.agent.has_gate && self.perception.trained().is_some();
         if self.agent.reads != Input::Nothing && (decides || (uses_gate && self.gate.due())) {
             self.look();
         }

@@ -171,12 +171,16 @@ impl SecRun {
         unsafe { js_sys::Uint8Array::view(rgba) }
     }
 
-    /// The autoencoder's reconstruction of the current camera image, RGBA (a view).
+    /// The autoencoder's reconstruction of the current camera image, RGBA (a view); empty in an
+    /// arena file's run, which has no trained model.
     pub fn reconstruction(&mut self) -> js_sys::Uint8Array {
         let run = self.session.run_mut();
+        if run.encoder().is_none() {
+            return js_sys::Uint8Array::new_with_length(0);
+        }
         run.observation().to_rgb_f32(&mut self.image);
         let mut e = [0.0; EMBEDDING];
-        let ae = run.encoder();
+        let ae = run.encoder().expect("checked above");
         ae.encode(&self.image, &mut self.scratch, &mut e);
         ae.decode(&e, &mut self.scratch, &mut self.rec);
         reconstruction_to_rgba(&self.rec, &mut self.rec_rgba);
@@ -329,6 +333,21 @@ pub fn apply_settings(current: JsValue, changes: JsValue) -> Result<JsValue, JsE
         Ok((cfg, seed)) => parsed(cfg, seed, Vec::new()),
         Err(errors) => Err(JsError::new(&errors.iter().map(|e| e.to_string()).collect::<Vec<_>>().join("; "))),
     }
+}
+
+/// `config` (a `RunConfig`) playing the Animal-AI arena file `yaml` named `name`
+/// (`RunConfig::with_arena`: the untrained encoder, SEC's gate off), as a `RunConfig`. A file the
+/// loader refuses, or a build without the YAML parser (the playground's; the arena build,
+/// pkg/arena/, has it), throws naming the field.
+#[wasm_bindgen(js_name = withArena, unchecked_return_type = "RunConfig")]
+pub fn with_arena(
+    #[wasm_bindgen(unchecked_param_type = "RunConfig")] config: JsValue,
+    #[wasm_bindgen(unchecked_param_type = "string")] name: JsValue,
+    #[wasm_bindgen(unchecked_param_type = "string")] yaml: JsValue,
+) -> Result<JsValue, JsError> {
+    let cfg = config_from_js(config)?;
+    let (name, yaml) = (args::string(&name, "name")?, args::string(&yaml, "yaml")?);
+    to_js(&cfg.with_arena(&name, &yaml).map_err(js_err)?)
 }
 
 /// Makes a weights file (`assets/encoders/<task>.secae`, as bytes) the model of its task; returns

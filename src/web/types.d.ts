@@ -28,6 +28,9 @@ export interface RunConfig {
   startHeading?: "random" | "fixed";
   /** How the camera draws the floor and fences: flat colours (the default) or v1's textures. */
   surface?: "flat" | "textured";
+  /** An Animal-AI arena file's YAML text, played instead of a preset task (`task` names it): see
+   *  `withArena`, which also sets what an arena without a trained model needs. */
+  arena?: string;
 }
 /** One finished episode, as the paper's tables count it. */
 export interface EpisodeMetrics {

@@ -155,3 +155,47 @@ test('an Olympics ramp arena: held forward, the agent climbs the ramp in front o
   assert.ok(up.y > 0.5 && up.y < 1.0, `on the ramp, below its 0.999 top: ${up.y}`);
   assert.deepEqual(problems, []);
 });
+
+test('an Olympics arena links to the playground, where SEC learns it with the untrained encoder and no gate', async () => {
+  await page.selectOption('#olympics', '05-25-01.yaml');
+  await page.waitForFunction(() => window.secPlayground.env.taskName() === '05-25-01.yaml');
+  assert.equal(await page.getAttribute('#learn-link', 'href'), 'index.html?arena=05-25-01');
+  // A built-in task has no such link.
+  await page.selectOption('#task', 'detour');
+  await page.waitForFunction(() => window.secPlayground.env.taskName() === 'detour');
+  assert.ok(await page.locator('#learn').isHidden());
+
+  const pg = await browser.newPage({ viewport: { width: 1400, height: 900 } });
+  const seen = [];
+  pg.on('console', (m) => { if (m.type() === 'error') seen.push(m.text()); });
+  pg.on('pageerror', (e) => seen.push(String(e)));
+  await pg.goto(base + 'index.html?arena=05-25-01');
+  // Episodes of the file's own t (500 env steps, 125 decisions) finish in the arena build.
+  await pg.waitForFunction(() => window.secPlayground.episodes >= 2, null, { timeout: 120000 });
+  const state = await pg.evaluate(() => ({ build: window.secPlayground.build, log: window.secPlayground.log.slice(0, 2) }));
+  assert.equal(state.build, 'arena');
+  for (const m of state.log) {
+    assert.equal(m.layout, '05-25-01');
+    assert.ok(m.envSteps <= 500, `${m.envSteps} env steps`);
+  }
+  assert.match(await pg.textContent('#arena-note'), /05-25-01 .*untrained encoder.*without the reconstruction gate/s);
+  // What such a run has no use for is hidden: the task and encoder choices, the reconstruction,
+  // the warm-up and the comparison of the paper's tasks.
+  for (const sel of ['#controls .param[data-key="task"]', '#controls .param[data-key="perception"]', '#controls .param[data-key="t"]', 'figure.reconstruction', '#warm-up', '#compare']) {
+    const el = pg.locator(sel).first();
+    assert.ok(await el.count(), `${sel} is not on the page`);
+    assert.ok(await el.isHidden(), `${sel} shows`);
+  }
+  await untilColours(pg, '#camera', 3);
+  await pg.screenshot({ path: new URL('playground-olympics.png', ARTIFACTS).pathname });
+  assert.deepEqual(seen, []);
+
+  // A name that is not an Olympics arena's, and a file the loader refuses, each say so.
+  await pg.goto(base + 'index.html?arena=nope');
+  await pg.waitForFunction(() => !document.getElementById('error').hidden);
+  assert.match(await pg.textContent('#error'), /arena: 'nope' is not an Olympics arena's name/);
+  await pg.goto(base + 'index.html?arena=10-01-01');
+  await pg.waitForFunction(() => !document.getElementById('error').hidden);
+  assert.match(await pg.textContent('#error'), /could not load: .*arena/);
+  await pg.close();
+});

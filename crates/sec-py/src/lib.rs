@@ -54,6 +54,15 @@ fn apply_settings(config: &str, pairs: Vec<(String, String)>) -> PyResult<String
     Ok(json(&next))
 }
 
+/// The configuration (JSON) `config` playing the arena file `yaml` named `name`
+/// (`RunConfig::with_arena`: the untrained encoder, SEC's gate off), as JSON; a refused file or
+/// field raises ValueError naming it.
+#[pyfunction]
+fn with_arena(config: &str, name: &str, yaml: &str) -> PyResult<String> {
+    let cfg = RunConfig::from_json(config).map_err(value_error)?;
+    Ok(json(&cfg.with_arena(name, yaml).map_err(value_error)?))
+}
+
 /// The page's settings, every key (what the URL hash shows), after the `changes` (key, value as
 /// the hash writes it) are applied to `current` (the defaults where it is empty) as one batch, as
 /// JSON: what the notebook widget checks before the page sees a value. A bad change raises
@@ -80,6 +89,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(read_text_file, m)?)?;
     m.add_function(wrap_pyfunction!(parameters_json, m)?)?;
     m.add_function(wrap_pyfunction!(apply_settings, m)?)?;
+    m.add_function(wrap_pyfunction!(with_arena, m)?)?;
     m.add_function(wrap_pyfunction!(page_settings, m)?)?;
     m.add_function(wrap_pyfunction!(grid::grid_conditions, m)?)?;
     m.add_function(wrap_pyfunction!(grid::grid_seeds, m)?)?;

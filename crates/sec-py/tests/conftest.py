@@ -2,9 +2,15 @@ from pathlib import Path
 
 import pytest
 
-GOLDEN = Path(__file__).resolve().parents[3] / "tests" / "golden"
+REPO = Path(__file__).resolve().parents[3]
+GOLDEN = REPO / "tests" / "golden"
 
 
 @pytest.fixture
 def golden():
     return GOLDEN
+
+
+@pytest.fixture
+def repo():
+    return REPO

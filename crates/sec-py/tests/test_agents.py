@@ -121,3 +121,23 @@ def test_the_agent_table_runs_every_agent_the_page_offers():
         run = Run(config, seed=1)
         run.decisions(5)
         assert (run.view()["embedding"] is not None) == a["hasMemory"], a["key"]
+
+
+def test_an_olympics_arena_file_runs_from_python_as_natively(golden, repo):
+    # `sec_playground::experiment::fixtures::golden_arena_run()`: the file named by its stem, the
+    # untrained encoder and no gate, minSequences 1, seed 3.
+    path = repo / "assets" / "arenas" / "competition" / "05-25-01.yaml"
+    run = Run({"agent": {"minSequences": 1}}, seed=3, yaml_path=path)
+    config = run.config
+    assert (config["task"], config["perception"], config["agent"]["gate"]) == ("05-25-01", "untrained", None)
+    lines = [run.episode_json() for _ in range(12)]
+    assert lines == (golden / "run-arena.txt").read_text().splitlines()
+    # What needs a model trained on the arena is refused by name, whether asked in the config or as a setting.
+    with pytest.raises(ValueError, match="perception"):
+        Run({"perception": "trained"}, yaml_path=path)
+    with pytest.raises(ValueError, match="agent.gate"):
+        Run({"agent": {"gate": 0.01}}, yaml_path=path)
+    with pytest.raises(ValueError, match="perception"):
+        Run(yaml_path=path, perception="trained")
+    with pytest.raises(ValueError, match="yaml_path"):
+        Run(yaml_path=3)

@@ -2,10 +2,11 @@
 
 import json
 import math
+import os
 from typing import Any, Optional
 
 from . import _core
-from .envs import integer
+from .envs import _read_yaml, integer
 
 
 class Run:
@@ -13,14 +14,27 @@ class Run:
     "agent": {"memory": {"tau": 0.5}}}; missing fields take the defaults, the code preset) with
     `seed`. Its `kind` and `mfec.embedding` pick the agent: `sec_playground.agents()` lists each
     agent's `kind` and `mfecEmbedding`. Each
-    `episode()` plays one episode and returns the metrics the runner's JSON lines hold."""
+    `episode()` plays one episode and returns the metrics the runner's JSON lines hold.
 
-    def __init__(self, config: Optional[dict[str, Any]] = None, seed: int = 0, **settings: Any):
+    `yaml_path`: an Animal-AI arena file (one of the Olympics arenas in the repository's
+    `assets/arenas/competition/`, or your own) played instead of the task, named by the file's
+    stem; no model was trained on it, so the run embeds with the untrained encoder and SEC's
+    reconstruction gate is off (the configuration's `arena`, `perception` and `agent.gate`)."""
+
+    def __init__(self, config: Optional[dict[str, Any]] = None, seed: int = 0, yaml_path=None, **settings: Any):
         if config is None:
             config = {}
         if not isinstance(config, dict):
             raise ValueError(f"config: {type(config).__name__} is not a dict (a RunConfig)")
         seed = integer("seed", seed, 0, _core.MAX_SEED)
+        if yaml_path is not None:
+            yaml = _read_yaml(yaml_path)
+            name = os.path.splitext(os.path.basename(os.fspath(yaml_path)))[0]
+            arena = json.loads(_core.with_arena(_config_json(config), name, yaml))
+            # What the caller wrote wins (a trained encoder or a gate asked for is then refused,
+            # naming it), over what the arena's run otherwise takes.
+            _merge(arena, config)
+            config = arena
         if settings:
             config = json.loads(_core.apply_settings(_config_json(config), _setting_pairs(settings)))
         self._run = _core.Run(_config_json(config), seed)

@@ -47,14 +47,16 @@ const USAGE: &str = "usage:
   sec-experiment run EXPERIMENT [--seeds N|A..B|A,B,C] [--episodes N] [--jobs N] [--shard i/N] [--out DIR]
                      [--only GROUP/MODEL,GROUP/,...] [--checkpoint-every N] [--reuse yes|no]
                      [--legacy-checkpoint]
-  sec-experiment run --config FILE.json [--set JSON] --name GROUP/MODEL [the same options]
+  sec-experiment run --config FILE.json|--arena FILE.yaml [--set JSON] --name GROUP/MODEL [the same options]
   sec-experiment parameters [--agent KEY] [--json]   (the settings the page's controls are built
                          from: key, symbol, range, live or restart, group, help; --agent one
                          agent's, a key of `agents`)
-  sec-experiment config [--config FILE.json] [--set JSON]   (the whole configuration they make, on
-                         standard output; each field --set changed, and whether it acts live, on
-                         standard error. --set '{\"agent\": {\"memory\": {\"tau\": 0.5}}}' changes only
-                         the fields it names; record, trace and run --config take it too)
+  sec-experiment config [--config FILE.json] [--arena FILE.yaml] [--set JSON]   (the whole
+                         configuration they make, on standard output; each field --set changed, and
+                         whether it acts live, on standard error. --set '{\"agent\": {\"memory\":
+                         {\"tau\": 0.5}}}' changes only the fields it names; --arena plays an
+                         Animal-AI arena file, named by its stem, with the untrained encoder and no
+                         gate; record, trace and run --config take both too)
   sec-experiment report EXPERIMENT [--out DIR] [--to DIR] [--quote PAGE.md] [--partial]
   sec-experiment orderings [--out DIR] [--trained DIR] [--authors DIR] [--to DIR] [--quote PAGE.md] [--partial]
   sec-experiment matching [--out DIR] [--frames N] [--seeds N|A..B|A,B,C] [--quote PAGE.md]
@@ -187,8 +189,9 @@ fn number<T: std::str::FromStr + PartialOrd + std::fmt::Display>(
     }
 }
 
-/// The configuration of `--config FILE` (the defaults without one, where `optional`), with the
-/// fields of `--set JSON` changed (`RunConfig::patched`: the others keep the file's values).
+/// The configuration of `--config FILE` (the defaults without one, where `optional`), playing
+/// the arena file of `--arena FILE.yaml` (`RunConfig::with_arena`, named by the file's stem), with
+/// the fields of `--set JSON` changed (`RunConfig::patched`: the others keep the file's values).
 fn read_config(o: &HashMap<&str, &str>, command: &str, optional: bool) -> Result<RunConfig, String> {
     let cfg = match o.get("config") {
         Some(path) => {
@@ -198,6 +201,14 @@ fn read_config(o: &HashMap<&str, &str>, command: &str, optional: bool) -> Result
         }
         None if optional => RunConfig::default(),
         None => return Err(format!("{command} needs --config")),
+    };
+    let cfg = match o.get("arena") {
+        Some(path) => {
+            let yaml = sec_playground::util::read_text_file(Path::new(path), "--arena")?;
+            let name = Path::new(path).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+            cfg.with_arena(&name, &yaml).map_err(|e| format!("--arena {path}: {e}"))?
+        }
+        None => cfg,
     };
     let cfg = match o.get("set") {
         Some(patch) => cfg.patched(patch).map_err(|e| format!("--set: {e}"))?,
@@ -240,11 +251,12 @@ fn parameters_cmd(args: &[String]) -> Result<(), String> {
 /// `config`: the whole configuration `--config` and `--set` make, as JSON on standard output,
 /// and each field `--set` changed on standard error.
 fn config_cmd(args: &[String]) -> Result<(), String> {
-    let (pos, o) = options(args, &["config", "set"])?;
+    let (pos, o) = options(args, &["config", "arena", "set"])?;
     if let Some(p) = pos.first() {
         return Err(format!("config takes no argument '{p}'\n{USAGE}"));
     }
-    let before = read_config(&HashMap::from_iter(o.get("config").map(|c| ("config", *c))), "config", true)?;
+    let base: HashMap<&str, &str> = o.iter().filter(|(k, _)| **k != "set").map(|(k, v)| (*k, *v)).collect();
+    let before = read_config(&base, "config", true)?;
     let after = read_config(&o, "config", true)?;
     for c in before.changes(&after) {
         eprintln!("{}: {} -> {} ({})", c.field, c.from, c.to, if c.live { "live" } else { "needs a restart" });
@@ -547,6 +559,7 @@ fn run(args: &[String]) -> Result<(), String> {
             "reuse",
             "legacy-checkpoint",
             "set",
+            "arena",
         ],
     )?;
     let seeds = runner::parse_seeds(o.get("seeds").copied().unwrap_or("1..20"))?;
@@ -570,16 +583,17 @@ fn run(args: &[String]) -> Result<(), String> {
         other => return Err(format!("--reuse: '{other}' is not yes or no")),
     };
     let out = PathBuf::from(o.get("out").copied().unwrap_or("results/experiments"));
-    let (experiment, conditions): (String, Vec<Condition>) = match (pos.as_slice(), o.get("config")) {
+    let custom = o.get("config").or(o.get("arena"));
+    let (experiment, conditions): (String, Vec<Condition>) = match (pos.as_slice(), custom) {
         ([name], None) => (name.to_string(), presets::experiment(name).map_err(|e| e.to_string())?),
         ([], Some(_)) => {
-            let name = o.get("name").ok_or("--config needs --name GROUP/MODEL")?;
+            let name = o.get("name").ok_or("--config and --arena need --name GROUP/MODEL")?;
             if !name.contains('/') || name.split('/').any(|p| p.is_empty() || p == ".." || p == ".") {
                 return Err(format!("--name: '{name}' is not GROUP/MODEL"));
             }
             (
                 "custom".into(),
-                vec![Condition { name: name.to_string(), config: read_config(&o, "run", false)?, paper_total: None }],
+                vec![Condition { name: name.to_string(), config: read_config(&o, "run", true)?, paper_total: None }],
             )
         }
         _ => return Err(format!("run takes one EXPERIMENT or --config\n{USAGE}")),
@@ -629,7 +643,7 @@ fn report(args: &[String]) -> Result<(), String> {
 }
 
 fn record(args: &[String]) -> Result<(), String> {
-    let (_, o) = options(args, &["config", "set", "seed", "episodes", "events"])?;
+    let (_, o) = options(args, &["config", "arena", "set", "seed", "episodes", "events"])?;
     let cfg = read_config(&o, "record", false)?;
     if cfg.kind != AgentKind::Sec {
         return Err("--config: record and trace are for SEC (kind \"sec\")".into());
@@ -653,7 +667,7 @@ fn record(args: &[String]) -> Result<(), String> {
 }
 
 fn trace_cmd(args: &[String]) -> Result<(), String> {
-    let (_, o) = options(args, &["config", "set", "seed", "events", "trace"])?;
+    let (_, o) = options(args, &["config", "arena", "set", "seed", "events", "trace"])?;
     let cfg = read_config(&o, "trace", false)?;
     let seed = number("seed", o.get("seed").ok_or("trace needs --seed")?, 0u64, MAX_SEED)?;
     let input = o.get("events").ok_or("trace needs --events")?;
