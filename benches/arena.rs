@@ -1,4 +1,5 @@
-//! Arena speed: physics env steps per second and 84x84 renders per second, per task.
+//! Arena speed: physics env steps per second and 84x84 renders per second, per task (and the
+//! pushable boxes' cost in one Olympics arena).
 //! Run: `cargo bench --bench arena`. Targets (BENCHMARKS.md): >= 200,000 env steps/s and
 //! >= 5,000 renders/s on one core. `bench/wasm-bench.mjs` measures the same work in Node.
 
@@ -14,6 +15,14 @@ fn env_steps(c: &mut Criterion) {
     for name in TASK_NAMES {
         let mut env = Env::new(EnvConfig::new(Task::preset(name).unwrap()), 1).unwrap();
         g.bench_function(name, |b| b.iter(|| black_box(bench_env_steps(&mut env, 1000))));
+    }
+    // What the pushable boxes' rigid bodies cost: an Olympics arena of eight boxes the script
+    // pushes, and the same arena with walls in their place.
+    let yaml = include_str!("../assets/arenas/competition/03-22-01.yaml");
+    for (label, src) in [("03-22-01 boxes", yaml.to_string()), ("03-22-01 walls", yaml.replace("Cardbox1", "Wall"))] {
+        let task = sec_playground::arena::yaml::load_task("03-22-01", &src).unwrap();
+        let mut env = Env::new(EnvConfig::new(task), 1).unwrap();
+        g.bench_function(label, |b| b.iter(|| black_box(bench_env_steps(&mut env, 1000))));
     }
     g.finish();
 }

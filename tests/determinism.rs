@@ -1,7 +1,9 @@
 //! A run is a pure function of (configuration, seed): the scripted run of every task must equal
 //! the checked-in trace bit for bit, drawn flat (`trace.txt`) and textured (`trace-textured.txt`).
 //! `tests/wasm.rs` checks the same files under Node and the Python suite through the wheel, so
-//! every target agrees. `SEC_UPDATE_GOLDEN=1` rewrites the traces.
+//! every target agrees; `trace-pushables.txt` is an Olympics arena whose boxes the agent pushes
+//! (rapier3d's rigid bodies), checked natively and under Node. `SEC_UPDATE_GOLDEN=1` rewrites the
+//! traces.
 #![cfg(not(target_arch = "wasm32"))]
 
 use sec_playground::arena::TASK_NAMES;
@@ -55,4 +57,24 @@ fn different_seeds_give_different_runs() {
     let run = |task, seed| scripted_run(task, Surface::Flat, seed, 50).unwrap();
     assert_ne!(run("double-t-maze", 1), run("double-t-maze", 2));
     assert_eq!(run("cylinder", 3), run("cylinder", 3));
+}
+
+/// The Olympics arena of the pushable boxes' golden trace: a row of eight Cardbox1 between the
+/// agent and the goal, which the script's forward runs push.
+const PUSHABLES_FILE: &str = "03-22-01";
+
+#[test]
+fn a_scripted_run_pushing_boxes_matches_its_golden_trace() {
+    let path = format!("{}/assets/arenas/competition/{PUSHABLES_FILE}.yaml", env!("CARGO_MANIFEST_DIR"));
+    let task = sec_playground::arena::yaml::load_task(PUSHABLES_FILE, &std::fs::read_to_string(path).unwrap()).unwrap();
+    let log = sec_playground::env::trace::scripted_task_run(task, Surface::Flat, SEED, 300).unwrap();
+    let path = format!("{}/tests/golden/trace-pushables.txt", env!("CARGO_MANIFEST_DIR"));
+    if std::env::var("SEC_UPDATE_GOLDEN").is_ok_and(|v| v == "1") {
+        std::fs::write(&path, &log).unwrap();
+    }
+    assert_eq!(log, std::fs::read_to_string(&path).unwrap(), "trace-pushables.txt");
+    // The script pushes boxes: their places (the columns after the frame hash) change.
+    let places: std::collections::BTreeSet<&str> =
+        log.lines().filter(|l| !l.starts_with('#')).flat_map(|l| l.split(' ').skip(8)).collect();
+    assert!(places.len() > 8 + 20, "the boxes took {} places in 300 steps", places.len());
 }

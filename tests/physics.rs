@@ -704,3 +704,93 @@ fn up_a_slope_the_speed_follows_v1s_push_friction_and_drag_less_gravity_along_it
     }
     assert!(checked >= 2, "{checked} steps checked on the slope");
 }
+
+/// A pushable box of `kind`, `size` on a side, at (x, z), unrotated.
+fn cardbox(kind: ObjectKind, x: f32, z: f32, size: f32) -> ObjectSpec {
+    ObjectSpec::new(kind, x, 0.0, z).size(size, size, size).rotation(0.0)
+}
+
+/// Holds forward for `steps` env steps; the first pushable box's centre after.
+fn push_for(env: &mut Env, steps: usize) -> Vec2 {
+    for _ in 0..steps {
+        env.step(Action::FORWARD).unwrap();
+    }
+    env.world().pushed[0].shape.foot.centre
+}
+
+#[test]
+fn the_agent_pushes_a_box_and_never_passes_through_it() {
+    // A 1 m Cardbox1 2.5 m ahead; held forward, the agent pushes it along +z.
+    let mut env = open_env(vec![cardbox(ObjectKind::Cardbox1, 20.0, 12.5, 1.0)], 20.0, 10.0, 0.0);
+    let start = env.world().pushed[0].shape.foot.centre;
+    for _ in 0..30 {
+        env.step(Action::FORWARD).unwrap();
+        let w = env.world();
+        let b = &w.pushed[0].shape;
+        let l = b.foot.to_local(w.agent.pos);
+        let gap = (l - l.clamp(-b.foot.half, b.foot.half)).length();
+        assert!(gap > AGENT_RADIUS - 0.02, "the agent is {gap} m from the box's side: inside it");
+    }
+    let end = env.world().pushed[0].shape.foot.centre;
+    assert!(end.y - start.y > 5.0, "pushed {} m", end.y - start.y);
+    assert!((end.x - start.x).abs() < 0.5, "pushed straight: x moved {} m", end.x - start.x);
+    // It rests on the floor, and stays where the push left it.
+    assert!(env.world().pushed[0].shape.base.abs() < 1e-3);
+}
+
+#[test]
+fn a_heavier_box_is_pushed_less_far() {
+    // v1's prefabs: Cardbox1 has mass 1, Cardbox2 mass 2 (docs/ARENAS.md section 5).
+    assert_eq!((ObjectKind::Cardbox1.mass(), ObjectKind::Cardbox2.mass()), (Some(1.0), Some(2.0)));
+    let moved = |kind| {
+        let mut env = open_env(vec![cardbox(kind, 20.0, 12.5, 2.0)], 20.0, 10.0, 0.0);
+        push_for(&mut env, 25).y - 12.5
+    };
+    let (light, heavy) = (moved(ObjectKind::Cardbox1), moved(ObjectKind::Cardbox2));
+    assert!(light > heavy + 0.5 && heavy > 0.5, "Cardbox1 moved {light} m, Cardbox2 {heavy} m");
+}
+
+#[test]
+fn a_box_pushed_into_a_wall_stops_at_it() {
+    let wall = ObjectSpec::new(ObjectKind::Wall, 20.0, 0.0, 20.0).size(10.0, 2.0, 1.0).rotation(0.0);
+    let mut env = open_env(vec![wall, cardbox(ObjectKind::Cardbox1, 20.0, 12.5, 1.0)], 20.0, 10.0, 0.0);
+    let end = push_for(&mut env, 60);
+    let w = env.world();
+    let b = &w.pushed[0].shape;
+    // The wall's near face is at 19.5; the box's far corner may not pass it by more than rapier's
+    // contact tolerance, however long the agent pushes.
+    let reach = b.foot.corners().iter().map(|c| c.y).fold(f32::MIN, f32::max);
+    assert!(reach < 19.5 + 0.02 && reach > 19.0, "the box reaches z {reach}, centre {end}");
+    assert!(w.agent.pos.y < end.y, "the agent stays behind the box");
+}
+
+#[test]
+fn a_goal_on_a_box_falls_when_the_box_is_pushed_away() {
+    // 05-13-01's trick: a goal resting on a box, which the agent knocks from under it.
+    let goal = ObjectSpec::new(ObjectKind::GoodGoal, 20.0, 1.0, 13.0);
+    let mut env = open_env(vec![cardbox(ObjectKind::Cardbox1, 20.0, 13.0, 1.0), goal], 20.0, 10.0, 0.0);
+    env.step(Action::NOOP).unwrap();
+    let resting = env.world().goals[0].centre.y;
+    assert!((resting - (0.999 + 0.4995)).abs() < 0.01, "the goal rests on the box at {resting}");
+    // Forward until the goal is on the floor (or touched: then the episode ends).
+    let mut fell = false;
+    for _ in 0..40 {
+        let terminated = env.step(Action::FORWARD).unwrap().terminated;
+        let y = env.world().goals[0].centre.y;
+        if terminated || (y - 0.4995).abs() < 0.01 {
+            fell = true;
+            break;
+        }
+    }
+    assert!(fell, "the goal stayed at {} m", env.world().goals[0].centre.y);
+}
+
+#[test]
+fn no_preset_task_has_a_pushable_box() {
+    // So none builds rigid bodies (the env builds them only for a layout with pushable boxes):
+    // rapier is never called, and their goldens cannot move.
+    for name in sec_playground::arena::TASK_NAMES {
+        let env = Env::new(EnvConfig::new(Task::preset(name).unwrap()), 1).unwrap();
+        assert!(env.world().pushed.is_empty(), "{name}");
+    }
+}

@@ -6,6 +6,8 @@
 
 mod action;
 pub mod physics;
+#[cfg(feature = "pushables")]
+pub mod push;
 pub mod survey;
 mod tasks;
 mod world;
@@ -15,7 +17,10 @@ pub use crate::error::ConfigError;
 pub use action::Action;
 pub use physics::{DRAG_FACTOR, FRAMES_PER_STEP, FRAME_DT, FRICTION_DV, GRAVITY, IMPULSE_DV, TURN_DEGREES};
 pub use tasks::{facing_centre, StartHeading, Task, TaskInfo, TASKS, TASK_NAMES};
-pub use world::{support, Agent, BoxObj, Collider, Footprint, Goal, Ramp, Support, Tunnel, World, Zone, AGENT_RADIUS};
+pub use world::{
+    support, Agent, BoxObj, Collider, Footprint, Goal, Pushable, Ramp, Support, Tunnel, World, Zone, AGENT_RADIUS,
+    CARDBOARD,
+};
 
 /// Side of the square arena, metres; the fences' inner faces are at 0 and 40.
 pub const ARENA_SIZE: f32 = 40.0;
@@ -60,11 +65,15 @@ pub enum ObjectKind {
     DeathZone,
     /// An orange floor zone: a penalty per step on it.
     HotZone,
+    /// A cardboard box the agent pushes, of mass 1 (a rigid body: `push`).
+    Cardbox1,
+    /// A heavier one, of mass 2.
+    Cardbox2,
 }
 
 impl ObjectKind {
     /// Every kind, in the catalogue's order.
-    pub const ALL: [ObjectKind; 13] = [
+    pub const ALL: [ObjectKind; 15] = [
         ObjectKind::Wall,
         ObjectKind::WallTransparent,
         ObjectKind::Ramp,
@@ -78,6 +87,8 @@ impl ObjectKind {
         ObjectKind::GoodGoalMultiBounce,
         ObjectKind::DeathZone,
         ObjectKind::HotZone,
+        ObjectKind::Cardbox1,
+        ObjectKind::Cardbox2,
     ];
 
     /// The prefab name used in YAML files.
@@ -96,12 +107,31 @@ impl ObjectKind {
             ObjectKind::GoodGoalMultiBounce => "GoodGoalMultiBounce",
             ObjectKind::DeathZone => "DeathZone",
             ObjectKind::HotZone => "HotZone",
+            ObjectKind::Cardbox1 => "Cardbox1",
+            ObjectKind::Cardbox2 => "Cardbox2",
         }
     }
 
-    /// The kind of an Animal-AI object name (`GoodGoal`, ...), if implemented.
+    /// The kind of an Animal-AI object name (`GoodGoal`, ...), if this build simulates it (the
+    /// pushable boxes need the `pushables` feature).
     pub fn from_name(name: &str) -> Option<ObjectKind> {
-        ObjectKind::ALL.into_iter().find(|k| k.name() == name)
+        ObjectKind::ALL.into_iter().filter(|k| k.simulated()).find(|k| k.name() == name)
+    }
+
+    /// Whether this build simulates it: every kind, but a pushable box only with the rigid
+    /// bodies of the `pushables` feature.
+    pub fn simulated(self) -> bool {
+        cfg!(feature = "pushables") || self.mass().is_none()
+    }
+
+    /// A pushable box's mass in kg (v1's prefabs: Cardbox1 1, Cardbox2 2); `None` for what does
+    /// not move when pushed.
+    pub fn mass(self) -> Option<f32> {
+        match self {
+            ObjectKind::Cardbox1 => Some(1.0),
+            ObjectKind::Cardbox2 => Some(2.0),
+            _ => None,
+        }
     }
 
     /// Allowed size per axis, before the 0.999 adjustment (docs/ARENAS.md section 5). Sizes outside
@@ -112,6 +142,7 @@ impl ObjectKind {
             ObjectKind::Ramp => ([0.5, 0.1, 0.5], [40.0, 10.0, 40.0]),
             ObjectKind::CylinderTunnel | ObjectKind::CylinderTunnelTransparent => ([2.5; 3], [10.0; 3]),
             k if k.is_goal() => ([0.5; 3], [5.0; 3]),
+            ObjectKind::Cardbox1 | ObjectKind::Cardbox2 => ([0.5; 3], [10.0; 3]),
             _ => ([1.0, 0.0, 1.0], [40.0, 10.0, 40.0]),
         }
     }
@@ -121,7 +152,7 @@ impl ObjectKind {
         match self {
             ObjectKind::Wall | ObjectKind::WallTransparent | ObjectKind::Ramp => [1.0, 1.0, 1.0],
             ObjectKind::CylinderTunnel | ObjectKind::CylinderTunnelTransparent => [5.0, 5.0, 5.0],
-            k if k.is_goal() => [1.0, 1.0, 1.0],
+            k if k.is_goal() || k.mass().is_some() => [1.0, 1.0, 1.0],
             _ => [1.0, 0.0, 1.0],
         }
     }

@@ -1,6 +1,6 @@
 //! Animal-AI v1 dynamics, one 0.02 s physics frame at a time (docs/ARENAS.md section 3).
 
-use super::world::{support, wrap_degrees, Collider, Goal, Ramp, Support, World, AGENT_RADIUS};
+use super::world::{support, wrap_degrees, Agent, Collider, Goal, Pushable, Ramp, Support, World, AGENT_RADIUS};
 use super::{ObjectKind, ARENA_SIZE};
 use glam::Vec2;
 
@@ -58,10 +58,25 @@ pub struct FrameEvents {
     pub good_goal: bool,
 }
 
+/// Rigid bodies that move the agent with the world's pushable boxes, one physics frame at a
+/// time: the agent's position and velocity go in and come back, the boxes take their new poses
+/// (`push::Bodies`, in an arena with pushable boxes).
+pub trait RigidBodies {
+    /// One physics frame of the agent and `pushed`.
+    fn step(&mut self, agent: &mut Agent, pushed: &mut [Pushable]);
+}
+
 /// Advances the world by one physics frame with the action's two branches:
 /// `movement` 0 none, 1 forward, 2 backward; `turn` 0 none, 1 right (clockwise), 2 left.
-/// `hot_penalty` is the HotZone reward per frame (negative).
-pub fn physics_frame(w: &mut World, movement: u8, turn: u8, hot_penalty: f64) -> FrameEvents {
+/// `hot_penalty` is the HotZone reward per frame (negative). `bodies`: the pushable boxes' rigid
+/// bodies, in an arena that has some.
+pub fn physics_frame(
+    w: &mut World,
+    bodies: Option<&mut dyn RigidBodies>,
+    movement: u8,
+    turn: u8,
+    hot_penalty: f64,
+) -> FrameEvents {
     let under = under_agent(w);
     let a = &mut w.agent;
     match turn {
@@ -90,7 +105,7 @@ pub fn physics_frame(w: &mut World, movement: u8, turn: u8, hot_penalty: f64) ->
     }
     a.vel *= DRAG_FACTOR;
     let before = a.pos;
-    a.pos += a.vel * FRAME_DT;
+    move_agent(w, bodies);
     if !collide(w) {
         // Squeezed between colliders (a gap narrower than the agent): stay where it was.
         w.agent.pos = before;
@@ -99,6 +114,15 @@ pub fn physics_frame(w: &mut World, movement: u8, turn: u8, hot_penalty: f64) ->
     fall_agent(w);
     fall_goals(w);
     touches(w, hot_penalty)
+}
+
+/// The agent moves by its velocity; in an arena with pushable boxes, their rigid bodies move it
+/// with them, so that it pushes them and they push back.
+fn move_agent(w: &mut World, bodies: Option<&mut dyn RigidBodies>) {
+    match bodies {
+        Some(b) => b.step(&mut w.agent, &mut w.pushed),
+        None => w.agent.pos += w.agent.vel * FRAME_DT,
+    }
 }
 
 /// The agent above what is under it falls under gravity, with the drag it has in every
@@ -128,7 +152,7 @@ fn under_agent(w: &World) -> Support {
     if w.ramps.is_empty() && w.agent.y == 0.0 {
         return Support { height: 0.0, ramp: None };
     }
-    support(&w.walls, &w.ramps, w.agent.pos, w.agent.y, CLIMB)
+    support(w.boxes(), &w.ramps, w.agent.pos, w.agent.y, CLIMB)
 }
 
 /// The horizontal pull of gravity on a slope rising `rise` per metre: g sin(a) cos(a).
@@ -213,8 +237,19 @@ fn collide(w: &mut World) -> bool {
 /// Goals fall under gravity (no drag) and bounce once on the floor or the box under them; a
 /// bouncing goal, and any goal a ramp sets rolling, also rolls (`roll`) until it sleeps.
 fn fall_goals(w: &mut World) {
+    // A rolling goal meets the pushable boxes where they are now, as it meets the walls.
+    let with_boxes: Vec<Collider>;
+    let colliders = if w.pushed.is_empty() {
+        &w.colliders
+    } else {
+        with_boxes = w.colliders.iter().copied().chain(w.pushed.iter().map(|p| p.collider())).collect();
+        &with_boxes
+    };
+    // A goal resting on a pushable box falls when the box moves away, so none rests for good there.
+    let can_rest = w.pushed.is_empty();
     for g in w.goals.iter_mut().filter(|g| !g.resting && !g.collected) {
-        let under = support(&w.walls, &w.ramps, Vec2::new(g.centre.x, g.centre.z), g.centre.y - g.radius, g.radius);
+        let boxes = w.walls.iter().chain(w.pushed.iter().map(|p| &p.shape));
+        let under = support(boxes, &w.ramps, Vec2::new(g.centre.x, g.centre.z), g.centre.y - g.radius, g.radius);
         let floor = under.height;
         g.vy -= GRAVITY * FRAME_DT;
         g.centre.y += g.vy * FRAME_DT;
@@ -228,12 +263,12 @@ fn fall_goals(w: &mut World) {
             } else {
                 g.vy = 0.0;
                 grounded = true;
-                g.resting = !g.bouncing && under.ramp.is_none() && g.vel == Vec2::ZERO;
+                g.resting = can_rest && !g.bouncing && under.ramp.is_none() && g.vel == Vec2::ZERO;
             }
         }
         if g.bouncing || under.ramp.is_some() || g.vel != Vec2::ZERO {
             let slope = under.ramp.filter(|_| grounded).map(|i| w.ramps[i].downhill());
-            roll(g, grounded, slope, &w.colliders, &w.ramps);
+            roll(g, grounded, slope, colliders, &w.ramps);
         }
     }
 }

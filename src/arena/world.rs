@@ -107,6 +107,28 @@ pub struct BoxObj {
     pub transparent: bool,
 }
 
+/// A box the agent pushes (`Cardbox1`, `Cardbox2`): its shape where its rigid body now is (it
+/// moves with it: `physics::RigidBodies`), and its mass.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pushable {
+    /// The box at its current pose.
+    pub shape: BoxObj,
+    /// Its mass, kg.
+    pub mass: f32,
+}
+
+impl Pushable {
+    /// Its footprint and heights now, as a goal rolling into it meets it.
+    pub fn collider(&self) -> Collider {
+        let b = &self.shape;
+        Collider { foot: b.foot, bottom: b.base, top: b.top(), wall: None, ramp: None }
+    }
+}
+
+/// The pushable boxes' colour: v1 draws them with a cardboard texture, which this renderer
+/// stands for by one brown.
+pub const CARDBOARD: Rgb = Rgb(170, 130, 85);
+
 /// A CylinderTunnel: the upper half of an elliptic tube lying along local z (an arch).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Tunnel {
@@ -236,11 +258,17 @@ impl Collider {
 }
 
 /// What a body at `p` whose bottom is at `y` rests on: the highest top under its centre, of a
-/// wall or a ramp's slope, that is at most `climb` above `y` (a body's centre is over a box only
+/// box (`boxes`: the walls, and the pushable boxes where they are now) or a ramp's slope, that is at most `climb` above `y` (a body's centre is over a box only
 /// if the box let it pass, so one a little higher is a step it is climbing); or the floor.
-pub fn support(walls: &[BoxObj], ramps: &[Ramp], p: Vec2, y: f32, climb: f32) -> Support {
-    let wall = walls
-        .iter()
+pub fn support<'a>(
+    boxes: impl IntoIterator<Item = &'a BoxObj>,
+    ramps: &[Ramp],
+    p: Vec2,
+    y: f32,
+    climb: f32,
+) -> Support {
+    let wall = boxes
+        .into_iter()
         .filter(|b| b.top() <= y + climb.max(OVERLAP_EPS) && b.foot.contains(p, 0.0))
         .fold(0.0f32, |best, b| best.max(b.top()));
     let mut out = Support { height: wall, ramp: None };
@@ -341,14 +369,17 @@ pub struct World {
     pub zones: Vec<Zone>,
     /// What the agent collides with: walls and tunnel legs (fences are the bounds).
     pub colliders: Vec<Collider>,
+    /// Boxes the agent pushes (empty in every preset task); their rigid bodies are the env's
+    /// (`push`).
+    pub pushed: Vec<Pushable>,
     /// The agent's body.
     pub agent: Agent,
 }
 
 impl World {
     /// The bits of everything the camera reads that can move: the agent's position and heading,
-    /// each goal's centre and whether it is collected (walls, arches and zones never move). Equal
-    /// keys render equal frames.
+    /// each goal's centre and whether it is collected, each pushable box's pose (walls, arches and
+    /// zones never move). Equal keys render equal frames.
     pub fn view_key(&self, key: &mut Vec<u32>) {
         key.clear();
         key.extend([self.agent.pos.x, self.agent.pos.y, self.agent.y, self.agent.heading].map(f32::to_bits));
@@ -356,6 +387,15 @@ impl World {
             key.extend([g.centre.x, g.centre.y, g.centre.z].map(f32::to_bits));
             key.push(g.collected as u32);
         }
+        for p in &self.pushed {
+            let f = &p.shape.foot;
+            key.extend([f.centre.x, f.centre.y, f.cos, f.sin, p.shape.base].map(f32::to_bits));
+        }
+    }
+
+    /// Every opaque box the camera draws: the walls, then the pushable boxes.
+    pub fn boxes(&self) -> impl Iterator<Item = &BoxObj> {
+        self.walls.iter().chain(self.pushed.iter().map(|p| &p.shape))
     }
 
     /// Spawns a layout. Objects spawn in file order after a user-placed agent; an object whose
@@ -376,6 +416,7 @@ impl World {
             goals: Vec::new(),
             zones: Vec::new(),
             colliders: Vec::new(),
+            pushed: Vec::new(),
             agent: Agent {
                 pos: Vec2::ZERO,
                 y: layout.agent.y,
@@ -491,9 +532,8 @@ impl World {
             // A ramp is a wedge (v1 checks its convex mesh): only its slope's height counts.
             let wedge_below =
                 |c: &Collider, s: &Footprint| c.ramp.is_some_and(|i| self.ramps[i].top_over(s) <= rise.0 + OVERLAP_EPS);
-            !solid
-                .iter()
-                .any(|s| self.colliders.iter().any(|c| c.spans(rise) && c.foot.overlaps(s) && !wedge_below(c, s)))
+            let colliders = || self.colliders.iter().copied().chain(self.pushed.iter().map(Pushable::collider));
+            !solid.iter().any(|s| colliders().any(|c| c.spans(rise) && c.foot.overlaps(s) && !wedge_below(&c, s)))
                 && !solid.iter().any(agent_in)
                 && !solid.iter().any(|s| {
                     self.goals.iter().any(|g| {
@@ -556,6 +596,14 @@ impl World {
                 }));
                 self.tunnels.push(t);
             }
+            k if k.mass().is_some() => {
+                let foot = Footprint::new(centre, footprint_half, rotation);
+                if !free(&[foot], (y, y + size[1])) {
+                    return false;
+                }
+                let shape = BoxObj { foot, base: y, height: size[1], colour: CARDBOARD, transparent: false };
+                self.pushed.push(Pushable { shape, mass: k.mass().unwrap_or(1.0) });
+            }
             k if k.is_goal() => {
                 // A sphere's diameter is size.x; y and z are ignored (docs/ARENAS.md section 5).
                 let radius = size[0] / 2.0;
@@ -603,7 +651,13 @@ impl World {
                 spec.position[1].unwrap_or_else(|| rng.gen_range(lo..hi)),
             );
             let (lo, hi) = (spec.y, spec.y + 2.0 * AGENT_RADIUS);
-            let blocked = self.colliders.iter().any(|c| c.spans((lo, hi)) && c.foot.overlaps_disc(p, AGENT_RADIUS))
+            let pushed = self.pushed.iter().map(Pushable::collider);
+            let blocked = self
+                .colliders
+                .iter()
+                .copied()
+                .chain(pushed)
+                .any(|c| c.spans((lo, hi)) && c.foot.overlaps_disc(p, AGENT_RADIUS))
                 || self.goals.iter().any(|g| {
                     g.centre.y - g.radius < hi
                         && g.centre.y + g.radius > lo
@@ -621,6 +675,12 @@ impl World {
     /// `layout.objects` and kind), or a randomly placed agent with no free spot. Checked with four
     /// fixed draws, so a layout that fits is never refused for its randomness alone.
     pub fn check_room(layout: &Layout) -> Result<(), String> {
+        if let Some((i, o)) = layout.objects.iter().enumerate().find(|(_, o)| !o.kind.simulated()) {
+            let kind = o.kind.name();
+            return Err(format!(
+                "object {i} (a {kind}) is pushable, which needs the `pushables` feature (the arena build)"
+            ));
+        }
         for k in 0..4u64 {
             let mut rng = crate::seed::rng(k, crate::seed::Stream::Env);
             let (w, unplaced) = World::spawn_counting(layout, &mut rng);

@@ -368,7 +368,8 @@ fn parse_item(node: &Node, field: &str, warnings: &mut Vec<String>) -> Result<It
         }));
     }
     let Some(kind) = ObjectKind::from_name(&name) else {
-        let known: Vec<&str> = ObjectKind::ALL.iter().map(|k| k.name()).chain(["Agent"]).collect();
+        let known: Vec<&str> =
+            ObjectKind::ALL.iter().filter(|k| k.simulated()).map(|k| k.name()).chain(["Agent"]).collect();
         return Err(ConfigError::at(
             name_node.line(),
             join(field, "name"),

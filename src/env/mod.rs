@@ -5,7 +5,7 @@
 #[cfg(feature = "test-hooks")]
 pub mod trace;
 
-use crate::arena::physics::{physics_frame, FRAMES_PER_STEP};
+use crate::arena::physics::{physics_frame, FrameEvents, FRAMES_PER_STEP};
 use crate::arena::{check_range, Action, ConfigError, Task, World, MAX_T};
 use crate::render::{Camera, Frame, Surface};
 use crate::seed::Stream;
@@ -108,6 +108,9 @@ pub struct Env {
     /// Scratch for `advance`: what the camera depends on before and after the step.
     view_before: Vec<u32>,
     view_after: Vec<u32>,
+    /// The pushable boxes' rigid bodies, built at each reset of a layout that has some.
+    #[cfg(feature = "pushables")]
+    bodies: Option<crate::arena::push::Bodies>,
 }
 
 impl Env {
@@ -136,6 +139,8 @@ impl Env {
             view_serial: 0,
             view_before: Vec::new(),
             view_after: Vec::new(),
+            #[cfg(feature = "pushables")]
+            bodies: None,
         };
         env.reset(Some(seed));
         Ok(env)
@@ -160,6 +165,10 @@ impl Env {
         }
         self.layout = self.order[(self.episode % self.order.len() as u64) as usize];
         self.world = World::spawn(&self.config.task.layouts[self.layout], &mut self.rng);
+        #[cfg(feature = "pushables")]
+        {
+            self.bodies = (!self.world.pushed.is_empty()).then(|| crate::arena::push::Bodies::new(&self.world));
+        }
         self.steps = 0;
         self.over = false;
         self.view_changed();
@@ -199,7 +208,7 @@ impl Env {
         for _ in 0..k {
             out.reward += penalty;
             for _ in 0..FRAMES_PER_STEP {
-                let ev = physics_frame(&mut self.world, movement, turn, hot);
+                let ev = self.frame(movement, turn, hot);
                 out.reward += ev.reward;
                 out.good_goal |= ev.good_goal;
                 if ev.terminal {
@@ -224,6 +233,15 @@ impl Env {
             self.view_changed();
         }
         Ok(out)
+    }
+
+    /// One physics frame, with the pushable boxes' rigid bodies if the layout has any.
+    fn frame(&mut self, movement: u8, turn: u8, hot: f64) -> FrameEvents {
+        #[cfg(feature = "pushables")]
+        let bodies = self.bodies.as_mut().map(|b| b as &mut dyn crate::arena::physics::RigidBodies);
+        #[cfg(not(feature = "pushables"))]
+        let bodies = None;
+        physics_frame(&mut self.world, bodies, movement, turn, hot)
     }
 
     /// The frame is no longer what the camera shows.

@@ -9,12 +9,18 @@ use std::fmt::Write;
 /// Runs `steps` env steps of `task` drawn with `surface` from `seed` with a fixed action script (a
 /// 32-bit LCG, so the script itself is target independent), resetting at episode ends. One line
 /// per step: `step action reward-bits terminated truncated agent-x-bits agent-z-bits frame-hash`,
-/// under a header naming the task (`<task>-textured` for the textured surface).
+/// then each pushable box's `x-bits:z-bits`, under a header naming the task (`<task>-textured` for
+/// the textured surface).
 pub fn scripted_run(task: &str, surface: Surface, seed: u64, steps: u32) -> Result<String, ConfigError> {
-    let mut env = Env::new(EnvConfig { surface, ..EnvConfig::new(Task::preset(task)?) }, seed)?;
+    scripted_task_run(Task::preset(task)?, surface, seed, steps)
+}
+
+/// `scripted_run` of any task (an arena file's, `arena::yaml::load_task`).
+pub fn scripted_task_run(task: Task, surface: Surface, seed: u64, steps: u32) -> Result<String, ConfigError> {
+    let name = crate::encoder::model_name(&task.name, surface);
+    let mut env = Env::new(EnvConfig { surface, ..EnvConfig::new(task) }, seed)?;
     let mut out = String::new();
     let h = env.observation().hash();
-    let name = crate::encoder::model_name(task, surface);
     let _ = writeln!(out, "# {name} seed {seed} layout {} frame {h:016x}", env.layout_name());
     let mut lcg: u32 = seed as u32 ^ 0x9e37_79b9;
     for i in 0..steps {
@@ -39,6 +45,13 @@ pub fn scripted_run(task: &str, surface: Surface, seed: u64, steps: u32) -> Resu
             p.x.to_bits(),
             p.y.to_bits()
         );
+        // Where each pushable box is, after the hash (none in the preset tasks).
+        out.pop();
+        for b in &env.world().pushed {
+            let c = b.shape.foot.centre;
+            let _ = write!(out, " {:08x}:{:08x}", c.x.to_bits(), c.y.to_bits());
+        }
+        out.push('\n');
         if term || trunc {
             let h = env.reset(None).hash();
             let _ = writeln!(out, "# reset layout {} frame {h:016x}", env.layout_name());

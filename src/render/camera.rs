@@ -114,12 +114,12 @@ impl Camera {
         let px = &mut frame.rgba;
         let mut reach = std::mem::take(&mut self.reach);
         reach.clear();
-        reach.extend(w.walls.iter().filter(|b| !b.transparent).map(|b| reach_of(&b.foot, w.agent.pos, f, right)));
+        reach.extend(w.boxes().filter(|b| !b.transparent).map(|b| reach_of(&b.foot, w.agent.pos, f, right)));
         for c in 0..WIDTH {
             let offset = self.col_offset[c];
             let col = Column { c, eye: w.agent.pos, h: f + right * offset, right, y };
             self.floor_and_fence(w, col, px);
-            for (b, &(lo, hi)) in w.walls.iter().filter(|b| !b.transparent).zip(&reach) {
+            for (b, &(lo, hi)) in w.boxes().filter(|b| !b.transparent).zip(&reach) {
                 if (lo..=hi).contains(&offset) {
                     self.wall(b, col, px, None);
                 }

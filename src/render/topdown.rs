@@ -123,7 +123,7 @@ pub fn render_top_down(w: &World, trail: &[Vec2], size: usize, out: &mut [u8]) {
     for r in &w.ramps {
         fill_rect(&v, out, &r.foot, r.colour, 0.8);
     }
-    for b in &w.walls {
+    for b in w.boxes() {
         if b.transparent {
             fill_rect(&v, out, &b.foot, Rgb(220, 235, 255), 0.6);
         } else {
