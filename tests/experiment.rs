@@ -66,16 +66,29 @@ fn a_short_run_gives_the_golden_episode_log() {
 /// same log. The contextual layer must act in it, or it would not test the gate's model.
 #[test]
 fn a_short_textured_run_gives_its_golden_episode_log() {
-    let log = sec_playground::experiment::fixtures::golden_textured_run();
-    let path = format!("{}/tests/golden/run-textured.txt", env!("CARGO_MANIFEST_DIR"));
+    let lines = check_golden(sec_playground::experiment::fixtures::golden_textured_run(), "run-textured.txt");
+    let acted = lines.iter().any(|l| l["contextualShare"].as_f64() > Some(0.0));
+    assert!(acted, "the contextual layer never acted: the log does not test the textured gate");
+}
+
+/// SEC in an Olympics arena file with a ramp and a platform: `tests/wasm.rs` (the arena build) and
+/// the Python suite check the same log. Its agent must reach the goal and act from memory, or the
+/// log would test neither the 3-D world nor the memory.
+#[test]
+fn a_short_arena_file_run_gives_its_golden_episode_log() {
+    let lines = check_golden(sec_playground::experiment::fixtures::golden_arena_run(), "run-arena.txt");
+    assert!(lines.iter().any(|l| l["goal"] == true), "no goal reached");
+    assert!(lines.iter().any(|l| l["contextualShare"].as_f64() > Some(0.0)), "the memory never acted");
+}
+
+/// `log` equals `tests/golden/<file>` (rewritten first with `SEC_UPDATE_GOLDEN=1`); its lines.
+fn check_golden(log: String, file: &str) -> Vec<serde_json::Value> {
+    let path = format!("{}/tests/golden/{file}", env!("CARGO_MANIFEST_DIR"));
     if std::env::var("SEC_UPDATE_GOLDEN").is_ok_and(|v| v == "1") {
         std::fs::write(&path, &log).unwrap();
     }
-    assert_eq!(log, std::fs::read_to_string(&path).unwrap(), "run-textured.txt");
-    let acted = log
-        .lines()
-        .any(|l| serde_json::from_str::<serde_json::Value>(l).unwrap()["contextualShare"].as_f64() > Some(0.0));
-    assert!(acted, "the contextual layer never acted: the log does not test the textured gate");
+    assert_eq!(log, std::fs::read_to_string(&path).unwrap(), "{file}");
+    log.lines().map(|l| serde_json::from_str(l).unwrap()).collect()
 }
 
 fn json_lines(cfg: &RunConfig, seed: u64, n: usize) -> Vec<String> {

@@ -86,15 +86,16 @@ pub const TEXTURED_EPISODES: usize = 30;
 /// sequence so that the textured model's gate decides within a few episodes. Native, wasm and
 /// Python reproduce it bit for bit.
 pub fn golden_textured_run() -> String {
-    let mut cfg = RunConfig { surface: crate::render::Surface::Textured, ..RunConfig::default() };
+    let cfg = RunConfig { surface: crate::render::Surface::Textured, ..RunConfig::default() };
+    acting_at_once_log(cfg, 1, TEXTURED_EPISODES)
+}
+
+/// The JSON lines of `episodes` episodes of SEC with `cfg` and `seed`, acting from memory after
+/// its first stored sequence (`minSequences` 1).
+fn acting_at_once_log(mut cfg: RunConfig, seed: u64, episodes: usize) -> String {
     cfg.section_mut::<SecConfig>().min_sequences = 1;
-    let mut run = Run::new(cfg, 1).expect("the golden configuration is valid");
-    let mut log = String::new();
-    for _ in 0..TEXTURED_EPISODES {
-        log += &run.episode().to_json();
-        log.push('\n');
-    }
-    log
+    let mut run = Run::new(cfg, seed).expect("the golden configuration is valid");
+    (0..episodes).map(|_| run.episode().to_json() + "\n").collect()
 }
 
 /// The Olympics arena of the golden arena run: a ramp up to a platform (the 3-D world) in
@@ -107,13 +108,6 @@ pub const ARENA_EPISODES: usize = 12;
 /// encoder, no gate), seed 3, acting from memory after its first stored sequence. Native, wasm
 /// (the arena build) and Python reproduce it bit for bit.
 pub fn golden_arena_run() -> String {
-    let mut cfg = RunConfig::default().with_arena(ARENA_FILE.0, ARENA_FILE.1).expect("the golden arena loads");
-    cfg.section_mut::<SecConfig>().min_sequences = 1;
-    let mut run = Run::new(cfg, 3).expect("the golden configuration is valid");
-    let mut log = String::new();
-    for _ in 0..ARENA_EPISODES {
-        log += &run.episode().to_json();
-        log.push('\n');
-    }
-    log
+    let cfg = RunConfig::default().with_arena(ARENA_FILE.0, ARENA_FILE.1).expect("the golden arena loads");
+    acting_at_once_log(cfg, 3, ARENA_EPISODES)
 }
