@@ -4,8 +4,9 @@
 // page's address forces the fallback (for tests and for comparing speed). `?wasm=hooks` loads the
 // test flavour (scripts/build-hooks.sh), the SIMD build with the test hooks; the published page
 // has no such folder. A run of an Olympics arena file loads the arena build (scalar, with the
-// YAML parser the other two leave out: `load({arena: true})`). Every file is addressed by a literal `new URL(..., import.meta.url)` or
-// `import(...)`, so a bundler (Vite) finds and copies the wasm and the models.
+// YAML parser and the rigid bodies the other two leave out: `load({arena: true})`). Every file
+// but those two is addressed by a literal `new URL(..., import.meta.url)` or `import(...)`, so a
+// bundler (Vite) finds and copies the wasm and the models.
 
 import { TASKS } from './tasks.js';
 import { fetchFile, filesProvided, provideFiles } from './files.js';
@@ -15,6 +16,9 @@ const SIMD_PROBE = new Uint8Array([0, 97, 115, 109, 1, 0, 0, 0, 1, 5, 1, 96, 0, 
   65, 0, 253, 15, 253, 98, 11]);
 /** The test flavour, out of a bundler's sight (only the repository has it). */
 const HOOKS = ['..', 'pkg', 'hooks', 'sec_playground.js'].join('/');
+/** The arena build, out of a bundler's sight too: only the page's `?arena=` loads it (the element
+ * never does), so a course page's bundle need not carry its 1 MB. */
+const ARENA = ['..', 'pkg', 'arena', 'sec_playground.js'].join('/');
 
 /** Models being registered, and model downloads under way, by task. */
 const loading = new Map();
@@ -38,7 +42,7 @@ export async function load({ wanted = null, task = null, files = null, arena = f
   if (files) provideFiles(files);
   if (task && !arena) prefetchModel(task);
   const glue = build === 'hooks' ? await import(/* @vite-ignore */ new URL(HOOKS, import.meta.url).href)
-    : build === 'arena' ? await import('../pkg/arena/sec_playground.js')
+    : build === 'arena' ? await import(/* @vite-ignore */ new URL(ARENA, import.meta.url).href)
       : build === 'scalar' ? await import('../pkg/scalar/sec_playground.js') : await import('../pkg/sec_playground.js');
   ({ SecRun, agents, parameters, parseSettings, applySettings, presetSettings, panicForTest, registerModel, hasModel,
     taskNames, frameSize, withArena } = glue);
