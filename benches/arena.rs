@@ -1,5 +1,5 @@
 //! Arena speed: physics env steps per second and 84x84 renders per second, per task (and the
-//! pushable boxes' cost in one Olympics arena).
+//! pushable objects' cost in two Olympics arenas).
 //! Run: `cargo bench --bench arena`. Targets (BENCHMARKS.md): >= 200,000 env steps/s and
 //! >= 5,000 renders/s on one core. `bench/wasm-bench.mjs` measures the same work in Node.
 
@@ -16,11 +16,17 @@ fn env_steps(c: &mut Criterion) {
         let mut env = Env::new(EnvConfig::new(Task::preset(name).unwrap()), 1).unwrap();
         g.bench_function(name, |b| b.iter(|| black_box(bench_env_steps(&mut env, 1000))));
     }
-    // What the pushable boxes' rigid bodies cost: an Olympics arena of eight boxes the script
-    // pushes, and the same arena with walls in their place.
+    // What the pushable objects' rigid bodies cost: an Olympics arena of eight boxes the script
+    // pushes, the same arena with walls in their place, and one with a U (three boxes in one body)
+    // round a goal, which is then a rigid body too.
     let yaml = include_str!("../assets/arenas/competition/03-22-01.yaml");
-    for (label, src) in [("03-22-01 boxes", yaml.to_string()), ("03-22-01 walls", yaml.replace("Cardbox1", "Wall"))] {
-        let task = sec_playground::arena::yaml::load_task("03-22-01", &src).unwrap();
+    let u = include_str!("../assets/arenas/competition/10-04-01.yaml");
+    for (label, src) in [
+        ("03-22-01 boxes", yaml.to_string()),
+        ("03-22-01 walls", yaml.replace("Cardbox1", "Wall")),
+        ("10-04-01 U", u.to_string()),
+    ] {
+        let task = sec_playground::arena::yaml::load_task(label, &src).unwrap();
         let mut env = Env::new(EnvConfig::new(task), 1).unwrap();
         g.bench_function(label, |b| b.iter(|| black_box(bench_env_steps(&mut env, 1000))));
     }

@@ -5,20 +5,23 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
-echo "== the fast gate (scripts/lint.sh)"
+# Each phase says when it starts (seconds since the start), so a slow run shows where time went.
+phase() { echo "== [${SECONDS} s] $*"; }
+phase "the fast gate (scripts/lint.sh)"
 ./scripts/lint.sh
 ./scripts/setup.sh
-echo "== native tests (cargo test --workspace)"
+phase "native tests (cargo test --workspace)"
 cargo test --workspace
-echo "== release wasm build for the page (and the notebook widget's module, which the wheel carries)"
+phase "release wasm build for the page (and the notebook widget's module, which the wheel carries)"
 ./scripts/build.sh
-echo "== the Python package (scripts/python-test.sh: the manylinux wheel, pytest in a venv without Rust)"
+phase "the Python package (scripts/python-test.sh: the manylinux wheel, pytest in a venv without Rust)"
 ./scripts/python-test.sh
-echo "== the page's test flavour (pkg/hooks: the test hooks on)"
+phase "the page's test flavour (pkg/hooks: the test hooks on)"
 ./scripts/build-hooks.sh
 # Release: it reuses the build just made, and the golden runs take seconds instead of minutes.
 # `wasm-pack test --node` (a debug build) runs the same tests.
-echo "== wasm tests under Node (wasm-pack test --node --release)"
+phase "wasm tests under Node (wasm-pack test --node --release)"
 wasm-pack test --node --release
-echo "== browser tests (Chromium via playwright-core) and the TypeScript declarations"
+phase "browser tests (Chromium via playwright-core) and the TypeScript declarations"
 node --test tests/browser/
+phase "done"

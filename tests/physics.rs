@@ -715,27 +715,27 @@ fn push_for(env: &mut Env, steps: usize) -> Vec2 {
     for _ in 0..steps {
         env.step(Action::FORWARD).unwrap();
     }
-    env.world().pushed[0].shape.foot.centre
+    env.world().pushed[0].pose.centre
 }
 
 #[test]
 fn the_agent_pushes_a_box_and_never_passes_through_it() {
     // A 1 m Cardbox1 2.5 m ahead; held forward, the agent pushes it along +z.
     let mut env = open_env(vec![cardbox(ObjectKind::Cardbox1, 20.0, 12.5, 1.0)], 20.0, 10.0, 0.0);
-    let start = env.world().pushed[0].shape.foot.centre;
+    let start = env.world().pushed[0].pose.centre;
     for _ in 0..30 {
         env.step(Action::FORWARD).unwrap();
         let w = env.world();
-        let b = &w.pushed[0].shape;
+        let b = &w.pushed[0].parts[0];
         let l = b.foot.to_local(w.agent.pos);
         let gap = (l - l.clamp(-b.foot.half, b.foot.half)).length();
         assert!(gap > AGENT_RADIUS - 0.02, "the agent is {gap} m from the box's side: inside it");
     }
-    let end = env.world().pushed[0].shape.foot.centre;
+    let end = env.world().pushed[0].pose.centre;
     assert!(end.y - start.y > 5.0, "pushed {} m", end.y - start.y);
     assert!((end.x - start.x).abs() < 0.5, "pushed straight: x moved {} m", end.x - start.x);
     // It rests on the floor, and stays where the push left it.
-    assert!(env.world().pushed[0].shape.base.abs() < 1e-3);
+    assert!(env.world().pushed[0].base().abs() < 1e-3);
 }
 
 #[test]
@@ -756,7 +756,7 @@ fn a_box_pushed_into_a_wall_stops_at_it() {
     let mut env = open_env(vec![wall, cardbox(ObjectKind::Cardbox1, 20.0, 12.5, 1.0)], 20.0, 10.0, 0.0);
     let end = push_for(&mut env, 60);
     let w = env.world();
-    let b = &w.pushed[0].shape;
+    let b = &w.pushed[0].parts[0];
     // The wall's near face is at 19.5; the box's far corner may not pass it by more than rapier's
     // contact tolerance, however long the agent pushes.
     let reach = b.foot.corners().iter().map(|c| c.y).fold(f32::MIN, f32::max);
@@ -783,6 +783,70 @@ fn a_goal_on_a_box_falls_when_the_box_is_pushed_away() {
         }
     }
     assert!(fell, "the goal stayed at {} m", env.world().goals[0].centre.y);
+}
+
+#[test]
+fn a_u_object_has_its_prefabs_three_boxes() {
+    // v1's UObject prefab (beyretb/AnimalAI-Environment, TrainEnv/Prefab/Movable/UObject.prefab):
+    // a bar of 0.99 x 10 at the pivot and arms of 3 x 1 at (1, +-5), scaled by ratioSize
+    // (0.3, 1, 0.1) per unit of size, the prefab turned 90 degrees, mass 3, friction 0.5.
+    assert_eq!((ObjectKind::UObject.mass(), ObjectKind::UObject.friction()), (Some(3.0), 0.5));
+    let u = ObjectSpec::new(ObjectKind::UObject, 20.0, 0.0, 20.0).size(5.0, 1.0, 10.0).rotation(0.0);
+    let env = open_env(vec![u], 5.0, 5.0, 0.0);
+    let p = &env.world().pushed[0];
+    assert_eq!(p.parts.len(), 3);
+    let (sx, sz) = (5.0 * 0.999 * 0.3, 10.0 * 0.999 * 0.1);
+    let close = |a: Vec2, b: Vec2| (a - b).length() < 1e-4;
+    // Turned 90 degrees, the bar lies along world x and the arms reach towards -z.
+    let bar = &p.parts[0].foot;
+    assert!(close(bar.centre, Vec2::new(20.0, 20.0)) && close(bar.half, Vec2::new(0.495 * sx, 5.0 * sz)));
+    for (part, side) in p.parts[1..].iter().zip([1.0, -1.0]) {
+        let want = Vec2::new(20.0 + side * 5.0 * sz, 20.0 - sx);
+        assert!(close(part.foot.centre, want), "arm at {}, expected {want}", part.foot.centre);
+        assert!(close(part.foot.half, Vec2::new(1.5 * sx, 0.5 * sz)));
+    }
+    assert!(p.parts.iter().all(|b| b.colour == sec_playground::arena::WOOD && (b.height - 0.999).abs() < 1e-6));
+    // The L keeps the bar and the arm at -5; its mirror has the arm on the other side.
+    let l = |kind| {
+        let spec = ObjectSpec::new(kind, 20.0, 0.0, 20.0).size(5.0, 1.0, 10.0).rotation(0.0);
+        open_env(vec![spec], 5.0, 5.0, 0.0).world().pushed[0].parts[1].foot.centre
+    };
+    assert!(close(l(ObjectKind::LObject), Vec2::new(20.0 - 5.0 * sz, 20.0 - sx)));
+    assert!(close(l(ObjectKind::LObject2), Vec2::new(20.0 - 5.0 * sz, 20.0 + sx)));
+}
+
+#[test]
+fn a_pushed_u_object_pushes_the_goal_in_its_mouth() {
+    // Category 10's trick: the goal sits where the agent may not go, in the U's mouth; pushing
+    // the U's bar moves the goal. The U turned 180 in the file opens towards +z, its bar at z 15.
+    let u = ObjectSpec::new(ObjectKind::UObject, 20.0, 0.0, 15.0).size(5.0, 1.0, 10.0).rotation(180.0);
+    let goal = ObjectSpec::new(ObjectKind::GoodGoal, 20.0, 0.0, 17.0);
+    let mut env = open_env(vec![u, goal], 20.0, 10.0, 0.0);
+    let start = env.world().goals[0].centre;
+    for _ in 0..40 {
+        let step = env.step(Action::FORWARD).unwrap();
+        assert!(!step.terminated, "the agent reached the goal through the U's bar");
+    }
+    let w = env.world();
+    let end = w.goals[0].centre;
+    assert!(end.z - start.z > 2.0, "the goal moved from {start} to {end}");
+    assert!(w.pushed[0].pose.centre.y > 16.0, "the U's pivot is at {}", w.pushed[0].pose.centre);
+    assert!(w.agent.pos.y < w.pushed[0].pose.centre.y, "the agent stays behind the bar");
+}
+
+#[test]
+fn an_l_object_pushed_at_one_end_turns() {
+    // One rigid body: pushed on its bar away from its centre of mass, it turns as well as slides.
+    let l = ObjectSpec::new(ObjectKind::LObject, 20.0, 0.0, 15.0).size(5.0, 1.0, 10.0).rotation(0.0);
+    let mut env = open_env(vec![l], 23.0, 10.0, 0.0);
+    let before = env.world().pushed[0].pose;
+    for _ in 0..30 {
+        env.step(Action::FORWARD).unwrap();
+    }
+    let after = env.world().pushed[0].pose;
+    let turned = libm::atan2f(after.sin, after.cos) - libm::atan2f(before.sin, before.cos);
+    assert!(turned.abs() > 0.05, "turned {turned} rad");
+    assert!(after.centre.y > before.centre.y + 0.5, "moved from {} to {}", before.centre, after.centre);
 }
 
 #[test]

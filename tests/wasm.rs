@@ -83,7 +83,7 @@ fn the_js_api_validates_its_inputs() {
     assert!(env.step(v(3)).is_ok());
     assert_eq!(env.observation().len(), 84 * 84 * 4);
     let e =
-        ArenaEnv::from_yaml(v("x"), v("arenas:\n  0:\n    items:\n    - name: LObject\n"), v(1.0), None).err().unwrap();
+        ArenaEnv::from_yaml(v("x"), v("arenas:\n  0:\n    items:\n    - name: Pillar\n"), v(1.0), None).err().unwrap();
     assert!(message(e).contains("line 4"));
 }
 

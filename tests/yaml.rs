@@ -61,12 +61,12 @@ fn err(src: &str) -> sec_playground::FileError {
 
 #[test]
 fn bad_files_name_the_line_and_the_field() {
-    let unknown = DETOUR.replace("name: GoodGoal", "name: LObject");
+    let unknown = DETOUR.replace("name: GoodGoal", "name: Pillar");
     let e = err(&unknown);
     assert_eq!(e.file, "arena", "a file error");
     assert_eq!(e.line, Some(20), "{e}");
     assert_eq!(e.field, "arenas.0.items[1].name");
-    assert!(e.message.contains("unknown item 'LObject'"), "{e}");
+    assert!(e.message.contains("unknown item 'Pillar'"), "{e}");
 
     // A size outside its object's range is clamped, as v1 does (beyretb/AnimalAI-Environment,
     // `TrainEnv/Prefab/Scripts/Prefab.cs` `SetSize`), and the task says so; one that is not a

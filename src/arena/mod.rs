@@ -19,7 +19,7 @@ pub use physics::{DRAG_FACTOR, FRAMES_PER_STEP, FRAME_DT, FRICTION_DV, GRAVITY, 
 pub use tasks::{facing_centre, StartHeading, Task, TaskInfo, TASKS, TASK_NAMES};
 pub use world::{
     support, Agent, BoxObj, Collider, Footprint, Goal, Pushable, Ramp, Support, Tunnel, World, Zone, AGENT_RADIUS,
-    CARDBOARD,
+    CARDBOARD, WOOD,
 };
 
 /// Side of the square arena, metres; the fences' inner faces are at 0 and 40.
@@ -28,6 +28,11 @@ pub const ARENA_SIZE: f32 = 40.0;
 pub const DEFAULT_T: u32 = 1000;
 /// Largest accepted episode limit: 100,000 env steps is over half an hour of simulated time.
 pub const MAX_T: u32 = 100_000;
+/// Highest an arena file may place an object, metres: v1 sets no bound, the Olympics corpus goes
+/// to 1500 (05-30 drops a box from there).
+pub const MAX_OBJECT_Y: f32 = 2000.0;
+/// Highest it may place the agent, metres.
+pub const MAX_AGENT_Y: f32 = 100.0;
 /// Animal-AI scales every clamped size by this (`sizeAdjustement` in the prefabs).
 pub const SIZE_ADJUST: f32 = 0.999;
 
@@ -69,11 +74,17 @@ pub enum ObjectKind {
     Cardbox1,
     /// A heavier one, of mass 2.
     Cardbox2,
+    /// A wooden U the agent pushes: a long bar with an arm at each end (mass 1.5).
+    UObject,
+    /// A wooden L: the bar with one arm.
+    LObject,
+    /// The L's mirror image.
+    LObject2,
 }
 
 impl ObjectKind {
     /// Every kind, in the catalogue's order.
-    pub const ALL: [ObjectKind; 15] = [
+    pub const ALL: [ObjectKind; 18] = [
         ObjectKind::Wall,
         ObjectKind::WallTransparent,
         ObjectKind::Ramp,
@@ -89,6 +100,9 @@ impl ObjectKind {
         ObjectKind::HotZone,
         ObjectKind::Cardbox1,
         ObjectKind::Cardbox2,
+        ObjectKind::UObject,
+        ObjectKind::LObject,
+        ObjectKind::LObject2,
     ];
 
     /// The prefab name used in YAML files.
@@ -109,6 +123,9 @@ impl ObjectKind {
             ObjectKind::HotZone => "HotZone",
             ObjectKind::Cardbox1 => "Cardbox1",
             ObjectKind::Cardbox2 => "Cardbox2",
+            ObjectKind::UObject => "UObject",
+            ObjectKind::LObject => "LObject",
+            ObjectKind::LObject2 => "LObject2",
         }
     }
 
@@ -118,19 +135,49 @@ impl ObjectKind {
         ObjectKind::ALL.into_iter().filter(|k| k.simulated()).find(|k| k.name() == name)
     }
 
-    /// Whether this build simulates it: every kind, but a pushable box only with the rigid
+    /// Whether this build simulates it: every kind, but a pushable object only with the rigid
     /// bodies of the `pushables` feature.
     pub fn simulated(self) -> bool {
         cfg!(feature = "pushables") || self.mass().is_none()
     }
 
-    /// A pushable box's mass in kg (v1's prefabs: Cardbox1 1, Cardbox2 2); `None` for what does
-    /// not move when pushed.
+    /// A pushable object's mass in kg (v1's prefabs' rigid bodies: Cardbox1 1, Cardbox2 2, the U
+    /// and L objects 3); `None` for what does not move when pushed.
     pub fn mass(self) -> Option<f32> {
         match self {
             ObjectKind::Cardbox1 => Some(1.0),
             ObjectKind::Cardbox2 => Some(2.0),
+            ObjectKind::UObject | ObjectKind::LObject | ObjectKind::LObject2 => Some(3.0),
             _ => None,
+        }
+    }
+
+    /// A pushable object's friction (v1's prefabs: Unity's default 0.6 for Cardbox1, the
+    /// `LowFriction` material's 0.5 for the others), averaged with what it touches.
+    pub fn friction(self) -> f32 {
+        match self {
+            ObjectKind::Cardbox1 => 0.6,
+            _ => 0.5,
+        }
+    }
+
+    /// A pushable object's shape, from v1's prefab (docs/ARENAS.md section 5): each of its boxes
+    /// as its centre and size along the prefab's own x and z, in the prefab's units (every box
+    /// spans the object's whole height); the prefab's scale per unit of size along x and z (its
+    /// `ratioSize`); and the prefab's own turn, in degrees, to which v1 adds the file's rotation
+    /// (it turns the instance by it). A box's half-turn changes nothing and is left out. Empty
+    /// for what is not pushable.
+    pub fn prefab_boxes(self) -> (&'static [[f32; 4]], [f32; 2], f32) {
+        // The bar: a unit cube scaled (10, 0.99, 0.99) and turned 90 degrees in the prefab; the
+        // arms: unit cubes scaled (1, 1, 3), turned likewise, at (+-1, +-5).
+        const BAR: [f32; 4] = [0.0, 0.0, 0.99, 10.0];
+        const U_L: [f32; 2] = [0.3, 0.1];
+        match self {
+            ObjectKind::Cardbox1 | ObjectKind::Cardbox2 => (&[[0.0, 0.0, 1.0, 1.0]], [1.0, 1.0], 0.0),
+            ObjectKind::UObject => (&[BAR, [1.0, 5.0, 3.0, 1.0], [1.0, -5.0, 3.0, 1.0]], U_L, 90.0),
+            ObjectKind::LObject => (&[BAR, [1.0, -5.0, 3.0, 1.0]], U_L, 90.0),
+            ObjectKind::LObject2 => (&[BAR, [-1.0, -5.0, 3.0, 1.0]], U_L, 90.0),
+            _ => (&[], [1.0, 1.0], 0.0),
         }
     }
 
@@ -143,6 +190,7 @@ impl ObjectKind {
             ObjectKind::CylinderTunnel | ObjectKind::CylinderTunnelTransparent => ([2.5; 3], [10.0; 3]),
             k if k.is_goal() => ([0.5; 3], [5.0; 3]),
             ObjectKind::Cardbox1 | ObjectKind::Cardbox2 => ([0.5; 3], [10.0; 3]),
+            ObjectKind::UObject | ObjectKind::LObject | ObjectKind::LObject2 => ([1.0, 0.3, 3.0], [5.0, 2.0, 20.0]),
             _ => ([1.0, 0.0, 1.0], [40.0, 10.0, 40.0]),
         }
     }
@@ -152,6 +200,8 @@ impl ObjectKind {
         match self {
             ObjectKind::Wall | ObjectKind::WallTransparent | ObjectKind::Ramp => [1.0, 1.0, 1.0],
             ObjectKind::CylinderTunnel | ObjectKind::CylinderTunnelTransparent => [5.0, 5.0, 5.0],
+            // The prefab at its own scale, 1 on every axis (its `ratioSize` is 0.3, 1, 0.1).
+            ObjectKind::UObject | ObjectKind::LObject | ObjectKind::LObject2 => [1.0 / 0.3, 1.0, 10.0],
             k if k.is_goal() || k.mass().is_some() => [1.0, 1.0, 1.0],
             _ => [1.0, 0.0, 1.0],
         }
@@ -302,7 +352,7 @@ impl Layout {
             }
             for (axis, p) in o.position.iter().enumerate() {
                 if let Some(p) = *p {
-                    let hi = if axis == 1 { 100.0 } else { ARENA_SIZE };
+                    let hi = if axis == 1 { MAX_OBJECT_Y } else { ARENA_SIZE };
                     check_range(&format!("objects[{i}].position.{}", AXES[axis]), p, 0.0, hi)?;
                 }
             }
@@ -320,7 +370,7 @@ impl Layout {
                 )?;
             }
         }
-        check_range("agent.position.y", self.agent.y, 0.0, 100.0)?;
+        check_range("agent.position.y", self.agent.y, 0.0, MAX_AGENT_Y)?;
         if let Some(r) = self.agent.rotation {
             check_range("agent.rotation", r, -360.0, 360.0)?;
         }

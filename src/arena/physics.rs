@@ -18,21 +18,28 @@ pub const FRICTION_DV: f32 = 0.6 * 9.81 * FRAME_DT;
 pub const DRAG_FACTOR: f32 = 0.96;
 /// Gravity, m/s^2 (goals fall until they rest).
 pub const GRAVITY: f32 = 9.81;
-/// Goals bounce with bounciness 0.4 averaged with the floor's 0.
-const GOAL_RESTITUTION: f32 = 0.2;
+/// Goals' `MediumBounce` material: bounciness 0.4, averaged with the floor's 0.
+pub(super) const GOAL_BOUNCINESS: f32 = 0.4;
+/// What a goal's bounce keeps of its speed.
+const GOAL_RESTITUTION: f32 = GOAL_BOUNCINESS / 2.0;
 /// A bouncing goal's launch speed, m/s: `forceToApply` 500 x the physics step as a velocity
 /// change, in its first frame (`BallGoalBounce.Start`).
 pub const BOUNCE_LAUNCH: f32 = 500.0 * FRAME_DT;
 /// Its `BounceBall` material's bounciness 0.8, combined by maximum: 0.8 against every surface.
-const BOUNCE_RESTITUTION: f32 = 0.8;
-/// Its dynamic friction 0.3, combined by minimum (the floor's is higher): the sliding
-/// deceleration while its spin catches up with its speed.
-const BOUNCE_FRICTION_DV: f32 = 0.3 * GRAVITY * FRAME_DT;
+pub(super) const BOUNCE_RESTITUTION: f32 = 0.8;
+/// Its dynamic friction, combined by minimum (the floor's is higher).
+pub(super) const BOUNCE_FRICTION: f32 = 0.3;
+/// The sliding deceleration while its spin catches up with its speed.
+const BOUNCE_FRICTION_DV: f32 = BOUNCE_FRICTION * GRAVITY * FRAME_DT;
 /// Other goals' `MediumBounce` material: friction 0.6 (averaged with the floor's, taken as the
 /// same), which acts once a ramp sets them rolling.
-const GOAL_FRICTION_DV: f32 = 0.6 * GRAVITY * FRAME_DT;
-/// Every goal's rigid body's angular drag, 0.05 per second, per frame.
-const SPIN_FACTOR: f32 = 1.0 - 0.05 * FRAME_DT;
+pub(super) const GOAL_FRICTION: f32 = 0.6;
+/// Its sliding deceleration.
+const GOAL_FRICTION_DV: f32 = GOAL_FRICTION * GRAVITY * FRAME_DT;
+/// Every goal's rigid body's angular drag, per second.
+pub(super) const GOAL_ANGULAR_DRAG: f32 = 0.05;
+/// The same, per frame.
+const SPIN_FACTOR: f32 = 1.0 - GOAL_ANGULAR_DRAG * FRAME_DT;
 /// Unity puts a body to sleep below 0.005 of kinetic energy per unit mass: v^2 / 2 < 0.005.
 const SLEEP_SPEED: f32 = 0.1;
 /// Unity's bounce threshold: a rebound slower than this is dropped, which gives the single
@@ -58,18 +65,19 @@ pub struct FrameEvents {
     pub good_goal: bool,
 }
 
-/// Rigid bodies that move the agent with the world's pushable boxes, one physics frame at a
-/// time: the agent's position and velocity go in and come back, the boxes take their new poses
-/// (`push::Bodies`, in an arena with pushable boxes).
+/// Rigid bodies that move the agent with the world's pushable objects and goals, one physics
+/// frame at a time: the agent's position and velocity go in and come back, the objects and the
+/// goals take their new poses (`push::Bodies`, in an arena with pushable objects, where the goals
+/// are rigid bodies too, so that a pushed object pushes them).
 pub trait RigidBodies {
-    /// One physics frame of the agent and `pushed`.
-    fn step(&mut self, agent: &mut Agent, pushed: &mut [Pushable]);
+    /// One physics frame of the agent, `pushed` and `goals`.
+    fn step(&mut self, agent: &mut Agent, pushed: &mut [Pushable], goals: &mut [Goal]);
 }
 
 /// Advances the world by one physics frame with the action's two branches:
 /// `movement` 0 none, 1 forward, 2 backward; `turn` 0 none, 1 right (clockwise), 2 left.
-/// `hot_penalty` is the HotZone reward per frame (negative). `bodies`: the pushable boxes' rigid
-/// bodies, in an arena that has some.
+/// `hot_penalty` is the HotZone reward per frame (negative). `bodies`: the rigid bodies of the
+/// pushable objects and the goals, in an arena that has pushable objects.
 pub fn physics_frame(
     w: &mut World,
     bodies: Option<&mut dyn RigidBodies>,
@@ -105,24 +113,22 @@ pub fn physics_frame(
     }
     a.vel *= DRAG_FACTOR;
     let before = a.pos;
-    move_agent(w, bodies);
+    // The agent moves by its velocity; in an arena with pushable objects, the rigid bodies move
+    // it with them (it pushes them and they push back), and the goals with them.
+    match bodies {
+        Some(b) => b.step(&mut w.agent, &mut w.pushed, &mut w.goals),
+        None => w.agent.pos += w.agent.vel * FRAME_DT,
+    }
     if !collide(w) {
         // Squeezed between colliders (a gap narrower than the agent): stay where it was.
         w.agent.pos = before;
         w.agent.vel = Vec2::ZERO;
     }
     fall_agent(w);
-    fall_goals(w);
-    touches(w, hot_penalty)
-}
-
-/// The agent moves by its velocity; in an arena with pushable boxes, their rigid bodies move it
-/// with them, so that it pushes them and they push back.
-fn move_agent(w: &mut World, bodies: Option<&mut dyn RigidBodies>) {
-    match bodies {
-        Some(b) => b.step(&mut w.agent, &mut w.pushed),
-        None => w.agent.pos += w.agent.vel * FRAME_DT,
+    if w.pushed.is_empty() {
+        fall_goals(w);
     }
+    touches(w, hot_penalty)
 }
 
 /// The agent above what is under it falls under gravity, with the drag it has in every
@@ -235,21 +241,12 @@ fn collide(w: &mut World) -> bool {
 }
 
 /// Goals fall under gravity (no drag) and bounce once on the floor or the box under them; a
-/// bouncing goal, and any goal a ramp sets rolling, also rolls (`roll`) until it sleeps.
+/// bouncing goal, and any goal a ramp sets rolling, also rolls (`roll`) until it sleeps. (In an
+/// arena with pushable objects the goals are rigid bodies of `push` instead.)
 fn fall_goals(w: &mut World) {
-    // A rolling goal meets the pushable boxes where they are now, as it meets the walls.
-    let with_boxes: Vec<Collider>;
-    let colliders = if w.pushed.is_empty() {
-        &w.colliders
-    } else {
-        with_boxes = w.colliders.iter().copied().chain(w.pushed.iter().map(|p| p.collider())).collect();
-        &with_boxes
-    };
-    // A goal resting on a pushable box falls when the box moves away, so none rests for good there.
-    let can_rest = w.pushed.is_empty();
     for g in w.goals.iter_mut().filter(|g| !g.resting && !g.collected) {
-        let boxes = w.walls.iter().chain(w.pushed.iter().map(|p| &p.shape));
-        let under = support(boxes, &w.ramps, Vec2::new(g.centre.x, g.centre.z), g.centre.y - g.radius, g.radius);
+        let under =
+            support(w.walls.iter(), &w.ramps, Vec2::new(g.centre.x, g.centre.z), g.centre.y - g.radius, g.radius);
         let floor = under.height;
         g.vy -= GRAVITY * FRAME_DT;
         g.centre.y += g.vy * FRAME_DT;
@@ -263,12 +260,12 @@ fn fall_goals(w: &mut World) {
             } else {
                 g.vy = 0.0;
                 grounded = true;
-                g.resting = can_rest && !g.bouncing && under.ramp.is_none() && g.vel == Vec2::ZERO;
+                g.resting = !g.bouncing && under.ramp.is_none() && g.vel == Vec2::ZERO;
             }
         }
         if g.bouncing || under.ramp.is_some() || g.vel != Vec2::ZERO {
             let slope = under.ramp.filter(|_| grounded).map(|i| w.ramps[i].downhill());
-            roll(g, grounded, slope, colliders, &w.ramps);
+            roll(g, grounded, slope, &w.colliders, &w.ramps);
         }
     }
 }

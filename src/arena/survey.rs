@@ -11,8 +11,8 @@ use std::collections::BTreeSet;
 /// A feature of Animal-AI arena files that this simulator lacks.
 #[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Feature {
-    /// `UObject`, `LObject`, `LObject2`: U- and L-shaped objects the agent pushes (and the pushable
-    /// boxes, `Cardbox1` and `Cardbox2`, in a build without the `pushables` feature).
+    /// Objects the agent pushes (`Cardbox1`, `Cardbox2`, `UObject`, `LObject`, `LObject2`), in a
+    /// build without the rigid bodies of the `pushables` feature.
     Pushable,
     /// Any other item the simulator does not know.
     Item(String),
@@ -22,7 +22,6 @@ impl Feature {
     /// Short name for reports.
     pub fn name(&self) -> String {
         match self {
-            Feature::Pushable if cfg!(feature = "pushables") => "pushable U and L objects".into(),
             Feature::Pushable => "pushable objects".into(),
             Feature::Item(name) => format!("item {name}"),
         }
@@ -32,7 +31,6 @@ impl Feature {
     fn of_item(name: &str) -> Option<Feature> {
         match name {
             "Agent" => None,
-            "UObject" | "LObject" | "LObject2" => Some(Feature::Pushable),
             _ if ObjectKind::from_name(name).is_some() => None,
             _ if ObjectKind::ALL.iter().any(|k| k.name() == name) => Some(Feature::Pushable),
             _ => Some(Feature::Item(name.to_string())),
@@ -79,11 +77,13 @@ mod tests {
             \x20   - !Item\n      name: GoodGoal\n    - !Item\n      name: GoodGoalMulti\n\
             \x20   - !Item\n      name: Cardbox1\n    - !Item\n      name: LObject\n    - !Item\n      name: Pillar\n";
         let names: Vec<String> = features(src).unwrap().iter().map(Feature::name).collect();
-        assert_eq!(names, [Feature::Pushable.name(), "item Pillar".into()]);
-        // A pushable box needs nothing more where the rigid bodies are built in.
-        let boxed = src.replace("LObject", "Wall");
-        let expected = if cfg!(feature = "pushables") { vec!["item Pillar".into()] } else { names };
-        assert_eq!(features(&boxed).unwrap().iter().map(Feature::name).collect::<Vec<_>>(), expected);
+        // Pushable objects need nothing more where the rigid bodies are built in.
+        let expected: Vec<String> = if cfg!(feature = "pushables") {
+            vec!["item Pillar".into()]
+        } else {
+            vec![Feature::Pushable.name(), "item Pillar".into()]
+        };
+        assert_eq!(names, expected);
     }
 
     #[test]

@@ -107,27 +107,56 @@ pub struct BoxObj {
     pub transparent: bool,
 }
 
-/// A box the agent pushes (`Cardbox1`, `Cardbox2`): its shape where its rigid body now is (it
-/// moves with it: `physics::RigidBodies`), and its mass.
+/// An object the agent pushes (`Cardbox1`, `Cardbox2`, `UObject`, `LObject`, `LObject2`): one
+/// rigid body made of upright boxes of the same height, where the body now is (it moves with it:
+/// `physics::RigidBodies`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Pushable {
-    /// The box at its current pose.
-    pub shape: BoxObj,
+    /// Its boxes at their current pose: one for a cardboard box, two or three for an L or a U.
+    pub parts: Vec<BoxObj>,
+    /// Each box's centre in the body's own frame (local x, z), in the order of `parts`.
+    pub offsets: Vec<Vec2>,
+    /// The body's origin (the prefab's pivot) and turn now; its half extents are those of the
+    /// box v1's spawn check tests.
+    pub pose: Footprint,
     /// Its mass, kg.
     pub mass: f32,
+    /// Its friction (averaged with what it touches).
+    pub friction: f32,
 }
 
 impl Pushable {
-    /// Its footprint and heights now, as a goal rolling into it meets it.
-    pub fn collider(&self) -> Collider {
-        let b = &self.shape;
-        Collider { foot: b.foot, bottom: b.base, top: b.top(), wall: None, ramp: None }
+    /// Its boxes' footprints and heights now, as a goal rolling into it meets them.
+    pub fn colliders(&self) -> impl Iterator<Item = Collider> + '_ {
+        self.parts.iter().map(|b| Collider { foot: b.foot, bottom: b.base, top: b.top(), wall: None, ramp: None })
+    }
+
+    /// The height of its bottom.
+    pub fn base(&self) -> f32 {
+        self.parts[0].base
+    }
+
+    /// Its height.
+    pub fn height(&self) -> f32 {
+        self.parts[0].height
+    }
+
+    /// Moves it to `pose` with its bottom at `base`: each box follows the body.
+    pub fn move_to(&mut self, pose: Footprint, base: f32) {
+        for (part, &offset) in self.parts.iter_mut().zip(&self.offsets) {
+            part.foot.centre = pose.centre + pose.to_world_dir(offset);
+            (part.foot.cos, part.foot.sin) = (pose.cos, pose.sin);
+            part.base = base;
+        }
+        self.pose = pose;
     }
 }
 
 /// The pushable boxes' colour: v1 draws them with a cardboard texture, which this renderer
 /// stands for by one brown.
 pub const CARDBOARD: Rgb = Rgb(170, 130, 85);
+/// The U and L objects' colour: v1's wooden texture, as one darker brown.
+pub const WOOD: Rgb = Rgb(125, 85, 50);
 
 /// A CylinderTunnel: the upper half of an elliptic tube lying along local z (an arch).
 #[derive(Clone, Debug, PartialEq)]
@@ -388,14 +417,14 @@ impl World {
             key.push(g.collected as u32);
         }
         for p in &self.pushed {
-            let f = &p.shape.foot;
-            key.extend([f.centre.x, f.centre.y, f.cos, f.sin, p.shape.base].map(f32::to_bits));
+            let f = &p.pose;
+            key.extend([f.centre.x, f.centre.y, f.cos, f.sin, p.base()].map(f32::to_bits));
         }
     }
 
-    /// Every opaque box the camera draws: the walls, then the pushable boxes.
+    /// Every opaque box the camera draws: the walls, then the pushable objects' boxes.
     pub fn boxes(&self) -> impl Iterator<Item = &BoxObj> {
-        self.walls.iter().chain(self.pushed.iter().map(|p| &p.shape))
+        self.walls.iter().chain(self.pushed.iter().flat_map(|p| &p.parts))
     }
 
     /// Spawns a layout. Objects spawn in file order after a user-placed agent; an object whose
@@ -532,7 +561,7 @@ impl World {
             // A ramp is a wedge (v1 checks its convex mesh): only its slope's height counts.
             let wedge_below =
                 |c: &Collider, s: &Footprint| c.ramp.is_some_and(|i| self.ramps[i].top_over(s) <= rise.0 + OVERLAP_EPS);
-            let colliders = || self.colliders.iter().copied().chain(self.pushed.iter().map(Pushable::collider));
+            let colliders = || self.colliders.iter().copied().chain(self.pushed.iter().flat_map(Pushable::colliders));
             !solid.iter().any(|s| colliders().any(|c| c.spans(rise) && c.foot.overlaps(s) && !wedge_below(&c, s)))
                 && !solid.iter().any(agent_in)
                 && !solid.iter().any(|s| {
@@ -597,12 +626,31 @@ impl World {
                 self.tunnels.push(t);
             }
             k if k.mass().is_some() => {
-                let foot = Footprint::new(centre, footprint_half, rotation);
-                if !free(&[foot], (y, y + size[1])) {
+                let (boxes, ratio, turn) = k.prefab_boxes();
+                let scale = Vec2::new(size[0] * ratio[0], size[2] * ratio[1]);
+                let offsets: Vec<Vec2> = boxes.iter().map(|b| Vec2::new(b[0], b[1]) * scale).collect();
+                let halves: Vec<Vec2> = boxes.iter().map(|b| Vec2::new(b[2], b[3]) * scale / 2.0).collect();
+                // v1 tests a box of the object's bounds centred on its pivot (`GetBoundsWithChildren`,
+                // then `OverlapBox` at the pivot), not the boxes themselves.
+                let (lo, hi) = offsets
+                    .iter()
+                    .zip(&halves)
+                    .fold((Vec2::MAX, Vec2::MIN), |(lo, hi), (&o, &h)| (lo.min(o - h), hi.max(o + h)));
+                let pose = Footprint::new(centre, (hi - lo) / 2.0, rotation + turn);
+                if !free(&[pose], (y, y + size[1])) {
                     return false;
                 }
-                let shape = BoxObj { foot, base: y, height: size[1], colour: CARDBOARD, transparent: false };
-                self.pushed.push(Pushable { shape, mass: k.mass().unwrap_or(1.0) });
+                let colour = if k == ObjectKind::Cardbox1 || k == ObjectKind::Cardbox2 { CARDBOARD } else { WOOD };
+                let parts = halves
+                    .iter()
+                    .map(|&half| {
+                        let foot = Footprint { half, ..pose };
+                        BoxObj { foot, base: y, height: size[1], colour, transparent: false }
+                    })
+                    .collect();
+                let mut p = Pushable { parts, offsets, pose, mass: k.mass().unwrap_or(1.0), friction: k.friction() };
+                p.move_to(pose, y);
+                self.pushed.push(p);
             }
             k if k.is_goal() => {
                 // A sphere's diameter is size.x; y and z are ignored (docs/ARENAS.md section 5).
@@ -651,7 +699,7 @@ impl World {
                 spec.position[1].unwrap_or_else(|| rng.gen_range(lo..hi)),
             );
             let (lo, hi) = (spec.y, spec.y + 2.0 * AGENT_RADIUS);
-            let pushed = self.pushed.iter().map(Pushable::collider);
+            let pushed = self.pushed.iter().flat_map(Pushable::colliders);
             let blocked = self
                 .colliders
                 .iter()

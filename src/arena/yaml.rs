@@ -2,7 +2,10 @@
 //! own arenas. Tags (`!ArenaConfig`, `!Item`, `!Vector3`, `!RGB`) are accepted and ignored.
 //! Every problem is a [`FileError`] (of file `arena`) naming the line and the field.
 
-use super::{AgentSpec, Blackouts, ConfigError, Layout, ObjectKind, ObjectSpec, Rgb, Task, ARENA_SIZE, AXES, MAX_T};
+use super::{
+    AgentSpec, Blackouts, ConfigError, Layout, ObjectKind, ObjectSpec, Rgb, Task, ARENA_SIZE, AXES, MAX_AGENT_Y,
+    MAX_OBJECT_Y, MAX_T,
+};
 use crate::error::FileError;
 use crate::util::shown;
 use yaml_rust2::parser::{Event, MarkedEventReceiver, Parser};
@@ -336,7 +339,7 @@ fn parse_item(node: &Node, field: &str, warnings: &mut Vec<String>) -> Result<It
         let f = format!("{field}.positions[{j}]");
         let v = vector(p, &f, ["x", "y", "z"])?;
         in_range(v[0], 0.0, ARENA_SIZE, p.line(), &format!("{f}.x"))?;
-        in_range(v[1], 0.0, 100.0, p.line(), &format!("{f}.y"))?;
+        in_range(v[1], 0.0, MAX_OBJECT_Y, p.line(), &format!("{f}.y"))?;
         in_range(v[2], 0.0, ARENA_SIZE, p.line(), &format!("{f}.z"))?;
         positions.push(v);
     }
@@ -361,6 +364,7 @@ fn parse_item(node: &Node, field: &str, warnings: &mut Vec<String>) -> Result<It
         for (k, v) in [(0, p[0]), (2, p[2])] {
             in_range(v, 0.5, ARENA_SIZE - 0.5, node.line(), &format!("{field}.positions[0].{}", AXES[k]))?;
         }
+        in_range(p[1], 0.0, MAX_AGENT_Y, node.line(), &format!("{field}.positions[0].y"))?;
         return Ok(Item::Agent(AgentSpec {
             position: [p[0], p[2]],
             y: p[1].unwrap_or(0.0),

@@ -45,10 +45,10 @@ pub fn scripted_task_run(task: Task, surface: Surface, seed: u64, steps: u32) ->
             p.x.to_bits(),
             p.y.to_bits()
         );
-        // Where each pushable box is, after the hash (none in the preset tasks).
+        // Where each pushable object is, after the hash (none in the preset tasks).
         out.pop();
         for b in &env.world().pushed {
-            let c = b.shape.foot.centre;
+            let c = b.pose.centre;
             let _ = write!(out, " {:08x}:{:08x}", c.x.to_bits(), c.y.to_bits());
         }
         out.push('\n');

@@ -194,7 +194,7 @@ test('an Olympics arena links to the playground, where SEC learns it with the un
   await pg.goto(base + 'index.html?arena=nope');
   await pg.waitForFunction(() => !document.getElementById('error').hidden);
   assert.match(await pg.textContent('#error'), /arena: 'nope' is not an Olympics arena's name/);
-  await pg.goto(base + 'index.html?arena=10-04-01');
+  await pg.goto(base + 'index.html?arena=06-11-01');
   await pg.waitForFunction(() => !document.getElementById('error').hidden);
   assert.match(await pg.textContent('#error'), /could not load: .*arena/);
   await pg.close();
