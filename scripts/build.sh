@@ -15,9 +15,13 @@ RUSTFLAGS="-C target-feature=-simd128" CARGO_TARGET_DIR=target/scalar \
     wasm-pack build --release --target web --out-dir pkg/scalar -- --no-default-features
 RUSTFLAGS="-C target-feature=-simd128" CARGO_TARGET_DIR=target/scalar \
     wasm-pack build --release --target web --out-dir pkg/arena
-for d in pkg pkg/scalar pkg/arena; do
+for d in pkg pkg/scalar; do
     node_modules/.bin/wasm-opt -O3 "$d/sec_playground_bg.wasm" -o "$d/sec_playground_bg.wasm"
 done
+# The arena build (2.6 MB with rapier3d) at -O1: -O3 took 4 minutes here for a file 0.6 % larger
+# gzipped, and -O1, -O2, -O3 and no pass at all step its arenas at the same speed in Node
+# (BENCHMARKS.md, "What the pushable objects cost").
+node_modules/.bin/wasm-opt -O1 pkg/arena/sec_playground_bg.wasm -o pkg/arena/sec_playground_bg.wasm
 # The page's npm dependencies, pinned by package-lock.json, shipped with it (no CDN).
 mkdir -p www/vendor
 # uPlot's own minified build (22 KB gzipped instead of the ES module's 42 KB) as an ES module: it

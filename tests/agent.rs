@@ -1,5 +1,6 @@
 //! Arbitration between the contextual and reactive layers (docs/ALGORITHM.md) and the
 //! agent's documented deviations.
+#![cfg(not(target_arch = "wasm32"))]
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;

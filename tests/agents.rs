@@ -1,4 +1,5 @@
 //! The agent table: every agent declared once, and no front end typing an agent's name.
+#![cfg(not(target_arch = "wasm32"))]
 
 use sec_playground::agent::mfec::Embedding;
 use sec_playground::agent::mfec::MfecConfig;

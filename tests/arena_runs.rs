@@ -1,5 +1,6 @@
 //! Runs of an arena file (`RunConfig::arena`): an Olympics arena played by SEC with the untrained
 //! encoder and no gate, deterministic, and every part that needs a trained model refused by name.
+#![cfg(not(target_arch = "wasm32"))]
 
 use sec_playground::agent::SecConfig;
 use sec_playground::encoder::PerceptionKind;

@@ -1,4 +1,5 @@
 //! Runs of SEC in a task: deterministic, and counted as the paper counts them.
+#![cfg(not(target_arch = "wasm32"))]
 
 use sec_playground::agent::mfec::Embedding;
 use sec_playground::agent::mfec::MfecConfig;

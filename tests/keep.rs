@@ -1,6 +1,7 @@
 //! The page's "drive it yourself" and "save / load memory", at the level of a run: a person's
 //! rewarded episode is stored in SEC's LTM only when recorded, and a memory file loads only into
 //! a run whose embeddings mean the same; anything else is refused and changes nothing.
+#![cfg(not(target_arch = "wasm32"))]
 
 use sec_playground::agent::SecConfig;
 use sec_playground::arena::Action;

@@ -4,6 +4,7 @@
 //! under `src/` (test modules and comments left out), each resolved to the file that declares
 //! the module it names. A re-export counts as an import, so a submodule that reads a type through
 //! its parent's `pub use` closes a loop with that parent: it imports the file that defines it.
+#![cfg(not(target_arch = "wasm32"))]
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};

@@ -1,5 +1,6 @@
 //! The contextual layer against hand-computed values (docs/ALGORITHM.md, "The contextual layer") and its
 //! invariants over random operation sequences.
+#![cfg(not(target_arch = "wasm32"))]
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

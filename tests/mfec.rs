@@ -1,4 +1,5 @@
 //! The MFEC baseline (docs/ALGORITHM.md, "MFEC") on hand-made states.
+#![cfg(not(target_arch = "wasm32"))]
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;

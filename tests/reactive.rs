@@ -1,4 +1,5 @@
 //! The reactive layer's cycles (docs/ALGORITHM.md).
+#![cfg(not(target_arch = "wasm32"))]
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;

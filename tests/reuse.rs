@@ -2,6 +2,7 @@
 //! retrieval's reuse of its similarity row give
 //! the episodes of computing everything, and a run resumed with an empty cache goes on as the
 //! uninterrupted one with a warm cache did.
+#![cfg(not(target_arch = "wasm32"))]
 
 use sec_playground::experiment::checkpoint::ResumeCheck;
 use sec_playground::experiment::{Run, RunConfig};

@@ -1,5 +1,6 @@
 //! The core's session layer, which the page, Python and the CLI are adapters over: one parser of
 //! a RunConfig, stepping that gives the run's own log, views and explanations that add up.
+#![cfg(not(target_arch = "wasm32"))]
 
 use sec_playground::agent::SecConfig;
 use sec_playground::experiment::{AgentKind, Run, RunConfig};

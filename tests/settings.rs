@@ -1,4 +1,5 @@
 //! The page's flat settings (URL hash keys) and their mapping onto a run configuration.
+#![cfg(not(target_arch = "wasm32"))]
 
 use sec_playground::agent::SecConfig;
 use sec_playground::experiment::settings::{

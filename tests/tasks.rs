@@ -1,4 +1,5 @@
 //! The task table: every built-in task declared once, with its layouts, model and Gymnasium id.
+#![cfg(not(target_arch = "wasm32"))]
 
 use sec_playground::arena::{Task, TaskInfo, TASKS, TASK_NAMES};
 use sec_playground::encoder::bundled;

@@ -1,4 +1,5 @@
 //! The trace command's core: recorded events through the contextual layer, internals out.
+#![cfg(not(target_arch = "wasm32"))]
 
 use sec_playground::agent::SecConfig;
 use sec_playground::encoder::PerceptionKind;

@@ -4,6 +4,7 @@
 //! serialises (a configuration with every optional part present, the agent, task and settings
 //! tables, an episode's metrics), and every choice's options against the settings table. A field
 //! or option added to the core without its declaration is listed by name.
+#![cfg(not(target_arch = "wasm32"))]
 
 use sec_playground::agent::{AgentInfo, AGENTS};
 use sec_playground::arena::TASKS;

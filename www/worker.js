@@ -292,7 +292,7 @@ handlers.boot = async ({ wasm, task, files, arena: name }) => {
       arena = { name, yaml: await r.text() };
     }
     wasmMemory = (await loading).memory;
-    // A file the loader refuses (one that needs what the arenas cannot do yet) is refused here, by name.
+    // A file the loader refuses is refused here, naming its line and field.
     if (arena) withArena(parseSettings({}).config, arena.name, arena.yaml);
   } catch (e) {
     fail(`The simulation could not load: ${e?.message ?? e}`, true);

@@ -719,6 +719,22 @@ impl World {
         (p, false)
     }
 
+    /// The objects of `layout` (indices in `layout.objects`) that no spawn places: each of the four
+    /// fixed draws of `check_room` finds their spot taken. v1 leaves such an object out, and so
+    /// does the YAML loader, saying so (a layout built in code is refused instead).
+    pub fn always_left_out(layout: &Layout) -> Vec<usize> {
+        let mut out: Option<Vec<usize>> = None;
+        for k in 0..4u64 {
+            let mut rng = crate::seed::rng(k, crate::seed::Stream::Env);
+            let (_, unplaced) = World::spawn_counting(layout, &mut rng);
+            out = Some(match out {
+                None => unplaced,
+                Some(before) => before.into_iter().filter(|i| unplaced.contains(i)).collect(),
+            });
+        }
+        out.unwrap_or_default()
+    }
+
     /// Why `layout` cannot be spawned as written, if it cannot: an object left out (its index in
     /// `layout.objects` and kind), or a randomly placed agent with no free spot. Checked with four
     /// fixed draws, so a layout that fits is never refused for its randomness alone.

@@ -215,6 +215,8 @@ fn layout(name: &str, node: &Node, field: &str, warnings: &mut Vec<String>) -> R
         blackouts: Blackouts::default(),
     };
     let mut agent_seen = false;
+    // Where each object was written: its item's line and field, and its place in the item.
+    let mut origins: Vec<(usize, String, usize)> = Vec::new();
     for (key, v) in map_get(node, field, &["t", "pass_mark", "blackouts", "items"])? {
         let f = join(field, &key);
         match key.as_str() {
@@ -259,6 +261,7 @@ fn layout(name: &str, node: &Node, field: &str, warnings: &mut Vec<String>) -> R
                     let ifield = format!("{f}[{i}]");
                     match parse_item(item, &ifield, warnings)? {
                         Item::Objects(objs) => {
+                            origins.extend((0..objs.len()).map(|j| (item.line(), ifield.clone(), j)));
                             out.objects.extend(objs);
                             if out.objects.len() > MAX_OBJECTS {
                                 let message = format!(
@@ -280,6 +283,26 @@ fn layout(name: &str, node: &Node, field: &str, warnings: &mut Vec<String>) -> R
             }
             _ => unreachable!("map_get filters keys"),
         }
+    }
+    // v1 leaves out an object whose spot is taken by what was placed before it (its spawn check
+    // finds a collider there); so does the loader, and says so. Only objects no draw can place:
+    // one that fits in some draws stays, and the env places it where it fits.
+    let left_out = super::World::always_left_out(&out);
+    for &i in &left_out {
+        let (line, item, j) = &origins[i];
+        let o = &out.objects[i];
+        let at = |v: Option<f32>| v.map_or("random".to_string(), |v| v.to_string());
+        warnings.push(format!(
+            "line {line}: {item}: its {} (object {j} of the item) at ({}, {}, {}) overlaps what is placed before it; \
+             left out, as v1 does",
+            o.kind.name(),
+            at(o.position[0]),
+            at(o.position[1]),
+            at(o.position[2]),
+        ));
+    }
+    for &i in left_out.iter().rev() {
+        out.objects.remove(i);
     }
     Ok(out)
 }

@@ -154,16 +154,17 @@ pub fn table(results: &[FileResult], steps: u64) -> String {
     md.push_str(&format!(
         "{} files; each loaded one run for {steps} env steps of random actions. *Loads*: the loader and \
          the env take it; *as v1*: loaded and its run free of panics and non-finite numbers; *clamped*: loaded with a size clamped into its \
-         object's range, as v1 does. Refused files by what they need \
+         object's range, as v1 does; *left out*: loaded with an object left out, its spot taken by what is placed \
+         before it, as v1 does. Refused files by what they need \
          (*alone*: the only feature they need); *other*: refused files needing none of them \
          (refused for something else: its error in the CSV).\n\n",
         results.len()
     ));
-    md.push_str("| category | files | loads | as v1 | clamped | refused |");
+    md.push_str("| category | files | loads | as v1 | clamped | left out | refused |");
     for f in &refused_features {
         md.push_str(&format!(" {} (alone) |", f.name()));
     }
-    md.push_str(" other |\n|---|---:|---:|---:|---:|---:|");
+    md.push_str(" other |\n|---|---:|---:|---:|---:|---:|---:|");
     for _ in &refused_features {
         md.push_str("---:|");
     }
@@ -177,12 +178,15 @@ pub fn table(results: &[FileResult], steps: u64) -> String {
         groups.iter().map(|(c, rs)| (category_name(*c), rs.as_slice())).chain([("all".to_string(), all.as_slice())]);
     for (name, rs) in rows {
         let refused: Vec<&&FileResult> = rs.iter().filter(|r| !r.loaded()).collect();
+        let warned =
+            |what: &str| rs.iter().filter(|r| r.loaded() && r.warnings.iter().any(|w| w.contains(what))).count();
         md.push_str(&format!(
-            "| {name} | {} | {} | {} | {} | {} |",
+            "| {name} | {} | {} | {} | {} | {} | {} |",
             rs.len(),
             rs.iter().filter(|r| r.loaded()).count(),
             rs.iter().filter(|r| r.behaves_as_v1()).count(),
-            rs.iter().filter(|r| r.loaded() && !r.warnings.is_empty()).count(),
+            warned("clamped to"),
+            warned("left out"),
             refused.len()
         ));
         for f in &refused_features {
