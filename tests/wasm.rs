@@ -353,6 +353,50 @@ fn models_are_registered_and_checked() {
     assert!(has_model(v("detour")).unwrap());
 }
 
+/// What the comparison's pool does between two time slices: a run written as a checkpoint in
+/// one worker and resumed in another plays the golden log's episodes on, bit for bit.
+#[wasm_bindgen_test]
+fn a_run_checkpointed_and_resumed_through_the_js_api_plays_the_golden_log_on() {
+    models();
+    use sec_playground::experiment::EpisodeMetrics;
+    use sec_playground::web::SecRun;
+    let golden: Vec<EpisodeMetrics> =
+        include_str!("golden/run-untrained.txt").lines().take(12).map(|l| serde_json::from_str(l).unwrap()).collect();
+    let config = r#"{"task": "object-permanence"}"#;
+    let mut run = SecRun::new(js(config), v(2.0)).unwrap();
+    assert!(run.can_checkpoint());
+    let mut got: Vec<EpisodeMetrics> = (0..5).map(|_| metrics(run.step_episode().unwrap())).collect();
+    // In the middle of an episode: refused, and the run plays on.
+    while !run.mid_episode() {
+        run.step_decision().unwrap();
+    }
+    assert!(message(run.checkpoint().err().unwrap()).contains("between two episodes"));
+    got.push(metrics(run.step_episode().unwrap()));
+    assert!(!run.mid_episode());
+    let bytes = run.checkpoint().unwrap();
+    // Refused by name: another seed, a claim above the caller's count, a changed byte, no bytes.
+    let refused = |r: Result<SecRun, JsError>| message(r.err().expect("refused"));
+    assert!(refused(SecRun::resume(js(config), v(3.0), u8s(&bytes), v(6.0))).contains("seed"));
+    assert!(refused(SecRun::resume(js(config), v(2.0), u8s(&bytes), v(5.0))).contains("6 claimed"));
+    let mut changed = bytes.clone();
+    changed[bytes.len() / 2] ^= 1;
+    assert!(refused(SecRun::resume(js(config), v(2.0), u8s(&changed), v(6.0))).contains("checksum"));
+    assert!(refused(SecRun::resume(js(config), v(2.0), v("SECCKPT4"), v(6.0))).starts_with("checkpoint:"));
+    assert!(refused(SecRun::resume(js(config), v(2.0), u8s(&bytes), v(-1.0))).starts_with("max_episodes:"));
+    let mut resumed = SecRun::resume(js(config), v(2.0), u8s(&bytes), v(6.0)).unwrap();
+    while got.len() < 12 {
+        got.extend(
+            serde_wasm_bindgen::from_value::<Vec<EpisodeMetrics>>(resumed.run_decisions(v(41)).unwrap()).unwrap(),
+        );
+    }
+    assert_eq!(&got[..12], &golden[..]);
+    // MFEC's buffers are not written: it says so, and a checkpoint is refused by name.
+    let mfec = SecRun::new(js(r#"{"task": "object-permanence", "kind": "mfec"}"#), v(2.0)).unwrap();
+    assert!(!mfec.can_checkpoint());
+    let e = message(mfec.checkpoint().err().unwrap());
+    assert!(e.contains("does not checkpoint"), "{e}");
+}
+
 #[wasm_bindgen_test]
 fn memory_files_and_driving_through_the_js_api() {
     use sec_playground::web::SecRun;

@@ -1,7 +1,11 @@
 // The comparison panel: several configurations with the same seeds, their curves overlaid in one
 // chart with standard-error bands; one-click presets for the paper's experiments 1-4. A pool of
 // workers (the machine's threads less one) plays the runs, one run (configuration x seed) per
-// worker at a time, to the horizon; the page's own run pauses meanwhile.
+// worker at a time; the page's own run pauses meanwhile. When there are more runs than workers,
+// the runs take turns (`TURN_MS` of play each, handed between workers as checkpoints), the run
+// with the fewest episodes first, so every seed of every configuration moves forward together
+// and the workers stay busy until the last episodes: Experiment 1's 15 runs end together instead
+// of the longest starting last.
 import { ARM_COLOURS, CompareChart, WINDOW } from './charts.js';
 import { COMPARE_PRESETS, PRESET_BASE, exp1In, referenceMap } from './presets.js';
 import { importingWorker, sameOrigin } from './workers.js';
@@ -13,6 +17,8 @@ const MAX_ARMS = 8;
 export const EPISODES = { min: 10, max: 20000 };
 /** The seeds the paper's experiments ran here per arm (the reference runs have 10 or 20). */
 const PRESET_SEEDS = 5;
+/** A run's turn on a worker when runs wait for one (ms of play, then to its episode's end). */
+export const TURN_MS = 10000;
 /** The window over which the progress line measures its rate (ms). */
 const RATE_WINDOW_MS = 30000;
 
@@ -78,11 +84,21 @@ function liveFill(arm, info) {
   return middle([...arm.runs.values()].map((eps) => eps.findIndex((e) => e.ltm >= m)).filter((i) => i >= 0));
 }
 
+/** A run of the plan, waiting to start. */
+const job = (arm, seed) => ({ arm, seed, state: 'queued', checkpoint: null, played: 0, turns: 0, heldMs: 0, since: 0 });
+
+/** The waiting run with the fewest episodes played, the first in the plan among equals. */
+export function nextRun(jobs) {
+  let best = null;
+  for (const j of jobs) if (j.state === 'queued' && (!best || j.played < best.played)) best = j;
+  return best;
+}
+
 /** Episodes a configuration's seeds have played, all together. */
 const played = (arm) => [...arm.runs.values()].reduce((n, r) => n + r.length, 0);
 
 export class Compare {
-  constructor(root, { current, agentInfo, onError, wasm, onBusy = () => {} }) {
+  constructor(root, { current, agentInfo, onError, wasm, onBusy = () => {}, turnMs = TURN_MS }) {
     this.root = root;
     this.$ = (id) => root.querySelector(`#${id}`);
     this.current = current;
@@ -90,10 +106,16 @@ export class Compare {
     this.agentInfo = agentInfo;
     this.onError = onError;
     this.wasm = wasm;
+    /** A run's turn when runs wait for a worker (ms of play). */
+    this.turnMs = turnMs;
     /** Called with true when the comparison starts playing, false when it stops (pause, done, clear). */
     this.onBusy = onBusy;
     this.arms = [];
-    /** Every run of the comparison: {arm, seed, state: 'queued' | 'playing' | 'done'}. */
+    /**
+     * Every run of the comparison: {arm, seed, state: 'queued' | 'playing' | 'done', checkpoint,
+     * played}: the bytes of its last turn's end (an ArrayBuffer, or null: it starts afresh) and
+     * the episodes they hold.
+     */
     this.jobs = [];
     /** The pool's workers: {worker, job, ready}. */
     this.pool = [];
@@ -259,7 +281,7 @@ export class Compare {
   queue(arm) {
     for (const seed of this.seeds()) {
       arm.runs.set(seed, []);
-      this.jobs.push({ arm, seed, state: 'queued' });
+      this.jobs.push(job(arm, seed));
     }
   }
 
@@ -270,7 +292,7 @@ export class Compare {
     for (const seed of this.seeds()) {
       for (const arm of this.arms) {
         arm.runs.set(seed, []);
-        this.jobs.push({ arm, seed, state: 'queued' });
+        this.jobs.push(job(arm, seed));
       }
     }
   }
@@ -301,20 +323,40 @@ export class Compare {
     };
   }
 
-  /** Gives a worker the next run, or lets it go when none waits or the pool shrank. */
+  /**
+   * Gives a worker the waiting run with the fewest episodes (the plan's order among equals), or
+   * lets it go when none waits or the pool shrank. The run takes turns while more runs are
+   * unfinished than the pool has workers.
+   */
   assign(p) {
-    const next = this.jobs.find((j) => j.state === 'queued');
+    const next = nextRun(this.jobs);
     if (!next || this.pool.indexOf(p) >= this.poolSize()) {
       this.retire(p);
       return;
     }
     next.state = 'playing';
+    next.turns += 1;
+    next.since = performance.now();
     p.job = next;
-    p.worker.postMessage({ type: 'start', settings: next.arm.settings, seed: next.seed, episodes: this.episodes });
+    // What was played after the checkpoint (a worker lost mid-turn) is played again.
+    const episodes = next.arm.runs.get(next.seed);
+    if (episodes) episodes.length = next.played;
+    const unfinished = this.jobs.filter((j) => j.state !== 'done').length;
+    // The page keeps its copy of the checkpoint until the turn's end replaces it.
+    p.worker.postMessage({
+      type: 'start', settings: next.arm.settings, seed: next.seed, episodes: this.episodes - next.played,
+      played: next.played, checkpoint: next.checkpoint, turn: unfinished > this.poolSize() ? this.turnMs : null,
+    });
     if (this.running && this.visible) p.worker.postMessage({ type: 'play' });
   }
 
+  /** A run leaves its worker (its turn's end, its horizon, an error, a lost worker). */
+  release(job) {
+    job.heldMs += performance.now() - job.since;
+  }
+
   retire(p) {
+    if (p.job?.state === 'playing') this.release(p.job);
     p.worker.terminate();
     if (p.job?.state === 'playing') p.job.state = 'queued';
     this.pool = this.pool.filter((q) => q !== p);
@@ -330,18 +372,29 @@ export class Compare {
       this.assign(p);
     } else if (data.type === 'started') {
       job.arm.resolved = data.settings; // every setting the arm's runs use, defaults included
+      job.checkpoints = data.canCheckpoint;
+    } else if (data.type === 'yield') {
+      this.release(job);
+      job.checkpoint = data.checkpoint;
+      job.played = job.arm.runs.get(job.seed)?.length ?? 0;
+      job.state = 'queued';
+      p.job = null;
+      this.assign(p);
     } else if (data.type === 'episodes') {
       job.arm.runs.get(job.seed)?.push(...data.list);
       job.arm.wasmBytes = data.wasmBytes;
       this.chart.touch();
       this.listSoon();
     } else if (data.type === 'done') {
+      this.release(job);
       job.state = 'done';
+      job.checkpoint = null;
       p.job = null;
       this.assign(p);
       this.list();
     } else if (data.type === 'error') {
       if (job) {
+        this.release(job);
         job.arm.error = data.message;
         job.state = 'done'; // not retried: the same configuration fails the same way
         p.job = null;
@@ -546,15 +599,22 @@ export class Compare {
       },
       /** Each arm's worker's wasm memory in bytes, as of its last episodes (null before). */
       get wasmBytes() { return me.arms.map((a) => a.wasmBytes ?? null); },
-      /** Workers in the pool, and the runs: {label, seed, state, episodes}. */
+      /**
+       * Workers in the pool, and the runs: {label, seed, state, episodes, turns, decisions and
+       * reward (summed), checkpoints (whether it can take turns; null before it starts), held
+       * (seconds on a worker, pauses included)}.
+       */
       get pool() { return me.pool.length; },
       get jobs() {
         return me.jobs.map((j) => {
           const eps = j.arm.runs.get(j.seed) ?? [];
-          return { label: j.arm.label, seed: j.seed, state: j.state, episodes: eps.length,
-            decisions: eps.reduce((n, e) => n + e.decisions, 0) };
+          return { label: j.arm.label, seed: j.seed, state: j.state, episodes: eps.length, turns: j.turns,
+            decisions: eps.reduce((n, e) => n + e.decisions, 0), reward: eps.reduce((r, e) => r + e.reward, 0),
+            checkpoints: j.checkpoints ?? null, held: (j.heldMs + (j.state === 'playing' ? performance.now() - j.since : 0)) / 1000 };
         });
       },
+      /** The `i`th run's episodes (`EpisodeMetrics`), as its workers reported them. */
+      log(i) { return me.jobs[i] ? [...(me.jobs[i].arm.runs.get(me.jobs[i].seed) ?? [])] : null; },
       get progress() { return me.$('compare-progress').textContent; },
       /** Each arm's settings as its runs use them (null until its worker has started). */
       get resolved() { return me.arms.map((a) => a.resolved ?? null); },

@@ -56,6 +56,20 @@ fn config_from_js(config: JsValue) -> Result<RunConfig, JsError> {
     RunConfig::from_json(&args::json(&config, "config")?).map_err(js_err)
 }
 
+impl SecRun {
+    fn of(session: Session) -> SecRun {
+        SecRun {
+            session,
+            image: vec![0.0; IMAGE],
+            scratch: Scratch::default(),
+            rec: Vec::new(),
+            rec_rgba: vec![0; IMAGE / 3 * 4],
+            heat: Vec::new(),
+            marks: Vec::new(),
+        }
+    }
+}
+
 #[wasm_bindgen]
 impl SecRun {
     /// A run of `config` (a `RunConfig`; missing fields take the defaults) with `seed`.
@@ -66,15 +80,7 @@ impl SecRun {
     ) -> Result<SecRun, JsError> {
         let cfg = config_from_js(config)?;
         let seed = seed_from_js(&seed)?;
-        Ok(SecRun {
-            session: Session::new(cfg, seed).map_err(js_err)?,
-            image: vec![0.0; IMAGE],
-            scratch: Scratch::default(),
-            rec: Vec::new(),
-            rec_rgba: vec![0; IMAGE / 3 * 4],
-            heat: Vec::new(),
-            marks: Vec::new(),
-        })
+        Ok(SecRun::of(Session::new(cfg, seed).map_err(js_err)?))
     }
 
     /// The configuration in force (a `RunConfig` with every field).
@@ -253,6 +259,46 @@ impl SecRun {
     ) -> Result<u32, JsError> {
         let bytes = args::bytes(&bytes, "bytes")?;
         self.session.load_memory(&bytes).map(|n| n as u32).map_err(js_err)
+    }
+
+    /// Whether the run can be written as a checkpoint between episodes (`checkpoint`): SEC and
+    /// its variants can; MFEC cannot (its buffers hold up to 100,000 entries per action).
+    #[wasm_bindgen(getter, js_name = canCheckpoint)]
+    pub fn can_checkpoint(&self) -> bool {
+        self.session.run().can_checkpoint()
+    }
+
+    /// Whether an episode is under way (a checkpoint is written only between two).
+    #[wasm_bindgen(getter, js_name = midEpisode)]
+    pub fn mid_episode(&self) -> bool {
+        self.session.run().current().is_some()
+    }
+
+    /// The run between two episodes as checkpoint bytes (`experiment::checkpoint`), so that
+    /// another worker resumes it (`SecRun.resume`) and plays the same episodes. Throws in the
+    /// middle of an episode and for agents that do not checkpoint (`canCheckpoint`).
+    pub fn checkpoint(&self) -> Result<Vec<u8>, JsError> {
+        let mut bytes = Vec::new();
+        self.session.run().save_checkpoint(&mut bytes).map_err(js_err)?;
+        Ok(bytes)
+    }
+
+    /// The run of `config` and `seed` brought to `checkpoint` (bytes from `checkpoint`), which
+    /// may claim at most `max_episodes` episodes (the caller's count, not the file's). A
+    /// checkpoint of another configuration or seed, or a changed one, throws naming why.
+    pub fn resume(
+        #[wasm_bindgen(unchecked_param_type = "RunConfig")] config: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "number")] seed: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Uint8Array")] checkpoint: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "number")] max_episodes: JsValue,
+    ) -> Result<SecRun, JsError> {
+        let cfg = config_from_js(config)?;
+        let seed = seed_from_js(&seed)?;
+        let bytes = args::bytes(&checkpoint, "checkpoint")?;
+        let max = args::whole(&max_episodes, "max_episodes", 0, crate::experiment::checkpoint::MAX_EPISODES)?;
+        let check = crate::experiment::checkpoint::ResumeCheck::at_most(max);
+        let session = Session::resume(cfg, seed, None, &mut bytes.as_slice(), &check, 0).map_err(js_err)?;
+        Ok(SecRun::of(session))
     }
 
     /// STM length n: the heat map's row length.

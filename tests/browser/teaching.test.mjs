@@ -206,7 +206,7 @@ test('compare at the horizon: a pool of 4 plays four runs at once while the page
   }
 });
 
-test('a comparison plays each run to its horizon, then the next, and a bad horizon is refused by name', async () => {
+test('a comparison plays its runs to their horizon, and a bad horizon is refused by name', async () => {
   const problems = [];
   const page = await open('#task=object-permanence&m=10', problems);
   try {
@@ -227,7 +227,7 @@ test('a comparison plays each run to its horizon, then the next, and a bad horiz
     assert.equal((await page.evaluate(() => window.secPlayground.compare)).running, false, 'nothing started');
     await page.fill('#compare-episodes', '60');
     await page.click('#compare-run');
-    // One worker: seed 1 to 60 episodes, then seed 2, then done; the page's run carries on.
+    // One worker: seeds 1 and 2 to 60 episodes, then done; the page's run carries on.
     await page.waitForFunction(() => window.secPlayground.compare.jobs.every((j) => j.state === 'done'), null, { timeout: 240000, polling: 250 });
     const c = await page.evaluate(() => window.secPlayground.compare);
     assert.deepEqual(c.jobs.map((j) => [j.seed, j.episodes]), [[1, 60], [2, 60]]);
@@ -242,6 +242,42 @@ test('a comparison plays each run to its horizon, then the next, and a bad horiz
     await page.waitForFunction(() => window.secPlayground.playing && !window.secPlayground.pausedForCompare);
     assert.match(c.progress, /120 of 120 episodes \(100 %\), 2 of 2 runs done\./);
     assert.deepEqual(problems.filter((p) => !/compare episodes/.test(p)), []);
+  } finally {
+    await page.close();
+  }
+});
+
+test('runs take turns on a pool smaller than the plan, and the turns change no episode', async () => {
+  const problems = [];
+  // The test flavour's hook shortens a turn to 300 ms of play (10 s on the published page).
+  const page = await open('?wasm=hooks&turn=300#task=object-permanence&m=10', problems);
+  try {
+    await ready(page);
+    await page.selectOption('#compare-seeds', '2');
+    await page.click('#compare-add');
+    await page.fill('#compare-episodes', '80');
+    const play = async (workers) => {
+      await page.selectOption('#compare-workers', String(workers));
+      await page.click('#compare-run');
+      await page.waitForFunction(() => {
+        const jobs = window.secPlayground.compare.jobs;
+        return jobs.length === 2 && jobs.every((j) => j.state === 'done') && !window.secPlayground.compare.running;
+      }, null, { timeout: 240000, polling: 250 });
+      return page.evaluate(() => {
+        const c = window.secPlayground.compare;
+        return c.jobs.map((j, i) => ({ seed: j.seed, episodes: j.episodes, turns: j.turns, log: c.log(i) }));
+      });
+    };
+    // One worker, two runs: they take turns, each handed over as a checkpoint and resumed.
+    const shared = await play(1);
+    assert.deepEqual(shared.map((j) => [j.seed, j.episodes]), [[1, 80], [2, 80]]);
+    assert.ok(shared.every((j) => j.turns >= 2), `turns: ${shared.map((j) => j.turns)}`);
+    // Two workers: no turns; every run's episodes are the ones it played in turns, bit for bit.
+    const alone = await play(2);
+    assert.deepEqual(alone.map((j) => j.turns), [1, 1]);
+    assert.deepEqual(alone.map((j) => j.log.map((e) => e.episode)), [1, 2].map(() => Array.from({ length: 80 }, (_, i) => i)));
+    assert.deepEqual(alone.map(({ turns, ...j }) => j), shared.map(({ turns, ...j }) => j));
+    assert.deepEqual(problems, []);
   } finally {
     await page.close();
   }
