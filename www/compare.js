@@ -85,10 +85,10 @@ function liveFill(arm, info) {
 }
 
 /** A run of the plan, waiting to start. */
-const job = (arm, seed) => ({ arm, seed, state: 'queued', checkpoint: null, played: 0, turns: 0, heldMs: 0, since: 0 });
+const job = (arm, seed) => ({ arm, seed, state: 'queued', checkpoint: null, played: 0, turns: 0, heldMs: 0, since: 0, checkpoints: null });
 
 /** The waiting run with the fewest episodes played, the first in the plan among equals. */
-export function nextRun(jobs) {
+function nextRun(jobs) {
   let best = null;
   for (const j of jobs) if (j.state === 'queued' && (!best || j.played < best.played)) best = j;
   return best;
@@ -112,9 +112,10 @@ export class Compare {
     this.onBusy = onBusy;
     this.arms = [];
     /**
-     * Every run of the comparison: {arm, seed, state: 'queued' | 'playing' | 'done', checkpoint,
-     * played}: the bytes of its last turn's end (an ArrayBuffer, or null: it starts afresh) and
-     * the episodes they hold.
+     * Every run of the comparison (`job`): {arm, seed, state: 'queued' | 'playing' | 'done',
+     * checkpoint, played}: the bytes of its last turn's end (an ArrayBuffer, or null: it starts
+     * afresh) and the episodes they hold; its turns so far, its time on workers (`heldMs`, the
+     * current turn from `since`) and whether its agent checkpoints (null until it starts).
      */
     this.jobs = [];
     /** The pool's workers: {worker, job, ready}. */
@@ -356,9 +357,11 @@ export class Compare {
   }
 
   retire(p) {
-    if (p.job?.state === 'playing') this.release(p.job);
     p.worker.terminate();
-    if (p.job?.state === 'playing') p.job.state = 'queued';
+    if (p.job?.state === 'playing') {
+      this.release(p.job);
+      p.job.state = 'queued';
+    }
     this.pool = this.pool.filter((q) => q !== p);
     if (this.running && this.jobs.length && this.jobs.every((j) => j.state === 'done')) this.finish();
   }
@@ -610,7 +613,7 @@ export class Compare {
           const eps = j.arm.runs.get(j.seed) ?? [];
           return { label: j.arm.label, seed: j.seed, state: j.state, episodes: eps.length, turns: j.turns,
             decisions: eps.reduce((n, e) => n + e.decisions, 0), reward: eps.reduce((r, e) => r + e.reward, 0),
-            checkpoints: j.checkpoints ?? null, held: (j.heldMs + (j.state === 'playing' ? performance.now() - j.since : 0)) / 1000 };
+            checkpoints: j.checkpoints, held: (j.heldMs + (j.state === 'playing' ? performance.now() - j.since : 0)) / 1000 };
         });
       },
       /** The `i`th run's episodes (`EpisodeMetrics`), as its workers reported them. */

@@ -4,7 +4,7 @@
 // its shadow root, so several on a page share nothing.
 import { buildControls, runControls, SPEEDS } from './controls.js';
 import { Charts } from './charts.js';
-import { Compare, TURN_MS } from './compare.js';
+import { Compare } from './compare.js';
 import { drawRgba, drawEmbedding, drawHeat, drawHeatScale, drawProbs, drawStatus } from './views.js';
 import { Tour } from './tour.js';
 import { drawExplanation, whyLayer } from './explain.js';
@@ -89,7 +89,7 @@ export class Playground {
       wasm: WASM,
       onBusy: (busy) => this.compareBusy(busy),
       // Test hook (the test flavour only): `?wasm=hooks&turn=MS` shortens the runs' turns.
-      turnMs: WASM === 'hooks' ? Number(new URLSearchParams(location.search).get('turn')) || TURN_MS : TURN_MS,
+      turnMs: WASM === 'hooks' ? Number(new URLSearchParams(location.search).get('turn')) || undefined : undefined,
     });
     this.rate = { samples: [], perSecond: null };
     this.tour = new Tour(root, {
