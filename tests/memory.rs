@@ -611,3 +611,71 @@ fn the_selection_is_the_thresholds_over_g_in_full() {
         }
     }
 }
+
+/// Retrieval through the coarse copy (`memory::coarse`: most similarities bounded, only those
+/// that can matter computed) gives the bits of computing every similarity: the action, the
+/// selection, Q, p, the entropy and G in full, over random memories of embeddings like the
+/// encoder's (near one another, non-negative), with values far outside the stored range and
+/// negative ones now and then, every forgetting mode (f32 and f64), the bias on and off, rows of
+/// 1 to 60 couplets and thresholds changed live (to 0 too).
+#[test]
+fn the_coarse_bounds_give_the_bits_of_every_similarity() {
+    let mut src = ChaCha8Rng::seed_from_u64(56);
+    for case in 0..40 {
+        let mut cfg = MemoryConfig {
+            n: src.gen_range(1..60),
+            m: src.gen_range(1..40),
+            theta_abs: src.gen_range(0.5..0.995),
+            theta_prop: src.gen_range(0.5..1.0),
+            alpha: src.gen_range(0.0..0.5),
+            sequential_bias: case % 4 != 0,
+            forgetting: Forgetting::ALL[case % 5].1,
+            ..MemoryConfig::default()
+        };
+        let (mut fast, mut plain) = (Memory::new(cfg.clone()).unwrap(), Memory::new(cfg.clone()).unwrap());
+        let (mut r1, mut r2) = (ChaCha8Rng::seed_from_u64(case as u64), ChaCha8Rng::seed_from_u64(case as u64));
+        // A random walk through embedding space, as a moving agent's views.
+        let mut e: [f32; EMBEDDING] = std::array::from_fn(|_| src.gen_range(0.0..0.3));
+        for step in 0..400 {
+            for v in e.iter_mut() {
+                *v = (*v + src.gen_range(-0.01..0.01f32)).max(0.0);
+            }
+            let mut seen = e;
+            match src.gen_range(0..40) {
+                0 => seen[src.gen_range(0..EMBEDDING)] = 5.0,
+                1 => seen[src.gen_range(0..EMBEDDING)] = -0.5,
+                _ => {}
+            }
+            let a = fast.retrieve(&seen, &mut r1);
+            sec_playground::reuse::set(false);
+            let b = plain.retrieve(&seen, &mut r2);
+            sec_playground::reuse::set(true);
+            let at = format!("case {case} step {step}");
+            assert_eq!(a, b, "{at}: the action");
+            assert_eq!(format!("{:?}", fast.selected()), format!("{:?}", plain.selected()), "{at}");
+            assert_eq!(fast.q().map(f64::to_bits), plain.q().map(f64::to_bits), "{at}: Q");
+            assert_eq!(fast.p().map(f64::to_bits), plain.p().map(f64::to_bits), "{at}: p");
+            assert_eq!(fast.entropy().to_bits(), plain.entropy().to_bits(), "{at}: entropy");
+            let bits = |g: Vec<f64>| g.into_iter().map(f64::to_bits).collect::<Vec<_>>();
+            assert_eq!(bits(fast.biased_similarity()), bits(plain.biased_similarity()), "{at}: G");
+            let couplet = Couplet { embedding: seen, action: a.unwrap_or(Action::ALL[src.gen_range(0..9)]) };
+            fast.update(couplet);
+            plain.update(couplet);
+            if src.gen_bool(0.08) {
+                let r = src.gen_range(-1.0..3.0);
+                assert_eq!(fast.store(r, &mut r1), plain.store(r, &mut r2), "{at}: stored");
+            }
+            if step % 53 == 52 {
+                fast.reset_bias();
+                plain.reset_bias();
+            }
+            if step % 37 == 36 {
+                let zero = src.gen_bool(0.2);
+                cfg.theta_abs = if zero { 0.0 } else { src.gen_range(0.5..0.995) };
+                cfg.theta_prop = if zero { 0.0 } else { src.gen_range(0.5..1.0) };
+                fast.reconfigure(cfg.clone()).unwrap();
+                plain.reconfigure(cfg.clone()).unwrap();
+            }
+        }
+    }
+}

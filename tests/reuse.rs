@@ -1,5 +1,5 @@
-//! Work not done changes no run: the convolutions' window reuse, the run's frame cache and
-//! retrieval's reuse of its similarity row give
+//! Work not done changes no run: the convolutions' window reuse, the run's frame cache,
+//! retrieval's reuse of its similarity row and its coarse bounds give
 //! the episodes of computing everything, and a run resumed with an empty cache goes on as the
 //! uninterrupted one with a warm cache did.
 #![cfg(not(target_arch = "wasm32"))]
@@ -27,6 +27,12 @@ fn a_default_run_is_the_same_with_and_without_reuse() {
     assert_eq!(plain.frame_cache().hit_rate(), (0, 0), "the cache is off");
     sec_playground::reuse::set(true);
     assert_eq!(a, b);
+    // The whole state too: a checkpoint holds the last retrieval's similarities in full, which
+    // the coarse bounds of retrieval computed only in part.
+    let (mut saved_fast, mut saved_plain) = (Vec::new(), Vec::new());
+    fast.save_checkpoint(&mut saved_fast).unwrap();
+    plain.save_checkpoint(&mut saved_plain).unwrap();
+    assert!(saved_fast == saved_plain, "the checkpoints differ");
 
     // Saved after 25 episodes and resumed with an empty cache: the same last 25.
     let mut first = Run::new(cfg.clone(), 4).unwrap();

@@ -152,6 +152,8 @@ impl Memory {
         // Checked: now replace.
         self.stm.copy_from_slice(&stm);
         self.stm_head = 0;
+        self.finish_similarity();
+        self.coarse.clear();
         self.ltm.clear();
         self.actions.clear();
         self.rewards.clear();
@@ -200,7 +202,7 @@ impl Memory {
         }
         put_f64s(b, &self.biased_similarity());
         b.push(self.forgot as u8);
-        put_f32s(b, &self.sim);
+        put_f32s(b, &self.sim_in_full());
         b.extend_from_slice(&(self.selected.len() as u64).to_le_bytes());
         for s in &self.selected {
             b.extend_from_slice(&s.row.to_le_bytes());
@@ -300,6 +302,7 @@ impl Memory {
         let set = |mask: Vec<u8>| (0..mask.len() as u32).filter(|&i| mask[i as usize] != 0).collect();
         (self.sel, self.sel_prev) = (set(sel), set(sel_prev));
         (self.raised, self.t, self.g, self.forgot, self.sim) = (super::raised_of(&t), t, g, forgot, sim);
+        self.coarse.clear();
         (self.selected, self.q, self.p, self.entropy) = (selected, q, p, entropy);
         self.last_g = super::LastG::Full;
         self.sim_for = None;

@@ -2,13 +2,15 @@
 //! the last n couplets, the long-term memory (LTM) of rewarded sequences, the sequential-bias
 //! matrix T, retrieval and action selection. One file per concept: `config` (the parameters and
 //! their ranges), this file (the STM and LTM, storage, forgetting, live changes), `retrieval`
-//! (T's update, selection, Q and the draw), `similarity` (the kernels), `file` (memory files).
+//! (T's update, selection, Q and the draw), `similarity` (the kernels), `coarse` (the LTM in
+//! levels, whose bounds spare retrieval most similarities), `file` (memory files).
 //!
 //! Memory is laid out for retrieval: each LTM row keeps its n embeddings transposed (embedding
 //! component major, couplet minor), so the similarity of all couplets of a row is a loop over
 //! couplets that vectorises, and each couplet still sums its 20 terms in the same order (numpy's,
 //! `pairwise20`) on every target. Nothing is allocated per decision: every buffer is sized for the capacity m up front.
 
+mod coarse;
 mod config;
 pub mod file;
 mod retrieval;
@@ -70,7 +72,7 @@ pub struct Selected {
 enum LastG {
     /// In `g` (loaded from a checkpoint, emptied by a change to the LTM, or computed in full).
     Full,
-    /// `sim` (`sim64` when `forgot`) of the first `cells` couplets, with `g_raised` over it.
+    /// `sim` (`sim64` when `forgot`) of the first `cells` couplets times `t_raised`.
     Derived { cells: usize, forgot: bool },
 }
 
@@ -100,7 +102,11 @@ pub struct Memory {
     /// G of the last `retrieve` (rows x n, in the precision the authors' numpy used, held as
     /// f64) when `last_g` is `Full`.
     g: Vec<f64>,
-    /// G of the raised couplets at the last `retrieve`, by ascending index.
+    /// T of the raised couplets at the last `retrieve`, by ascending index: their G is their
+    /// similarity times it.
+    t_raised: Vec<(u32, f64)>,
+    /// Scratch for `retrieve`: the raised couplets whose G may matter (to Gmax, then to the
+    /// selection), with their T and then their G.
     g_raised: Vec<(u32, f64)>,
     /// Where G of the last `retrieve` is (see `biased_similarity`).
     last_g: LastG,
@@ -118,6 +124,8 @@ pub struct Memory {
     /// the LTM as it is (`None` after any change to the LTM): the same embedding again, as when
     /// the agent faces a wall, reuses them.
     sim_for: Option<([u32; EMBEDDING], bool)>,
+    /// The LTM in levels, and which similarities of the last pass are exact (`coarse`).
+    coarse: coarse::Coarse,
     selected: Vec<Selected>,
     q: [f64; ACTIONS],
     p: [f64; ACTIONS],
@@ -143,6 +151,7 @@ impl Memory {
             raised: Vec::new(),
             lifted: Vec::new(),
             g: Vec::new(),
+            t_raised: Vec::new(),
             g_raised: Vec::new(),
             last_g: LastG::Full,
             candidates: Vec::new(),
@@ -151,6 +160,7 @@ impl Memory {
             sim: Vec::new(),
             sim64: Vec::new(),
             sim_for: None,
+            coarse: coarse::Coarse::default(),
             selected: Vec::new(),
             q: [0.0; ACTIONS],
             p: [0.0; ACTIONS],
@@ -196,16 +206,60 @@ impl Memory {
             LastG::Full => self.g.clone(),
             LastG::Derived { cells, forgot } => {
                 let mut g: Vec<f64> = if forgot {
-                    self.sim64[..cells].to_vec()
+                    self.sim64_in_full()[..cells].to_vec()
                 } else {
-                    self.sim[..cells].iter().map(|&s| s as f64).collect()
+                    self.sim_in_full()[..cells].iter().map(|&s| s as f64).collect()
                 };
-                for &(i, v) in &self.g_raised {
-                    g[i as usize] = v;
+                for &(i, t) in &self.t_raised {
+                    g[i as usize] *= t;
                 }
                 g
             }
         }
+    }
+
+    /// The embedding of the last `retrieve` and its precision, while the coarse copy left some
+    /// of its similarities uncomputed (the LTM is then as it was at that retrieval).
+    fn partial(&self) -> Option<([f32; EMBEDDING], bool)> {
+        match self.sim_for {
+            Some((bits, forgot)) if !self.coarse.all => Some((bits.map(f32::from_bits), forgot)),
+            _ => None,
+        }
+    }
+
+    /// `sim`, the f32 similarities of the last retrieval in that precision, in full.
+    fn sim_in_full(&self) -> std::borrow::Cow<'_, [f32]> {
+        match self.partial() {
+            Some((e, false)) => {
+                let mut sim = vec![0.0; self.sim.len()];
+                similarity::similarity(&e, &self.ltm, self.cfg.n, &mut sim);
+                sim.into()
+            }
+            _ => self.sim[..].into(),
+        }
+    }
+
+    /// `sim64` in full (as `sim_in_full`).
+    fn sim64_in_full(&self) -> std::borrow::Cow<'_, [f64]> {
+        match self.partial() {
+            Some((e, true)) => {
+                let mut sim = vec![0.0; self.sim64.len()];
+                similarity::similarity_f64(&e, &self.ltm, self.cfg.n, &mut sim);
+                sim.into()
+            }
+            _ => self.sim64[..].into(),
+        }
+    }
+
+    /// Computes the similarities the coarse copy let the last retrieval skip, before the LTM
+    /// changes: what a checkpoint or the page reads is then the full pass's, as it would have been.
+    fn finish_similarity(&mut self) {
+        match self.partial() {
+            Some((e, false)) => similarity::similarity(&e, &self.ltm, self.cfg.n, &mut self.sim),
+            Some((e, true)) => similarity::similarity_f64(&e, &self.ltm, self.cfg.n, &mut self.sim64),
+            None => {}
+        }
+        self.coarse.all = true;
     }
 
     /// The couplets the last `retrieve` selected, in row-major order.
@@ -259,6 +313,7 @@ impl Memory {
         let (n, m) = (self.cfg.n, self.cfg.m);
         let stored = r > 0.0 && self.len() < m;
         if stored {
+            self.finish_similarity();
             let row = self.ltm.len();
             self.ltm.resize(row + EMBEDDING * n, 0.0);
             let head = self.stm_head;
@@ -268,6 +323,7 @@ impl Memory {
                 }
                 self.actions.push(c.action);
             }
+            self.coarse.append(&self.ltm[row..]);
             self.rewards.push(r);
             self.t.resize(self.t.len() + n, 1.0);
             self.sim_for = None;
@@ -352,8 +408,11 @@ impl Memory {
     }
 
     fn remove(&mut self, i: usize) {
+        self.finish_similarity();
         let n = self.cfg.n;
-        self.ltm.drain(i * EMBEDDING * n..(i + 1) * EMBEDDING * n);
+        let values = i * EMBEDDING * n..(i + 1) * EMBEDDING * n;
+        self.ltm.drain(values.clone());
+        self.coarse.remove(values);
         self.actions.drain(i * n..(i + 1) * n);
         self.rewards.remove(i);
         self.t.drain(i * n..(i + 1) * n);

@@ -1,7 +1,9 @@
 //! Retrieval (docs/ALGORITHM.md, "Retrieval"): T's update after each decision, the selection of
 //! couplets by both thresholds, Q over the actions of the selected and the proportional draw.
 
-use super::similarity::{above32, above64, max32, max64, pairwise9, similarity, similarity_f64};
+use super::similarity::{
+    above32, above64, max32, max64, pairwise9, similarity, similarity_at, similarity_f64, similarity_f64_at,
+};
 use super::{raised_of, LastG, Memory, Selected, ACTIONS};
 use crate::arena::Action;
 use crate::encoder::EMBEDDING;
@@ -74,31 +76,66 @@ impl Memory {
         let bias = self.cfg.sequential_bias;
         let forgot = self.forgot;
         // The similarities of the same embedding to the same LTM are those computed last time.
+        // Otherwise the coarse copy bounds them all, and only those that can be the largest or
+        // pass a threshold are computed (`coarse`); a full pass where it cannot bound them.
         let key = (e.map(f32::to_bits), forgot);
         if !(crate::reuse::on() && self.sim_for == Some(key)) {
             if forgot {
                 self.sim64.resize(cells, 0.0);
-                similarity_f64(e, &self.ltm, n, &mut self.sim64);
             } else {
                 self.sim.resize(cells, 0.0);
-                similarity(e, &self.ltm, n, &mut self.sim);
+            }
+            if !(crate::reuse::on() && self.coarse.pass(e, &self.ltm, n)) {
+                self.full_pass(e);
             }
         }
         self.sim_for = Some(key);
-        let (sim, sim64): (&[f32], &[f64]) =
-            if forgot { (&[], &self.sim64[..cells]) } else { (&self.sim[..cells], &[]) };
-        let t = &self.t;
-        let s = |i: usize| if forgot { sim64[i] } else { sim[i] as f64 };
-        self.g_raised.clear();
-        if bias {
-            self.g_raised.extend(self.raised.iter().map(|&i| (i, s(i as usize) * t[i as usize])));
+        // The largest similarity, from the couplets that can be it.
+        if !self.coarse.all {
+            let closest = self.coarse.closest();
+            self.candidates.clear();
+            self.candidates.push(closest);
+            self.exact(e, Which::Candidates);
+            // (No cut: only the closest can be the largest.)
+            if let Some(cut) = self.coarse.cut_above(self.similarity_of(closest)) {
+                self.coarse.within(cut, &mut self.candidates);
+            }
+            if self.candidates.len() > cells / 4 {
+                self.full_pass(e);
+            } else {
+                self.exact(e, Which::Candidates);
+            }
         }
-        // Gmax is the largest similarity or a raised G above it. Where a G is below its
-        // similarity, the similarity is negative: then a positive Gmax is still this one, and when
-        // every G is at most 0 this is at most 0 too, and nothing passes either way (D16).
+        let top = match (self.coarse.all, forgot) {
+            (true, true) => max64(&self.sim64[..cells]),
+            (true, false) => max32(&self.sim[..cells]),
+            (false, true) => self.candidates.iter().fold(f64::NEG_INFINITY, |a, &i| larger(a, self.sim64[i as usize])),
+            (false, false) => {
+                self.candidates.iter().fold(f64::NEG_INFINITY, |a, &i| larger(a, f64::from(self.sim[i as usize])))
+            }
+        };
+        // G is the similarity times T. Gmax is the largest similarity or a raised G above it:
+        // the raised couplets whose G may be above every lower bound are computed exactly.
+        self.t_raised.clear();
+        if bias {
+            let t = &self.t;
+            self.t_raised.extend(self.raised.iter().map(|&i| (i, t[i as usize])));
+        }
+        let (gmax, floor) = if self.coarse.all {
+            (self.t_raised.iter().fold(top, |a, &(i, t)| larger(a, self.similarity_of(i) * t)), f64::NEG_INFINITY)
+        } else {
+            let coarse = &self.coarse;
+            let floor = self.t_raised.iter().fold(top, |a, &(i, t)| larger(a, coarse.bounds(i as usize).0 * t));
+            self.g_raised.clear();
+            self.g_raised.extend(self.t_raised.iter().filter(|&&(i, t)| upper_g(coarse, i, t) >= floor));
+            self.exact(e, Which::Raised);
+            (self.g_raised.iter().fold(top, |a, &(i, t)| larger(a, self.similarity_of(i) * t)), floor)
+        };
+        // Where a G is below its similarity, the similarity is negative: then a positive Gmax is
+        // still this one, and when every G is at most 0 this is at most 0 too, and nothing passes
+        // either way (D16).
+        debug_assert!(gmax >= floor);
         self.last_g = LastG::Derived { cells, forgot };
-        let top = if forgot { max64(sim64) } else { max32(sim) };
-        let gmax = self.g_raised.iter().fold(top, |a, &(_, b)| if b > a { b } else { a });
         // D16: with Gmax <= 0 nothing can pass (every G <= Gmax <= 0 < theta_abs or G / Gmax
         // undefined); otherwise G > theta_abs and G / Gmax > theta_prop, the ratio rounded as
         // numpy rounds it. A couplet is tested only if G > theta_abs and G > theta_prop * Gmax
@@ -108,13 +145,12 @@ impl Memory {
             return None;
         }
         let (ta, tp) = (self.cfg.theta_abs, self.cfg.theta_prop);
-        let (selected, cands) = (&mut self.selected, &mut self.candidates);
-        cands.clear();
         if !bias && !forgot {
             let (ta, tp, gmax) = (ta as f32, tp as f32, gmax as f32);
             let lo = tp * gmax * (1.0 - 1e-6);
-            above32(sim, f64::from(if ta > lo { ta } else { lo }), cands);
-            for &i in cands.iter() {
+            self.above(e, f64::from(if ta > lo { ta } else { lo }));
+            let (sim, selected) = (&self.sim[..cells], &mut self.selected);
+            for &i in self.candidates.iter() {
                 let g = sim[i as usize];
                 if g > ta && g > lo && g / gmax > tp {
                     push(selected, n, i as usize, g as f64);
@@ -123,19 +159,32 @@ impl Memory {
         } else {
             let lo = tp * gmax * (1.0 - 1e-12);
             let bound = if ta > lo { ta } else { lo };
+            self.above(e, bound);
+            // The raised couplets whose G may pass the bound, with their G.
+            if !self.coarse.all {
+                let coarse = &self.coarse;
+                self.g_raised.clear();
+                self.g_raised.extend(self.t_raised.iter().filter(|&&(i, t)| upper_g(coarse, i, t) > bound));
+                self.exact(e, Which::Raised);
+            } else {
+                self.g_raised.clone_from(&self.t_raised);
+            }
+            for k in 0..self.g_raised.len() {
+                let (i, t) = self.g_raised[k];
+                self.g_raised[k].1 = self.similarity_of(i) * t;
+            }
+            let (sim, sim64): (&[f32], &[f64]) =
+                if forgot { (&[], &self.sim64[..cells]) } else { (&self.sim[..cells], &[]) };
+            let s = |i: usize| if forgot { sim64[i] } else { sim[i] as f64 };
+            let selected = &mut self.selected;
             let mut pass = |i: u32, g: f64| {
                 if g > ta && g > lo && g / gmax > tp {
                     push(selected, n, i as usize, g);
                 }
             };
-            if forgot {
-                above64(sim64, bound, cands);
-            } else {
-                above32(sim, bound, cands);
-            }
             // The candidates and the raised, in ascending order, each with its G.
             let mut raised = self.g_raised.iter().peekable();
-            for &c in cands.iter() {
+            for &c in self.candidates.iter() {
                 while let Some(&(i, g)) = raised.next_if(|&&(i, _)| i < c) {
                     pass(i, g);
                 }
@@ -181,6 +230,98 @@ impl Memory {
         }
         self.entropy = 0.0 - pairwise9(&terms);
         Some(Action::ALL[crate::seed::sample(&self.p, rng)])
+    }
+}
+
+/// Which couplets `Memory::exact` computes.
+#[derive(Clone, Copy, PartialEq)]
+enum Which {
+    Candidates,
+    /// Those of `g_raised`.
+    Raised,
+}
+
+/// The most a raised couplet's G may be: its similarity's upper bound times T (T >= 0).
+fn upper_g(coarse: &super::coarse::Coarse, i: u32, t: f64) -> f64 {
+    coarse.bounds(i as usize).1 * t
+}
+
+/// The larger of two values, the first on a tie (the order of the full pass's maximum).
+fn larger(a: f64, b: f64) -> f64 {
+    if b > a {
+        b
+    } else {
+        a
+    }
+}
+
+impl Memory {
+    /// Every similarity of `e`, in the precision of the last pass's key.
+    fn full_pass(&mut self, e: &[f32; EMBEDDING]) {
+        let (n, cells) = (self.cfg.n, self.len() * self.cfg.n);
+        if self.forgot {
+            similarity_f64(e, &self.ltm, n, &mut self.sim64[..cells]);
+        } else {
+            similarity(e, &self.ltm, n, &mut self.sim[..cells]);
+        }
+        self.coarse.all = true;
+    }
+
+    /// The exact similarities of the candidates or of `g_raised`'s couplets where the coarse
+    /// copy left them uncomputed.
+    fn exact(&mut self, e: &[f32; EMBEDDING], which: Which) {
+        let Memory { cfg, ltm, coarse, candidates, g_raised, sim, sim64, forgot, .. } = self;
+        let (n, ltm) = (cfg.n, &ltm[..]);
+        let mut fill = |idx: &mut dyn Iterator<Item = u32>| {
+            if *forgot {
+                coarse.fill(idx, sim64, |i| similarity_f64_at(e, ltm, n, i));
+            } else {
+                coarse.fill(idx, sim, |i| similarity_at(e, ltm, n, i));
+            }
+        };
+        match which {
+            Which::Candidates => fill(&mut candidates.iter().copied()),
+            Which::Raised => fill(&mut g_raised.iter().map(|&(i, _)| i)),
+        }
+    }
+
+    /// Couplet i's similarity of the last pass, as f64 (exact where it is read).
+    fn similarity_of(&self, i: u32) -> f64 {
+        if self.forgot {
+            self.sim64[i as usize]
+        } else {
+            f64::from(self.sim[i as usize])
+        }
+    }
+
+    /// `candidates`: every couplet whose similarity is above `thr` (compared as f64), ascending,
+    /// each with its exact similarity.
+    fn above(&mut self, e: &[f32; EMBEDDING], thr: f64) {
+        let cells = self.len() * self.cfg.n;
+        if !self.coarse.all {
+            match self.coarse.cut_above(thr) {
+                None => return self.candidates.clear(),
+                Some(cut) => {
+                    self.coarse.within(cut, &mut self.candidates);
+                    if self.candidates.len() <= cells / 4 {
+                        self.exact(e, Which::Candidates);
+                        let (sim, sim64, forgot) = (&self.sim, &self.sim64, self.forgot);
+                        self.candidates.retain(|&i| {
+                            let s = if forgot { sim64[i as usize] } else { f64::from(sim[i as usize]) };
+                            s > thr
+                        });
+                        return;
+                    }
+                    self.full_pass(e);
+                }
+            }
+        }
+        self.candidates.clear();
+        if self.forgot {
+            above64(&self.sim64[..cells], thr, &mut self.candidates);
+        } else {
+            above32(&self.sim[..cells], thr, &mut self.candidates);
+        }
     }
 }
 

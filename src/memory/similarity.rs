@@ -23,6 +23,19 @@ pub(super) fn similarity(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut 
     similarity_scalar(e, ltm, n, out)
 }
 
+/// `similarity` of the one couplet `i` (row-major over rows of n): the same terms summed in the
+/// same order, so the same bits as the full pass.
+pub(super) fn similarity_at(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, i: usize) -> f32 {
+    let (row, j) = (&ltm[i / n * EMBEDDING * n..][..EMBEDDING * n], i % n);
+    1.0 - pairwise20(|k| (e[k] - row[k * n + j]).abs()) / EMBEDDING as f32
+}
+
+/// `similarity_f64` of the one couplet `i`.
+pub(super) fn similarity_f64_at(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, i: usize) -> f64 {
+    let (row, j) = (&ltm[i / n * EMBEDDING * n..][..EMBEDDING * n], i % n);
+    1.0 - pairwise20(|k| (f64::from(e[k]) - f64::from(row[k * n + j])).abs()) / EMBEDDING as f64
+}
+
 /// numpy's sum of 20 values (`pairwise_sum` for n <= 128): eight partial sums r_l = a_l + a_{8+l},
 /// combined as ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7)), then a_16..a_19 added in turn.
 /// `term(k)` gives a_k; generic so the same order serves f32 and f64.
@@ -231,4 +244,29 @@ fn above_any<T: Copy + Into<f64>>(v: &[T], thr: f64, out: &mut Vec<u32>) {
     }
     let base = v.len() - tail.len();
     out.extend((0..tail.len()).filter(|&l| tail[l].into() > thr).map(|l| (base + l) as u32));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// One couplet's similarity has the bits of the full pass's, in f32 and f64, for rows of
+    /// every block shape.
+    #[test]
+    fn one_couplet_gives_the_bits_of_the_full_pass() {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        for n in 1..40 {
+            let ltm: Vec<f32> = (0..3 * n * EMBEDDING).map(|_| rng.gen_range(-1.0..1.0)).collect();
+            let e: [f32; EMBEDDING] = std::array::from_fn(|_| rng.gen_range(-1.0..1.0));
+            let (mut sim, mut sim64) = (vec![0.0; 3 * n], vec![0.0; 3 * n]);
+            similarity(&e, &ltm, n, &mut sim);
+            similarity_f64(&e, &ltm, n, &mut sim64);
+            for i in 0..3 * n {
+                assert_eq!(similarity_at(&e, &ltm, n, i).to_bits(), sim[i].to_bits(), "n {n}, couplet {i}");
+                assert_eq!(similarity_f64_at(&e, &ltm, n, i).to_bits(), sim64[i].to_bits(), "n {n}, couplet {i}");
+            }
+        }
+    }
 }
