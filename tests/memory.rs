@@ -49,6 +49,13 @@ fn numpy_sum20<T: Copy + std::ops::Add<Output = T>>(a: &[T; EMBEDDING]) -> T {
     s
 }
 
+/// Thresholds as set live on the page: theta_abs drawn from `abs`, or both 0 one time in five.
+fn new_thresholds(cfg: &mut MemoryConfig, src: &mut ChaCha8Rng, abs: std::ops::Range<f64>) {
+    let zero = src.gen_bool(0.2);
+    cfg.theta_abs = if zero { 0.0 } else { src.gen_range(abs) };
+    cfg.theta_prop = if zero { 0.0 } else { src.gen_range(0.5..1.0) };
+}
+
 fn cfg(n: usize) -> MemoryConfig {
     MemoryConfig { n, ..MemoryConfig::default() }
 }
@@ -603,9 +610,7 @@ fn the_selection_is_the_thresholds_over_g_in_full() {
                 m.reset_bias();
             }
             if step % 29 == 28 {
-                let zero = src.gen_bool(0.2);
-                cfg.theta_abs = if zero { 0.0 } else { src.gen_range(0.0..0.99) };
-                cfg.theta_prop = if zero { 0.0 } else { src.gen_range(0.5..1.0) };
+                new_thresholds(&mut cfg, &mut src, 0.0..0.99);
                 m.reconfigure(cfg.clone()).unwrap();
             }
         }
@@ -670,9 +675,7 @@ fn the_coarse_bounds_give_the_bits_of_every_similarity() {
                 plain.reset_bias();
             }
             if step % 37 == 36 {
-                let zero = src.gen_bool(0.2);
-                cfg.theta_abs = if zero { 0.0 } else { src.gen_range(0.5..0.995) };
-                cfg.theta_prop = if zero { 0.0 } else { src.gen_range(0.5..1.0) };
+                new_thresholds(&mut cfg, &mut src, 0.5..0.995);
                 fast.reconfigure(cfg.clone()).unwrap();
                 plain.reconfigure(cfg.clone()).unwrap();
             }

@@ -206,7 +206,7 @@ impl Memory {
             LastG::Full => self.g.clone(),
             LastG::Derived { cells, forgot } => {
                 let mut g: Vec<f64> = if forgot {
-                    self.sim64_in_full()[..cells].to_vec()
+                    self.in_full(&self.sim64, true, similarity::similarity_f64)[..cells].to_vec()
                 } else {
                     self.sim_in_full()[..cells].iter().map(|&s| s as f64).collect()
                 };
@@ -227,28 +227,27 @@ impl Memory {
         }
     }
 
-    /// `sim`, the f32 similarities of the last retrieval in that precision, in full.
-    fn sim_in_full(&self) -> std::borrow::Cow<'_, [f32]> {
+    /// `sim` (f32) or `sim64` (once `forgot`), the similarities of the last retrieval, in full:
+    /// `pass` computes them where the coarse copy left some out.
+    fn in_full<'a, T: Copy + Default>(
+        &'a self,
+        buf: &'a [T],
+        forgot: bool,
+        pass: fn(&[f32; EMBEDDING], &[f32], usize, &mut [T]),
+    ) -> std::borrow::Cow<'a, [T]> {
         match self.partial() {
-            Some((e, false)) => {
-                let mut sim = vec![0.0; self.sim.len()];
-                similarity::similarity(&e, &self.ltm, self.cfg.n, &mut sim);
+            Some((e, f)) if f == forgot => {
+                let mut sim = vec![T::default(); buf.len()];
+                pass(&e, &self.ltm, self.cfg.n, &mut sim);
                 sim.into()
             }
-            _ => self.sim[..].into(),
+            _ => buf.into(),
         }
     }
 
-    /// `sim64` in full (as `sim_in_full`).
-    fn sim64_in_full(&self) -> std::borrow::Cow<'_, [f64]> {
-        match self.partial() {
-            Some((e, true)) => {
-                let mut sim = vec![0.0; self.sim64.len()];
-                similarity::similarity_f64(&e, &self.ltm, self.cfg.n, &mut sim);
-                sim.into()
-            }
-            _ => self.sim64[..].into(),
-        }
+    /// `sim` in full.
+    fn sim_in_full(&self) -> std::borrow::Cow<'_, [f32]> {
+        self.in_full(&self.sim, false, similarity::similarity)
     }
 
     /// Computes the similarities the coarse copy let the last retrieval skip, before the LTM
