@@ -109,10 +109,7 @@ impl Memory {
         let top = match (self.coarse.all, forgot) {
             (true, true) => max64(&self.sim64[..cells]),
             (true, false) => max32(&self.sim[..cells]),
-            (false, true) => self.candidates.iter().fold(f64::NEG_INFINITY, |a, &i| larger(a, self.sim64[i as usize])),
-            (false, false) => {
-                self.candidates.iter().fold(f64::NEG_INFINITY, |a, &i| larger(a, f64::from(self.sim[i as usize])))
-            }
+            (false, _) => self.candidates.iter().fold(f64::NEG_INFINITY, |a, &i| larger(a, self.similarity_of(i))),
         };
         // G is the similarity times T. Gmax is the largest similarity or a raised G above it:
         // the raised couplets whose G may be above every lower bound are computed exactly.
@@ -121,20 +118,19 @@ impl Memory {
             let t = &self.t;
             self.t_raised.extend(self.raised.iter().map(|&i| (i, t[i as usize])));
         }
-        let (gmax, floor) = if self.coarse.all {
-            (self.t_raised.iter().fold(top, |a, &(i, t)| larger(a, self.similarity_of(i) * t)), f64::NEG_INFINITY)
+        let gmax = if self.coarse.all {
+            self.t_raised.iter().fold(top, |a, &(i, t)| larger(a, self.similarity_of(i) * t))
         } else {
             let coarse = &self.coarse;
             let floor = self.t_raised.iter().fold(top, |a, &(i, t)| larger(a, coarse.bounds(i as usize).0 * t));
             self.g_raised.clear();
             self.g_raised.extend(self.t_raised.iter().filter(|&&(i, t)| upper_g(coarse, i, t) >= floor));
             self.exact(e, Which::Raised);
-            (self.g_raised.iter().fold(top, |a, &(i, t)| larger(a, self.similarity_of(i) * t)), floor)
+            self.g_raised.iter().fold(top, |a, &(i, t)| larger(a, self.similarity_of(i) * t))
         };
         // Where a G is below its similarity, the similarity is negative: then a positive Gmax is
         // still this one, and when every G is at most 0 this is at most 0 too, and nothing passes
         // either way (D16).
-        debug_assert!(gmax >= floor);
         self.last_g = LastG::Derived { cells, forgot };
         // D16: with Gmax <= 0 nothing can pass (every G <= Gmax <= 0 < theta_abs or G / Gmax
         // undefined); otherwise G > theta_abs and G / Gmax > theta_prop, the ratio rounded as
@@ -234,7 +230,7 @@ impl Memory {
 }
 
 /// Which couplets `Memory::exact` computes.
-#[derive(Clone, Copy, PartialEq)]
+#[derive(Clone, Copy)]
 enum Which {
     Candidates,
     /// Those of `g_raised`.
