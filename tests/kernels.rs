@@ -7,7 +7,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use sec_playground::encoder::kernels::{
     conv3x3_relu, conv3x3_relu_maxpool2, conv3x3_relu_sparse, conv3x3_relu_sparse_maxpool2, conv3x3_up2_relu,
-    conv3x3_up2_relu_planar, maxpool2, pad1, pad1_planar, Repeats, Reused, Sparse, Up2,
+    conv3x3_up2_relu_planar, dense, dense_fixed, maxpool2, pad1, pad1_planar, Repeats, Reused, Sparse, Up2,
 };
 
 /// Values in [-1, 1], `zeros` of them exactly zero, some of those -0.0.
@@ -162,7 +162,8 @@ fn reusing_repeated_windows_gives_the_bits_of_computing_them() {
         assert!(w <= 128 || r == Reused::default(), "{h}x{w}: {r:?}");
         assert!(a.iter().any(|&v| v > 0.0));
     }
-    for (h, w, zeros) in [(44, 44, 0.7), (23, 23, 0.3), (9, 31, 0.0)] {
+    // Up to 128 pixels a row (126, padded to 128 for the folded layer): both halves of the marks.
+    for (h, w, zeros) in [(44, 44, 0.7), (23, 23, 0.3), (9, 31, 0.0), (6, 126, 0.5)] {
         let input = with_runs(h, w, 16, zeros, &mut rng);
         let weights: Vec<f32> = (0..9 * 16 * 32).map(|_| rng.gen_range(-0.5..0.5)).collect();
         let bias: Vec<f32> = (0..32).map(|_| rng.gen_range(-0.5..0.2)).collect();
@@ -229,5 +230,25 @@ fn pooling_through_reused_pixels_gives_the_bits_of_pooling_them_all() {
         assert_eq!(expected, got);
         assert_eq!(bits(&a), bits(&b), "sparse layer, {h}x{w}");
         assert!(sparse.reused().left > (h - 2) * (w - 2) / 4 || h < 44, "{h}x{w}: {:?}", sparse.reused());
+    }
+}
+
+/// The bottleneck's dense layer into an array gives the bits of the dense layer into a slice,
+/// with ReLU (zero inputs skipped) and without.
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn the_dense_layer_into_an_array_gives_the_same_bits() {
+    let mut rng = ChaCha8Rng::seed_from_u64(12);
+    for (inputs, zeros) in [(3872, 0.8), (20, 0.0), (130, 0.5)] {
+        let x = mostly_zero(inputs, zeros, &mut rng);
+        let weights: Vec<f32> = (0..inputs * 20).map(|_| rng.gen_range(-0.5..0.5)).collect();
+        let bias: Vec<f32> = (0..20).map(|_| rng.gen_range(-0.5..0.5)).collect();
+        for relu in [true, false] {
+            let (mut a, mut b) = (vec![0.0; 20], [0.0; 20]);
+            dense(&x, &weights, &bias, relu, &mut a);
+            dense_fixed(&x, &weights, &bias, relu, &mut b);
+            assert_eq!(bits(&a), bits(&b), "{inputs} inputs, relu {relu}");
+            assert!(a.iter().any(|&v| v != 0.0));
+        }
     }
 }

@@ -201,12 +201,14 @@ impl Repeats {
             return;
         }
         assert!(pass.r0 + rows + k - 1 <= self.same.len() && pass.c0 + cols + k - 1 <= 128);
+        assert!((2..=3).contains(&k) && pass.c0 <= 1, "a 2x2 or 3x3 window at column 0 or 1");
         let columns = if cols == 128 { u128::MAX } else { (1u128 << cols) - 1 };
         // Bit j: the marks of input columns c0 + j .. c0 + j + k are set in all k rows under
-        // output row i's windows.
+        // output row i's windows. (Shifts by constants: a variable one is a call in wasm.)
         let windows = |marks: &[u128], i: usize| {
             let column = marks[pass.r0 + i..][..k].iter().fold(u128::MAX, |m, &r| m & r);
-            ((0..k).fold(u128::MAX, |a, t| a & (column >> t)) >> pass.c0) & columns
+            let all = column & column >> 1 & if k == 3 { column >> 2 } else { u128::MAX };
+            (if pass.c0 == 1 { all >> 1 } else { all }) & columns
         };
         for i in 0..rows {
             // The window at j equals the one at j - 1 (each of its columns equals the column to
@@ -279,7 +281,9 @@ impl Repeats {
     }
 }
 
-/// The runs of set bits of `bits`, lowest first, each as (first bit, length).
+/// The runs of set bits of `bits`, lowest first, each as (first bit, length). Without shifts by
+/// a variable count (each one a call in wasm): adding its lowest bit carries through a run,
+/// leaving the bit after it set.
 #[inline(always)]
 fn runs_of(mut bits: u128) -> impl Iterator<Item = (usize, usize)> {
     std::iter::from_fn(move || {
@@ -287,10 +291,11 @@ fn runs_of(mut bits: u128) -> impl Iterator<Item = (usize, usize)> {
             return None;
         }
         let j = bits.trailing_zeros() as usize;
-        let len = (bits >> j).trailing_ones() as usize;
-        // len = 128 only for a full row, which starts at 0 and leaves nothing.
-        bits = if len == 128 { 0 } else { bits & !(((1u128 << len) - 1) << j) };
-        Some((j, len))
+        let carried = bits.wrapping_add(bits & bits.wrapping_neg());
+        // The bit after the run (128 when the run reaches the top bit).
+        let end = (carried & !bits).trailing_zeros() as usize;
+        bits &= carried;
+        Some((j, end - j))
     })
 }
 
@@ -302,31 +307,37 @@ avx2_dispatch! {
 #[inline(always)]
 fn mark_rows_any<const C: usize>(input: &[f32], w: usize, same: &mut Vec<u128>, above: &mut Vec<u128>) {
     assert!(w <= 128);
-    // Two pixels are equal where the OR of their C values' XORed bits is zero: a loop across
-    // the channels that vectorises, then one test, and no branch per pixel.
     let mut prev: Option<&[f32]> = None;
     for row in input.chunks_exact(w * C) {
-        // Bits shifted in from the top (a shift by a variable count of a u128 costs branches).
-        let mut bits = 0u128;
-        for c in (1..w).rev() {
-            bits = bits << 1 | equal_pixels::<C>(&row[c * C..], &row[(c - 1) * C..]) as u128;
-        }
-        same.push(bits << 1);
-        let mut bits = 0u128;
-        if let Some(prev) = prev {
-            for c in (0..w).rev() {
-                bits = bits << 1 | equal_pixels::<C>(&row[c * C..], &prev[c * C..]) as u128;
-            }
-        }
-        above.push(bits);
+        same.push(row_bits(1..w, |c| equal_pixels::<C>(&row[c * C..], &row[(c - 1) * C..])));
+        above.push(match prev {
+            Some(prev) => row_bits(0..w, |c| equal_pixels::<C>(&row[c * C..], &prev[c * C..])),
+            None => 0,
+        });
         prev = Some(row);
     }
 }
 
-/// Whether the first C values of `a` and `b` are the same bits.
+/// The bits of the pixels in `columns` (all below 128) where `equal` holds: made in two 64-bit
+/// halves (a u128 shifted by a variable count is a call in wasm), without a branch per pixel.
+#[inline(always)]
+fn row_bits(columns: std::ops::Range<usize>, equal: impl Fn(usize) -> bool) -> u128 {
+    let mut half = [0u64; 2];
+    for c in columns {
+        half[(c >> 6) & 1] |= u64::from(equal(c)) << (c & 63);
+    }
+    u128::from(half[1]) << 64 | u128::from(half[0])
+}
+
+/// Whether the first C values of `a` and `b` are the same bits: the OR of their XORed bits is
+/// zero (a loop across the channels, then one test: no branch per value).
 #[inline(always)]
 fn equal_pixels<const C: usize>(a: &[f32], b: &[f32]) -> bool {
     let (a, b): (&[f32; C], &[f32; C]) = (a[..C].try_into().unwrap(), b[..C].try_into().unwrap());
+    #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+    if C % 4 == 0 {
+        return simd::equal_pixels::<C>(a, b);
+    }
     let mut m = 0;
     for k in 0..C {
         m |= a[k].to_bits() ^ b[k].to_bits();
@@ -582,6 +593,12 @@ impl Sparse {
         if CI % 8 == 0 && crate::dispatch::avx2() {
             // SAFETY: the CPU supports AVX2, checked just above; the lengths are as `pack_avx2` asks.
             self.start[h * w] = unsafe { pack_avx2::<CI>(input, w, val, pos, start) } as u32;
+            self.repeats.mark::<CI>(input, h, w);
+            return;
+        }
+        #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+        if CI % 4 == 0 {
+            self.start[h * w] = simd::pack::<CI>(input, w, val, pos, start) as u32;
             self.repeats.mark::<CI>(input, h, w);
             return;
         }
@@ -877,6 +894,82 @@ mod simd {
                 }
             }
         }
+    }
+
+    /// `super::equal_pixels` for C a multiple of 4: the OR of the XORed vectors has no bit set.
+    #[inline(always)]
+    pub fn equal_pixels<const C: usize>(a: &[f32; C], b: &[f32; C]) -> bool {
+        let mut m = i32x4_splat(0);
+        for g in 0..C / 4 {
+            // SAFETY: 4 * g + 3 < C, inside both arrays; v128 loads need no alignment.
+            let (x, y) = unsafe {
+                (v128_load(a.as_ptr().add(4 * g) as *const v128), v128_load(b.as_ptr().add(4 * g) as *const v128))
+            };
+            m = v128_or(m, v128_xor(x, y));
+        }
+        !v128_any_true(m)
+    }
+
+    /// For each 4-bit mask, the bytes of the lanes whose bit is set, in order, then the others':
+    /// the `i8x16.swizzle` that packs a vector's nonzero lanes to its front.
+    static PACK: [[u8; 16]; 16] = {
+        let mut t = [[0u8; 16]; 16];
+        let mut m = 0;
+        while m < 16 {
+            let (mut k, mut pass) = (0, 0);
+            while pass < 2 {
+                let mut lane = 0;
+                while lane < 4 {
+                    if (m & (1 << lane) != 0) == (pass == 0) {
+                        let mut b = 0;
+                        while b < 4 {
+                            t[m][4 * k + b] = (4 * lane + b) as u8;
+                            b += 1;
+                        }
+                        k += 1;
+                    }
+                    lane += 1;
+                }
+                pass += 1;
+            }
+            m += 1;
+        }
+        t
+    };
+
+    /// `Sparse::build`'s packing four values at a time (as `pack_avx2` does eight): each
+    /// vector's nonzero values and their positions are swizzled to its front and stored whole at
+    /// the next free entry, which then advances by their count. The entries up to the count are
+    /// the scalar loop's; those written past it are overwritten or never read. Returns the count.
+    pub fn pack<const CI: usize>(
+        input: &[f32],
+        w: usize,
+        val: &mut [f32],
+        pos: &mut [u32],
+        start: &mut [u32],
+    ) -> usize {
+        assert!(CI % 4 == 0 && w > 0 && input.len() == val.len() && val.len() == pos.len());
+        assert!(start.len() * CI == input.len());
+        let (zero, lanes) = (f32x4_splat(0.0), u32x4(0, 1, 2, 3));
+        let (mut k, mut x) = (0, 0);
+        for (p, px) in input.chunks_exact(CI).enumerate() {
+            start[p] = k as u32;
+            for g in 0..CI / 4 {
+                // SAFETY: k counts the nonzeros before this vector, so k + 4 <= its end <= the
+                // length of `val` and `pos`; the load reads the vector's 4 values of `px`.
+                unsafe {
+                    let v = v128_load(px.as_ptr().add(4 * g) as *const v128);
+                    let m = i32x4_bitmask(f32x4_ne(v, zero)) as usize;
+                    let perm = v128_load(PACK[m].as_ptr() as *const v128);
+                    let at = u32x4_add(u32x4_splat((x * CI + 4 * g) as u32), lanes);
+                    v128_store(val.as_mut_ptr().add(k) as *mut v128, i8x16_swizzle(v, perm));
+                    v128_store(pos.as_mut_ptr().add(k) as *mut v128, i8x16_swizzle(at, perm));
+                    k += m.count_ones() as usize;
+                }
+            }
+            x = if x + 1 == w { 0 } else { x + 1 };
+        }
+        k
     }
 
     /// `sparse_pass` in simd128: one output pixel's CO channels in NV = CO / 4 accumulators.
@@ -1206,14 +1299,45 @@ pub fn dense(x: &[f32], weights: &[f32], bias: &[f32], relu: bool, out: &mut [f3
     dense_native(x, weights, bias, relu, out);
 }
 
+/// `dense` into an array: a few sums (the encoder's bottleneck) kept in registers rather than
+/// in memory, the same terms in the same order.
+pub fn dense_fixed<const N: usize>(x: &[f32], weights: &[f32], bias: &[f32], relu: bool, out: &mut [f32; N]) {
+    assert_eq!(bias.len(), N);
+    assert_eq!(weights.len(), x.len() * N);
+    dense_fixed_native::<N>(x, weights, bias, relu, out);
+}
+
 avx2_dispatch! {
     fn dense_native(x: &[f32], weights: &[f32], bias: &[f32], relu: bool, out: &mut [f32]) => dense_any
 }
 
+avx2_dispatch! {
+    fn dense_fixed_native<const N: usize>(x: &[f32], weights: &[f32], bias: &[f32], relu: bool, out: &mut [f32; N])
+        => dense_fixed_any
+}
+
 #[inline(always)]
 fn dense_any(x: &[f32], weights: &[f32], bias: &[f32], relu: bool, out: &mut [f32]) {
-    let n = bias.len();
     out.copy_from_slice(bias);
+    dense_terms(x, weights, relu, out);
+    if relu {
+        for o in out.iter_mut() {
+            *o = self::relu(*o);
+        }
+    }
+}
+
+#[inline(always)]
+fn dense_fixed_any<const N: usize>(x: &[f32], weights: &[f32], bias: &[f32], relu: bool, out: &mut [f32; N]) {
+    let mut acc: [f32; N] = bias.try_into().expect("one bias per output");
+    dense_terms(x, weights, relu, &mut acc);
+    *out = if relu { acc.map(self::relu) } else { acc };
+}
+
+/// Adds each input's term to `out` (`dense`'s sums after their bias), inputs ascending.
+#[inline(always)]
+fn dense_terms(x: &[f32], weights: &[f32], relu: bool, out: &mut [f32]) {
+    let n = out.len();
     let mut term = |i: usize| {
         let (v, row) = (x[i], &weights[i * n..][..n]);
         for (o, &wv) in out.iter_mut().zip(row) {
@@ -1229,9 +1353,41 @@ fn dense_any(x: &[f32], weights: &[f32], bias: &[f32], relu: bool, out: &mut [f3
             todo &= todo - 1;
         }
     }
-    if relu {
-        for o in out.iter_mut() {
-            *o = self::relu(*o);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::runs_of;
+
+    /// The runs of set bits, one bit at a time.
+    fn runs_bit_by_bit(bits: u128) -> Vec<(usize, usize)> {
+        let mut runs: Vec<(usize, usize)> = Vec::new();
+        for b in 0..128 {
+            if bits >> b & 1 == 1 {
+                match runs.last_mut() {
+                    Some((j, len)) if *j + *len == b => *len += 1,
+                    _ => runs.push((b, 1)),
+                }
+            }
+        }
+        runs
+    }
+
+    #[test]
+    fn runs_of_finds_every_run_of_set_bits() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        let edges = [0, 1, u128::MAX, 1 << 127, u128::MAX << 1, u128::MAX >> 1, 3 << 63, u128::MAX << 64];
+        // Random words, and words of long runs (each bit repeating the one below, mostly).
+        let random = (0..2000).map(|k| {
+            if k % 2 == 0 {
+                rng.gen::<u128>()
+            } else {
+                (1..128).fold(rng.gen::<u128>() & 1, |w, b| w | (w >> (b - 1) & 1 ^ u128::from(rng.gen_bool(0.1))) << b)
+            }
+        });
+        for bits in edges.into_iter().chain(random) {
+            assert_eq!(runs_of(bits).collect::<Vec<_>>(), runs_bit_by_bit(bits), "{bits:#x}");
         }
     }
 }

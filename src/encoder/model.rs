@@ -7,7 +7,7 @@
 
 use super::kernels::{
     conv3x3_relu, conv3x3_relu_maxpool2, conv3x3_relu_sparse_maxpool2, conv3x3_up2_relu, conv3x3_up2_relu_planar,
-    dense, pad1, pad1_planar, Repeats, Sparse, Up2,
+    dense, dense_fixed, pad1, pad1_planar, Repeats, Sparse, Up2,
 };
 use super::weights::{Tensor, Weights};
 use crate::error::FileError;
@@ -155,7 +155,7 @@ impl Autoencoder {
         let (h, w) = conv3x3_relu_sparse_maxpool2::<16, 32>(p1, h, w, self.p(2), self.p(3), &mut s.sparse, c2, 1, p2);
         let (h, w) = conv3x3_relu_sparse_maxpool2::<32, 32>(p2, h, w, self.p(4), self.p(5), &mut s.sparse, c3, 0, p3);
         debug_assert_eq!(h * w * 32, FLAT);
-        dense(p3, self.p(6), self.p(7), true, out);
+        dense_fixed(p3, self.p(6), self.p(7), true, out);
         if self.embedding_scale != 1.0 {
             for v in out.iter_mut() {
                 *v *= self.embedding_scale;

@@ -29,6 +29,11 @@ const ROUNDING: f64 = 4e-6;
 pub(super) struct Coarse {
     /// The LTM's values as levels, in the LTM's layout; out of date when `step` is 0.
     levels: Vec<u8>,
+    /// The LTM's values again, couplet by couplet (each one's 20 adjacent), for the couplets
+    /// computed exactly one at a time: in the LTM's layout a couplet's values lie n apart, a
+    /// cache line each. Kept with `levels`; the LTM's rows of n couplets (`n`).
+    couplets: Vec<f32>,
+    n: usize,
     lo: f64,
     step: f64,
     /// Per couplet, the L1 distance in levels to the embedding of the last pass.
@@ -56,6 +61,7 @@ impl Coarse {
     pub fn clear(&mut self) {
         self.step = 0.0;
         self.levels.clear();
+        self.couplets.clear();
     }
 
     /// A sequence appended to the LTM (its values in the LTM's layout).
@@ -63,22 +69,21 @@ impl Coarse {
         if self.step == 0.0 {
             return;
         }
-        let start = self.levels.len();
         for &v in values {
             match self.level(v) {
                 Some(l) => self.levels.push(l),
-                None => {
-                    // Outside the levels: laid out again for the new range at the next pass.
-                    self.levels.truncate(start);
-                    return self.clear();
-                }
+                // Outside the levels: laid out again for the new range at the next pass.
+                None => return self.clear(),
             }
         }
+        push_couplets(values, self.n, &mut self.couplets);
     }
 
     /// The LTM's values `range` removed.
     pub fn remove(&mut self, range: std::ops::Range<usize>) {
         if self.step != 0.0 {
+            // Both copies hold rows of 20 x n values, so a row's values have the same range.
+            self.couplets.drain(range.clone());
             self.levels.drain(range);
         }
     }
@@ -91,7 +96,7 @@ impl Coarse {
 
     /// Lays the levels out over the values of `ltm` (with headroom) and quantises them. False
     /// when the values span no finite range (then only full passes are made).
-    fn lay_out(&mut self, ltm: &[f32]) -> bool {
+    fn lay_out(&mut self, ltm: &[f32], n: usize) -> bool {
         let (lo, hi) = ltm.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
             let v = f64::from(v);
             (a.min(v), b.max(v))
@@ -113,6 +118,9 @@ impl Coarse {
             };
             self.levels.push(l);
         }
+        self.n = n;
+        self.couplets.clear();
+        push_couplets(ltm, n, &mut self.couplets);
         true
     }
 
@@ -124,7 +132,7 @@ impl Coarse {
         if !e.iter().all(|v| v.is_finite()) {
             return false;
         }
-        if (self.step == 0.0 || self.levels.len() != ltm.len()) && !self.lay_out(ltm) {
+        if (self.step == 0.0 || self.levels.len() != ltm.len() || self.n != n) && !self.lay_out(ltm, n) {
             return false;
         }
         let mut qe = [0u8; EMBEDDING];
@@ -187,15 +195,30 @@ impl Coarse {
         within_any(&self.distance, cut, out);
     }
 
-    /// Gives each couplet of `idx` its exact similarity in `sim` (`exact(i)`), computing only
-    /// those not computed since the last pass.
-    pub fn fill<T>(&mut self, idx: impl IntoIterator<Item = u32>, sim: &mut [T], mut exact: impl FnMut(usize) -> T) {
+    /// Gives each couplet of `idx` its exact similarity in `sim` (`exact` of its embedding),
+    /// computing only those not computed since the last pass.
+    pub fn fill<T>(
+        &mut self,
+        idx: impl IntoIterator<Item = u32>,
+        sim: &mut [T],
+        exact: impl Fn(&[f32; EMBEDDING]) -> T,
+    ) {
         for i in idx {
             let (w, b) = (i as usize / 64, 1u64 << (i % 64));
             if self.known[w] & b == 0 {
                 self.known[w] |= b;
-                sim[i as usize] = exact(i as usize);
+                let c = &self.couplets[i as usize * EMBEDDING..][..EMBEDDING];
+                sim[i as usize] = exact(c.try_into().expect("20 values a couplet"));
             }
+        }
+    }
+}
+
+/// Appends the couplets of `rows` (rows of n couplets in the LTM's layout) couplet by couplet.
+fn push_couplets(rows: &[f32], n: usize, out: &mut Vec<f32>) {
+    for row in rows.chunks_exact(EMBEDDING * n) {
+        for j in 0..n {
+            out.extend((0..EMBEDDING).map(|k| row[k * n + j]));
         }
     }
 }
@@ -357,28 +380,40 @@ mod tests {
         }
     }
 
-    /// A value outside the levels lays them out again; removing keeps the copy in step.
+    /// A value outside the levels lays them out again; removing keeps the copy in step, and so
+    /// does the couplet-by-couplet copy.
     #[test]
     fn the_copy_follows_appends_and_removals() {
         let n = 2;
-        let row = |v: f32| vec![v; EMBEDDING * n];
+        // Every value of a row different, so that a couplet read from the wrong place shows.
+        let row = |v: f32| (0..EMBEDDING * n).map(|x| v + 1e-3 * x as f32).collect::<Vec<_>>();
+        let in_step = |c: &Coarse, ltm: &[f32]| {
+            assert_eq!(c.levels.len(), ltm.len());
+            let gathered: Vec<f32> =
+                (0..ltm.len() / EMBEDDING).flat_map(|i| super::super::similarity::couplet_at(ltm, n, i)).collect();
+            assert_eq!(c.couplets, gathered);
+        };
         let mut ltm = row(0.1);
         ltm.extend(row(0.2));
         let mut c = Coarse::default();
         let e = [0.15; EMBEDDING];
         assert!(c.pass(&e, &ltm, n));
+        in_step(&c, &ltm);
         c.append(&row(0.12));
         ltm.extend(row(0.12));
-        assert_eq!(c.levels.len(), ltm.len(), "a value inside the range is appended");
+        in_step(&c, &ltm);
         c.remove(0..EMBEDDING * n);
         ltm.drain(0..EMBEDDING * n);
-        assert_eq!(c.levels.len(), ltm.len());
+        in_step(&c, &ltm);
         c.append(&row(9.0));
         ltm.extend(row(9.0));
         assert_eq!(c.step, 0.0, "a value far outside the range clears the copy");
         assert!(c.pass(&e, &ltm, n));
-        assert_eq!(c.levels.len(), ltm.len());
+        in_step(&c, &ltm);
         assert!(!c.pass(&[f32::NAN; EMBEDDING], &ltm, n), "no bound for an embedding that is not finite");
+        // The same values read as rows of another length are laid out again.
+        assert!(c.pass(&e, &ltm, 1));
+        assert_eq!(c.n, 1);
     }
 
     /// The vector copies give the scalar loop's distances, for rows of every block shape.

@@ -2,7 +2,7 @@
 //! couplets by both thresholds, Q over the actions of the selected and the proportional draw.
 
 use super::similarity::{
-    above32, above64, max32, max64, pairwise9, similarity, similarity_at, similarity_f64, similarity_f64_at,
+    above32, above64, couplet_similarity, couplet_similarity_f64, max32, max64, pairwise9, similarity, similarity_f64,
 };
 use super::{raised_of, LastG, Memory, Selected, ACTIONS};
 use crate::arena::Action;
@@ -19,13 +19,15 @@ impl Memory {
         let (beta, alpha, n) = (self.cfg.beta, self.cfg.alpha, self.cfg.n);
         if settle(1.0, false, beta) == 1.0 {
             // A T of 1 decays to 1 at this beta (as at every beta tried), so only the raised change.
-            let (t, sel_prev) = (&mut self.t, &self.sel_prev);
-            let mut prev = sel_prev.iter().peekable();
+            // A selected couplet's T is reset to 1 whatever it was, and then decays to 1: so the
+            // selected are set first, and every raised one then decays as if not selected.
+            let t = &mut self.t;
+            for &s in &self.sel_prev {
+                t[s as usize] = 1.0;
+            }
             self.raised.retain(|&i| {
-                while prev.next_if(|&&s| s < i).is_some() {}
-                let was_selected = prev.peek() == Some(&&i);
                 let i = i as usize;
-                t[i] = settle(t[i], was_selected, beta);
+                t[i] = settle(t[i], false, beta);
                 t[i] != 1.0
             });
         } else {
@@ -266,18 +268,16 @@ impl Memory {
     /// The exact similarities of the candidates or of `g_raised`'s couplets where the coarse
     /// copy left them uncomputed.
     fn exact(&mut self, e: &[f32; EMBEDDING], which: Which) {
-        let Memory { cfg, ltm, coarse, candidates, g_raised, sim, sim64, forgot, .. } = self;
-        let (n, ltm) = (cfg.n, &ltm[..]);
-        let mut fill = |idx: &mut dyn Iterator<Item = u32>| {
-            if *forgot {
-                coarse.fill(idx, sim64, |i| similarity_f64_at(e, ltm, n, i));
-            } else {
-                coarse.fill(idx, sim, |i| similarity_at(e, ltm, n, i));
+        let Memory { coarse, candidates, g_raised, sim, sim64, forgot, .. } = self;
+        match (which, *forgot) {
+            (Which::Candidates, false) => coarse.fill(candidates.iter().copied(), sim, |c| couplet_similarity(e, c)),
+            (Which::Candidates, true) => {
+                coarse.fill(candidates.iter().copied(), sim64, |c| couplet_similarity_f64(e, c))
             }
-        };
-        match which {
-            Which::Candidates => fill(&mut candidates.iter().copied()),
-            Which::Raised => fill(&mut g_raised.iter().map(|&(i, _)| i)),
+            (Which::Raised, false) => coarse.fill(g_raised.iter().map(|&(i, _)| i), sim, |c| couplet_similarity(e, c)),
+            (Which::Raised, true) => {
+                coarse.fill(g_raised.iter().map(|&(i, _)| i), sim64, |c| couplet_similarity_f64(e, c))
+            }
         }
     }
 

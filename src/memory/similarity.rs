@@ -25,15 +25,34 @@ pub(super) fn similarity(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, out: &mut 
 
 /// `similarity` of the one couplet `i` (row-major over rows of n): the same terms summed in the
 /// same order, so the same bits as the full pass.
+#[cfg(test)]
 pub(super) fn similarity_at(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, i: usize) -> f32 {
-    let (row, j) = (&ltm[i / n * EMBEDDING * n..][..EMBEDDING * n], i % n);
-    1.0 - pairwise20(|k| (e[k] - row[k * n + j]).abs()) / EMBEDDING as f32
+    couplet_similarity(e, &couplet_at(ltm, n, i))
 }
 
 /// `similarity_f64` of the one couplet `i`.
+#[cfg(test)]
 pub(super) fn similarity_f64_at(e: &[f32; EMBEDDING], ltm: &[f32], n: usize, i: usize) -> f64 {
+    couplet_similarity_f64(e, &couplet_at(ltm, n, i))
+}
+
+/// Couplet i's embedding, gathered from the LTM's layout (rows of n couplets, transposed).
+#[cfg(test)]
+pub(super) fn couplet_at(ltm: &[f32], n: usize, i: usize) -> [f32; EMBEDDING] {
     let (row, j) = (&ltm[i / n * EMBEDDING * n..][..EMBEDDING * n], i % n);
-    1.0 - pairwise20(|k| (f64::from(e[k]) - f64::from(row[k * n + j])).abs()) / EMBEDDING as f64
+    std::array::from_fn(|k| row[k * n + j])
+}
+
+/// `similarity` of one couplet whose embedding is `c`: the full pass's terms in its order.
+#[inline]
+pub(super) fn couplet_similarity(e: &[f32; EMBEDDING], c: &[f32; EMBEDDING]) -> f32 {
+    1.0 - pairwise20(|k| (e[k] - c[k]).abs()) / EMBEDDING as f32
+}
+
+/// `similarity_f64` of one couplet whose embedding is `c`.
+#[inline]
+pub(super) fn couplet_similarity_f64(e: &[f32; EMBEDDING], c: &[f32; EMBEDDING]) -> f64 {
+    1.0 - pairwise20(|k| (f64::from(e[k]) - f64::from(c[k])).abs()) / EMBEDDING as f64
 }
 
 /// numpy's sum of 20 values (`pairwise_sum` for n <= 128): eight partial sums r_l = a_l + a_{8+l},

@@ -271,14 +271,18 @@ impl Camera {
             return;
         }
         let n = b.foot.to_world_dir(n);
-        let side = shade_factor([n.x, 0.0, n.y]);
-        let top = shade_factor([0.0, 1.0, 0.0]);
+        // Each face's lighting and colour, once per column (the same for all its pixels).
+        let shaded = |n: [f32; 3]| {
+            let factor = shade_factor(n);
+            (factor, lit(b.colour, factor))
+        };
+        let (side, top, bottom) = (shaded([n.x, 0.0, n.y]), shaded([0.0, 1.0, 0.0]), shaded([0.0, -1.0, 0.0]));
         let lo = if base > eye { (base - eye) / s1 } else { (base - eye) / s0 };
         let hi = if h < eye { (h - eye) / s1 } else { (h - eye) / s0 };
         for r in self.rows(lo, hi) {
             let slope = self.row_slope[r];
             let y = eye + slope * s0;
-            let (s, factor) = if (base..=h).contains(&y) {
+            let (s, (factor, rgb)) = if (base..=h).contains(&y) {
                 (s0, side)
             } else if h < eye && slope < 0.0 {
                 let st = (h - eye) / slope;
@@ -291,13 +295,13 @@ impl Camera {
                 if sb < s0 || sb > s1 {
                     continue;
                 }
-                (sb, shade_factor([0.0, -1.0, 0.0]))
+                (sb, bottom)
             } else {
                 continue;
             };
             let i = r * WIDTH + col.c;
             if s < self.depth[i] {
-                self.box_pixel(px, i, s, lit(b.colour, factor), factor, glass);
+                self.box_pixel(px, i, s, rgb, factor, glass);
             }
         }
     }
@@ -319,6 +323,7 @@ impl Camera {
     fn cap(&mut self, b: &BoxObj, col: Column, s1: f32, px: &mut [u8], glass: Option<()>) {
         let (face, normal) = if b.top() < col.y { (b.top(), 1.0) } else { (b.base, -1.0) };
         let factor = shade_factor([0.0, normal, 0.0]);
+        let rgb = lit(b.colour, factor);
         let edge = (face - col.y) / s1;
         let rows = if normal > 0.0 { self.rows(f32::NEG_INFINITY, edge) } else { self.rows(edge, f32::INFINITY) };
         for r in rows {
@@ -329,7 +334,7 @@ impl Camera {
             let s = (face - col.y) / slope;
             let i = r * WIDTH + col.c;
             if s > NEAR && s <= s1 && s < self.depth[i] {
-                self.box_pixel(px, i, s, lit(b.colour, factor), factor, glass);
+                self.box_pixel(px, i, s, rgb, factor, glass);
             }
         }
     }

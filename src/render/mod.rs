@@ -59,7 +59,12 @@ pub fn shade_factor(n: [f32; 3]) -> f32 {
 /// Albedo times a lighting factor, rounded and clamped to 8 bits.
 #[inline]
 pub fn lit(c: Rgb, factor: f32) -> [u8; 3] {
-    let f = |v: u8| (v as f32 * factor + 0.5).min(255.0) as u8;
+    // `x.min(255.0)` as a compare (the same value for every x, NaN included: it is IEEE minNum,
+    // a call per channel in wasm).
+    let f = |v: u8| {
+        let x = v as f32 * factor + 0.5;
+        (if x < 255.0 { x } else { 255.0 }) as u8
+    };
     [f(c.0), f(c.1), f(c.2)]
 }
 
