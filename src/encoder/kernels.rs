@@ -505,28 +505,35 @@ pub struct Sparse {
     ci: usize,
 }
 
-/// For each 8-bit mask, the lanes whose bit is set, in order, then the others: the permutation
-/// that packs a vector's nonzero lanes to its front.
+/// For a mask of `lanes` bits (at most 8), the lanes whose bit is set, in order, then the others:
+/// the order that packs a vector's nonzero lanes to its front (`Sparse::build`'s vector copies).
+#[cfg(any(target_arch = "x86_64", all(target_arch = "wasm32", target_feature = "simd128")))]
+const fn packed_lanes(m: usize, lanes: usize) -> [usize; 8] {
+    let (mut order, mut k, mut set) = ([0; 8], 0, 0);
+    while set < 2 {
+        let mut lane = 0;
+        while lane < lanes {
+            if (m & (1 << lane) != 0) == (set == 0) {
+                order[k] = lane;
+                k += 1;
+            }
+            lane += 1;
+        }
+        set += 1;
+    }
+    order
+}
+
+/// `packed_lanes` of each 8-bit mask: the AVX2 permutation.
 #[cfg(target_arch = "x86_64")]
 static PACK: [[u32; 8]; 256] = {
     let mut t = [[0u32; 8]; 256];
     let mut m = 0;
     while m < 256 {
-        let (mut k, mut lane) = (0, 0);
-        while lane < 8 {
-            if m & (1 << lane) != 0 {
-                t[m][k] = lane as u32;
-                k += 1;
-            }
-            lane += 1;
-        }
-        let mut lane = 0;
-        while lane < 8 {
-            if m & (1 << lane) == 0 {
-                t[m][k] = lane as u32;
-                k += 1;
-            }
-            lane += 1;
+        let (order, mut k) = (packed_lanes(m, 8), 0);
+        while k < 8 {
+            t[m][k] = order[k] as u32;
+            k += 1;
         }
         m += 1;
     }
@@ -910,27 +917,16 @@ mod simd {
         !v128_any_true(m)
     }
 
-    /// For each 4-bit mask, the bytes of the lanes whose bit is set, in order, then the others':
-    /// the `i8x16.swizzle` that packs a vector's nonzero lanes to its front.
+    /// `packed_lanes` of each 4-bit mask, as the bytes of those lanes: the `i8x16.swizzle`.
     static PACK: [[u8; 16]; 16] = {
         let mut t = [[0u8; 16]; 16];
         let mut m = 0;
         while m < 16 {
-            let (mut k, mut pass) = (0, 0);
-            while pass < 2 {
-                let mut lane = 0;
-                while lane < 4 {
-                    if (m & (1 << lane) != 0) == (pass == 0) {
-                        let mut b = 0;
-                        while b < 4 {
-                            t[m][4 * k + b] = (4 * lane + b) as u8;
-                            b += 1;
-                        }
-                        k += 1;
-                    }
-                    lane += 1;
-                }
-                pass += 1;
+            let order = super::packed_lanes(m, 4);
+            let mut b = 0;
+            while b < 16 {
+                t[m][b] = (4 * order[b / 4] + b % 4) as u8;
+                b += 1;
             }
             m += 1;
         }
