@@ -269,15 +269,14 @@ impl Memory {
     /// copy left them uncomputed.
     fn exact(&mut self, e: &[f32; EMBEDDING], which: Which) {
         let Memory { coarse, candidates, g_raised, sim, sim64, forgot, .. } = self;
-        match (which, *forgot) {
-            (Which::Candidates, false) => coarse.fill(candidates.iter().copied(), sim, |c| couplet_similarity(e, c)),
-            (Which::Candidates, true) => {
-                coarse.fill(candidates.iter().copied(), sim64, |c| couplet_similarity_f64(e, c))
-            }
-            (Which::Raised, false) => coarse.fill(g_raised.iter().map(|&(i, _)| i), sim, |c| couplet_similarity(e, c)),
-            (Which::Raised, true) => {
-                coarse.fill(g_raised.iter().map(|&(i, _)| i), sim64, |c| couplet_similarity_f64(e, c))
-            }
+        // In the precision of the last pass.
+        let mut fill = |idx: &mut dyn Iterator<Item = u32>| match *forgot {
+            true => coarse.fill(idx, sim64, |c| couplet_similarity_f64(e, c)),
+            false => coarse.fill(idx, sim, |c| couplet_similarity(e, c)),
+        };
+        match which {
+            Which::Candidates => fill(&mut candidates.iter().copied()),
+            Which::Raised => fill(&mut g_raised.iter().map(|&(i, _)| i)),
         }
     }
 
